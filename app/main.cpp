@@ -1,0 +1,23 @@
+// fnopt: the command line. Each subcommand lives in its own source (app/*_command.cpp) and
+// registers itself here; an Error from anywhere becomes one line on stderr and exit code 2.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "app/commands.hpp"
+#include "util/error.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"fnopt: grid cloth with a learned Fourier-neural-operator optimizer"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string(FNOPT_VERSION));
+  for (const auto& add : fnopt::app::command_registry()) add(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const fnopt::Error& e) {
+    std::cerr << "fnopt: error: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}

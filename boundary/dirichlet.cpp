@@ -1,0 +1,30 @@
+#include "boundary/dirichlet.hpp"
+
+#include <cassert>
+
+namespace fnopt {
+
+DirichletSet::DirichletSet(int vertex_count, std::vector<int> fixed_vertices)
+    : fixed_(std::move(fixed_vertices)), free_index_(vertex_count, 0) {
+  for (int k : fixed_) {
+    assert(k >= 0 && k < vertex_count);
+    free_index_[k] = -1;
+  }
+  for (int& f : free_index_)
+    if (f == 0) f = free_count_++;
+}
+
+void DirichletSet::zero_fixed(VecX& v) const {
+  for (int k : fixed_) vertex(v, k).setZero();
+}
+
+void DirichletSet::prescribe(VecX& a, const VecX& x, const VecX& v,
+                             const std::vector<Vec3>& targets, double dt) const {
+  assert(targets.size() == fixed_.size());
+  for (std::size_t h = 0; h < fixed_.size(); ++h) {
+    const int k = fixed_[h];
+    vertex(a, k) = (targets[h] - vertex(x, k) - dt * vertex(v, k)) / (dt * dt);
+  }
+}
+
+}  // namespace fnopt

@@ -1,0 +1,99 @@
+#include "cloth/backward_euler.hpp"
+
+#include <cmath>
+
+#include "cloth/cloth_terms.hpp"
+#include "cloth/lumped_mass.hpp"
+#include "util/error.hpp"
+
+namespace fnopt {
+
+BackwardEulerObjective::BackwardEulerObjective(const Grid& grid, const Material& material, double dt,
+                                               const Vec3& gravity)
+    : grid_(grid),
+      dt_(dt),
+      damping_(material.damping),
+      masses_(lumped_masses(grid, material.density)),
+      terms_(make_cloth_terms(grid, material, gravity)),
+      x_trial_(grid.dof_count()),
+      grad_x_(grid.dof_count()) {
+  require(std::isfinite(dt) && dt > 0.0, "dt", "must be a positive time step in seconds");
+  material.validate();
+  begin_step(grid.rest_positions(), VecX::Zero(grid.dof_count()));
+}
+
+void BackwardEulerObjective::begin_step(const VecX& x, const VecX& v) {
+  x_start_ = x;
+  v_start_ = v;
+  x_inertial_ = x + dt_ * v;
+}
+
+double BackwardEulerObjective::value(const VecX& a) const {
+  trial_positions(a, x_trial_);
+  double total = 0.0;
+  for (Eigen::Index k = 0; k < masses_.size(); ++k) {
+    total += 0.5 * masses_[k] * dt_ * dt_ * a.segment<3>(3 * k).squaredNorm();
+    if (damping_ > 0.0)
+      total += damping_ * masses_[k] / (2.0 * dt_) *
+               (x_trial_.segment<3>(3 * k) - x_start_.segment<3>(3 * k)).squaredNorm();
+  }
+  for (const auto& term : terms_) total += term->energy(x_trial_);
+  return total;
+}
+
+double BackwardEulerObjective::value_gradient(const VecX& a, VecX& grad) const {
+  trial_positions(a, x_trial_);
+  grad_x_.setZero();
+  double total = 0.0;
+  for (const auto& term : terms_) total += term->accumulate_gradient(x_trial_, grad_x_);
+  const double dt2 = dt_ * dt_;
+  grad.resize(a.size());
+  for (Eigen::Index k = 0; k < masses_.size(); ++k) {
+    const auto ak = a.segment<3>(3 * k);
+    total += 0.5 * masses_[k] * dt2 * ak.squaredNorm();
+    Vec3 gk = dt2 * (masses_[k] * ak + grad_x_.segment<3>(3 * k));
+    if (damping_ > 0.0) {
+      const Vec3 dx = x_trial_.segment<3>(3 * k) - x_start_.segment<3>(3 * k);
+      total += damping_ * masses_[k] / (2.0 * dt_) * dx.squaredNorm();
+      gk += dt2 * damping_ * masses_[k] / dt_ * dx;
+    }
+    grad.segment<3>(3 * k) = gk;
+  }
+  return total;
+}
+
+const Eigen::SparseMatrix<double>& BackwardEulerObjective::hessian(const VecX& a,
+                                                                    const std::vector<int>& free_index,
+                                                                    bool project) {
+  if (!assembly_ || free_index != hessian_free_index_) {
+    hessian_free_index_ = free_index;
+    assembly_ = std::make_unique<HessianAssembly>(free_index);
+    term_handles_.clear();
+    for (const auto& term : terms_) term_handles_.push_back(term->register_hessian(*assembly_));
+    assembly_->finalize();
+  }
+  trial_positions(a, x_trial_);
+  assembly_->set_zero();
+  for (std::size_t t = 0; t < terms_.size(); ++t)
+    if (term_handles_[t] >= 0) terms_[t]->accumulate_hessian(x_trial_, project, *assembly_, term_handles_[t]);
+  const double dt2 = dt_ * dt_;
+  assembly_->scale(dt2 * dt2);
+  for (Eigen::Index k = 0; k < masses_.size(); ++k)
+    assembly_->add_vertex_diagonal(static_cast<int>(k), dt2 * masses_[k] * (1.0 + damping_ * dt_));
+  return assembly_->matrix();
+}
+
+double BackwardEulerObjective::potential(const VecX& x) const {
+  double total = 0.0;
+  for (const auto& term : terms_) total += term->energy(x);
+  return total;
+}
+
+double BackwardEulerObjective::kinetic(const VecX& v) const {
+  double total = 0.0;
+  for (Eigen::Index k = 0; k < masses_.size(); ++k)
+    total += 0.5 * masses_[k] * v.segment<3>(3 * k).squaredNorm();
+  return total;
+}
+
+}  // namespace fnopt

@@ -1,0 +1,60 @@
+#pragma once
+// The backward-Euler objective of one time step (DESIGN.md §2). Unknown: the acceleration a.
+//   v(a) = v_t + dt a,   x(a) = x_t + dt v(a) = x^ + dt^2 a,   x^ = x_t + dt v_t,
+//   L(a) = sum_i m_i/2 dt^2 |a_i|^2 + P(x(a)) [+ sum_i c m_i/(2 dt) |x_i(a) - x_t,i|^2],
+// whose minimiser is the implicit-Euler step. The gradient and Hessian w.r.t. a are
+//   grad L = dt^2 (M a + grad P(x)),   hess L = dt^2 M + dt^4 hess P(x).
+// Not thread-safe: evaluation reuses internal buffers (no allocation per call).
+#include <memory>
+#include <vector>
+
+#include "cloth/energy_term.hpp"
+#include "cloth/grid.hpp"
+#include "cloth/hessian_assembly.hpp"
+#include "cloth/material.hpp"
+
+namespace fnopt {
+
+class BackwardEulerObjective {
+ public:
+  BackwardEulerObjective(const Grid& grid, const Material& material, double dt, const Vec3& gravity);
+
+  const Grid& grid() const { return grid_; }
+  double dt() const { return dt_; }
+  const VecX& masses() const { return masses_; }  // per vertex
+  const std::vector<std::unique_ptr<EnergyTerm>>& terms() const { return terms_; }
+
+  // Starts a step from positions x_t and velocities v_t.
+  void begin_step(const VecX& x, const VecX& v);
+  const VecX& start_positions() const { return x_start_; }
+  const VecX& start_velocities() const { return v_start_; }
+
+  // x(a) = x^ + dt^2 a.
+  void trial_positions(const VecX& a, VecX& x) const { x.noalias() = x_inertial_ + dt_ * dt_ * a; }
+  double value(const VecX& a) const;
+  // Writes grad L(a) (every dof, handles included: masking is the caller's) and returns L(a).
+  double value_gradient(const VecX& a, VecX& grad) const;
+
+  // hess L(a) restricted to the free vertices (free_index[v] >= 0), each stencil projected to
+  // PSD if `project`. The sparsity pattern is built on the first call for a given free set.
+  const Eigen::SparseMatrix<double>& hessian(const VecX& a, const std::vector<int>& free_index,
+                                             bool project);
+
+  // The potential P(x) (elastic + gravity) and the kinetic energy of velocities v.
+  double potential(const VecX& x) const;
+  double kinetic(const VecX& v) const;
+
+ private:
+  Grid grid_;
+  double dt_;
+  double damping_;
+  VecX masses_;
+  std::vector<std::unique_ptr<EnergyTerm>> terms_;
+  VecX x_start_, v_start_, x_inertial_;
+  mutable VecX x_trial_, grad_x_;
+  std::vector<int> hessian_free_index_;
+  std::unique_ptr<HessianAssembly> assembly_;
+  std::vector<int> term_handles_;
+};
+
+}  // namespace fnopt

@@ -1,0 +1,25 @@
+#pragma once
+// The stencils of a grid cloth and the energy terms a material enables (DESIGN.md §2).
+// A term whose coefficient is zero is not built and costs nothing.
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "cloth/energy_term.hpp"
+#include "cloth/grid.hpp"
+#include "cloth/material.hpp"
+
+namespace fnopt {
+
+// Every row and column edge (i,j)-(i,j+1), (i,j)-(i+1,j).
+std::vector<std::array<int, 2>> grid_edges(const Grid& grid);
+// The four corners of every quad as (corner; neighbour along its row; neighbour along its column).
+std::vector<std::array<int, 3>> grid_shear_corners(const Grid& grid);
+// Every pair of consecutive collinear edges (hinge) along rows and columns: (p, q, r).
+std::vector<std::array<int, 3>> grid_bend_hinges(const Grid& grid);
+
+// stretch, shear, bend (those with a non-zero coefficient) and gravity (if non-zero).
+std::vector<std::unique_ptr<EnergyTerm>> make_cloth_terms(const Grid& grid, const Material& material,
+                                                          const Vec3& gravity);
+
+}  // namespace fnopt

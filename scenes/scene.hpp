@@ -1,0 +1,72 @@
+#pragma once
+// A scene: everything a rollout needs except the optimizer (DESIGN.md §7). Built from defaults,
+// a preset, a scene file and command-line flags, in that order; validated once, then resolved
+// into the grid, handles and trajectory it names.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "boundary/handles.hpp"
+#include "boundary/trajectory.hpp"
+#include "cloth/grid.hpp"
+#include "cloth/material.hpp"
+#include "util/types.hpp"
+
+namespace fnopt {
+
+struct Scene {
+  int rows = 32;
+  int cols = 32;
+  double size = 1.0;                   // side of the longer edge [m]
+  std::string material_name = "default";
+  Material material;                   // resolved values (material_preset, then overrides)
+  std::string handles = "corner";      // preset name
+  std::string handle_vertices;         // explicit "i,j;..." list; overrides `handles` if set
+  std::string motion = "xy_v2";
+  std::string trajectory;              // CSV path; overrides `motion` if set
+  double speed = 1.0;                  // handle speed factor alpha
+  double dt = 1.0 / 60.0;              // [s]
+  int frames = 390;
+  Vec3 gravity{0.0, 0.0, -9.81};       // [m/s^2]
+  bool repulsion = false;
+
+  // Checks every field; throws Error("<field>: <problem>") for the first bad one (rows < 3,
+  // size, dt, frames <= 0, speed <= 0, non-finite gravity, material.*, unknown handle preset or
+  // motion name, a handle-vertices entry that is malformed or off the grid, a rot_h1 motion with
+  // one handle). NaN fails every check. Does not open files: resolve() does.
+  void validate() const;
+};
+
+// Scene file: one "key = value" per line, blank lines ignored; '#' at the start of a line or
+// after a blank starts a comment (so "trajectory = motions.csv#xy_v2" keeps its '#'). Keys are
+// the `fnopt simulate` flag names: res (rows = cols = N), rows, cols, size, material, stretch,
+// shear, bend, density, damping, handles, handle-vertices, motion, trajectory, speed,
+// dt (a number or a fraction "1/60"), frames, gravity ("x,y,z"), repulsion (true/false).
+// Settings apply in order on top of `base`, later ones winning: `material = NAME` resets all
+// material values to material_preset(NAME) and later stretch/shear/bend/density/damping lines
+// override single values; `handles` clears an earlier handle-vertices and `motion` an earlier
+// trajectory; an empty handle-vertices or trajectory clears it. A relative trajectory path, or
+// a material file next to the scene file, is taken relative to the scene file. Throws
+// Error("<path>:<line>: <key>: ...") for an unknown key, a malformed or out-of-range value
+// (the checks of Scene::validate that need no other field), and Error("scene: ...") for an
+// unreadable file.
+Scene load_scene_file(const std::string& path, Scene base = {});
+// Applies one "key = value" setting (the same keys and checks as the file format, paths taken
+// as given). Throws Error("<key>: ...").
+void apply_scene_setting(Scene& scene, const std::string& key, const std::string& value);
+// The scene as "key = value" lines, readable again by load_scene_file into an identical scene
+// (numbers are written exactly; trajectory and material-file paths are made absolute).
+std::string to_scene_text(const Scene& scene);
+
+// The scene's grid, handles and trajectory, ready for a rollout. Validates first; an explicit
+// handle-vertices list beats the handles preset, a trajectory CSV beats the motion (whose rest
+// positions are the handle vertices' in grid.rest_positions()). Throws Error("trajectory: ...")
+// for a CSV that cannot be replayed on this scene's handles.
+struct SceneSetup {
+  Grid grid;
+  HandleSet handles;
+  std::unique_ptr<HandleTrajectory> trajectory;
+};
+SceneSetup resolve(const Scene& scene);
+
+}  // namespace fnopt

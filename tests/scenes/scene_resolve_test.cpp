@@ -1,0 +1,97 @@
+// resolve(): the grid, handles and trajectory a scene names.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "scenes/scene.hpp"
+#include "tests/boundary/error_message.hpp"
+#include "tests/boundary/temp_dir.hpp"
+
+namespace fnopt {
+namespace {
+
+using testing::TempDir;
+using testing::throws_error;
+
+void expect_near(const Vec3& actual, const Vec3& expected) {
+  EXPECT_LT((actual - expected).norm(), 1e-12) << "actual (" << actual.transpose()
+                                               << "), expected (" << expected.transpose() << ")";
+}
+
+TEST(SceneResolve, TheDefaultSceneIsTheBenchmark) {
+  const SceneSetup setup = resolve(Scene());
+  EXPECT_EQ(setup.grid.rows, 32);
+  EXPECT_EQ(setup.grid.cols, 32);
+  EXPECT_DOUBLE_EQ(setup.grid.spacing, 1.0 / 31);
+  EXPECT_EQ(setup.handles.name, "corner");
+  EXPECT_EQ(setup.handles.vertices, (std::vector<int>{0, 31}));
+  ASSERT_EQ(setup.trajectory->handle_count(), 2);
+  const Vec3 half_way = 0.5 * Vec3(1, 1, 0) / std::sqrt(2.0);  // xy_v2 at t = 1.0
+  expect_near(setup.trajectory->position(0, 1.0), Vec3(0, 0, 0) + half_way);
+  expect_near(setup.trajectory->position(1, 1.0), Vec3(1, 0, 0) + half_way);
+}
+
+TEST(SceneResolve, MotionsStartAtTheHandlesRestPositions) {
+  Scene scene;
+  scene.rows = scene.cols = 5;
+  scene.size = 2.0;
+  scene.handles = "mid-edge";  // (2,0) and (2,4): rest (0,0,-1) and (2,0,-1)
+  scene.motion = "rot_h0";
+  const SceneSetup setup = resolve(scene);
+  EXPECT_EQ(setup.handles.vertices, (std::vector<int>{10, 14}));
+  expect_near(setup.trajectory->position(0, 0.0), Vec3(0, 0, -1));
+  expect_near(setup.trajectory->position(1, 0.0), Vec3(2, 0, -1));
+  expect_near(setup.trajectory->position(1, 3.5), Vec3(0, 2, -1));  // a quarter turn
+}
+
+TEST(SceneResolve, AnExplicitListBeatsThePreset) {
+  Scene scene;
+  scene.handle_vertices = "31,31;0,0;5,7";
+  scene.motion = "static";
+  const SceneSetup setup = resolve(scene);
+  EXPECT_EQ(setup.handles.name, "vertices");
+  EXPECT_EQ(setup.handles.vertices, (std::vector<int>{31 * 32 + 31, 0, 5 * 32 + 7}));
+  ASSERT_EQ(setup.trajectory->handle_count(), 3);
+  expect_near(setup.trajectory->position(0, 2.0), Vec3(1, 0, -1));
+}
+
+TEST(SceneResolve, ATrajectoryCsvBeatsTheMotionAndSpeedApplies) {
+  TempDir dir;
+  Scene scene;
+  scene.trajectory = dir.write("path.csv",
+                               "t_s,h0_x,h0_y,h0_z,h1_x,h1_y,h1_z\n"
+                               "0,0,0,0,1,0,0\n"
+                               "2,0,0,2,1,0,2\n");
+  scene.speed = 2.0;
+  const SceneSetup setup = resolve(scene);
+  expect_near(setup.trajectory->position(0, 0.5), Vec3(0, 0, 1));
+  expect_near(setup.trajectory->position(1, 0.5), Vec3(1, 0, 1));
+}
+
+TEST(SceneResolve, RejectsUnreadableAndNonMonotonicCsvs) {
+  TempDir dir;
+  Scene scene;
+  scene.trajectory = (dir.path() / "missing.csv").string();
+  EXPECT_TRUE(throws_error([&] { resolve(scene); }, "trajectory: " + scene.trajectory));
+  scene.trajectory = dir.write("back.csv",
+                               "t_s,h0_x,h0_y,h0_z,h1_x,h1_y,h1_z\n"
+                               "0,0,0,0,1,0,0\n"
+                               "1,0,0,0,1,0,0\n"
+                               "0.5,0,0,0,1,0,0\n");
+  EXPECT_TRUE(throws_error([&] { resolve(scene); }, "trajectory: " + scene.trajectory +
+                                                        ": line 4: time t_s = 0.5 does not"));
+}
+
+TEST(SceneResolve, RejectsACsvForAnotherHandleCount) {
+  TempDir dir;
+  Scene scene;
+  scene.handles = "single-center";
+  scene.trajectory = dir.write("two.csv", "t_s,h0_x,h0_y,h0_z,h1_x,h1_y,h1_z\n0,0,0,0,1,0,0\n");
+  EXPECT_TRUE(throws_error([&] { resolve(scene); }, "trajectory: "));
+  scene.handles = "corner";
+  scene.trajectory = dir.write("one.csv", "t_s,h0_x,h0_y,h0_z\n0,0,0,0\n");
+  EXPECT_TRUE(throws_error([&] { resolve(scene); }, "missing column 'h1_x'"));
+}
+
+}  // namespace
+}  // namespace fnopt
