@@ -1,112 +1,135 @@
 #include "baselines/newton.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "util/error.hpp"
 
 namespace fnopt {
+namespace {
+
+// Gathers the free vertices' dofs of a full vector into the reduced numbering.
+void reduce(const DirichletSet& dirichlet, const VecX& full, VecX& reduced) {
+  reduced.resize(3 * dirichlet.free_count());
+  const auto& free_index = dirichlet.free_index();
+  for (int v = 0; v < dirichlet.vertex_count(); ++v)
+    if (free_index[v] >= 0) reduced.segment<3>(3 * free_index[v]) = full.segment<3>(3 * v);
+}
+
+}  // namespace
 
 void NewtonParams::validate() const {
-  require(relative_tolerance > 0.0 && relative_tolerance < 1.0, "newton.relative_tolerance",
-          "must lie in (0, 1)");
-  require(max_iterations > 0, "newton.max_iterations", "must be positive");
   require(armijo > 0.0 && armijo < 0.5, "newton.armijo", "must lie in (0, 0.5)");
   require(backtrack > 0.0 && backtrack < 1.0, "newton.backtrack", "must lie in (0, 1)");
   require(max_backtracks > 0, "newton.max_backtracks", "must be positive");
+  require(forcing_cap > 0.0 && forcing_cap < 1.0, "newton.forcing_cap", "must lie in (0, 1)");
+  require(max_cg_iterations >= 0, "newton.max_cg_iterations", "must not be negative");
 }
 
-NewtonSolver::NewtonSolver(NewtonParams params) : params_(params) { params_.validate(); }
+NewtonOptimizer::NewtonOptimizer(NewtonParams params) : params_(params) { params_.validate(); }
 
-bool NewtonSolver::factorize(const Eigen::SparseMatrix<double>& H) {
+std::string NewtonOptimizer::settings() const {
+  std::ostringstream out;
+  out << "newton: armijo=" << params_.armijo << " backtrack=" << params_.backtrack
+      << " forcing_cap=" << params_.forcing_cap << " max_cg_iterations=" << params_.max_cg_iterations;
+  return out.str();
+}
+
+bool NewtonOptimizer::factorize_and_solve(const Eigen::SparseMatrix<double>& H, const VecX& b) {
   // The objective keeps one matrix per free set, so the symbolic analysis is done once.
   if (analysed_pattern_ != static_cast<const void*>(H.outerIndexPtr()) || llt_.rows() != H.rows()) {
     llt_.analyzePattern(H);
     analysed_pattern_ = H.outerIndexPtr();
   }
+  ++counters_.factorizations;
   llt_.factorize(H);
-  return llt_.info() == Eigen::Success;
+  have_factor_ = llt_.info() == Eigen::Success;
+  if (have_factor_) direction_ = llt_.solve(b);
+  return have_factor_;
 }
 
-NewtonResult NewtonSolver::solve(BackwardEulerObjective& objective, const DirichletSet& dirichlet,
-                                 VecX& a) {
-  const std::vector<int>& free_index = dirichlet.free_index();
-  const int vertex_count = dirichlet.vertex_count();
-  auto reduce = [&](const VecX& full, VecX& reduced) {
-    reduced.resize(3 * dirichlet.free_count());
-    for (int v = 0; v < vertex_count; ++v)
-      if (free_index[v] >= 0) reduced.segment<3>(3 * free_index[v]) = full.segment<3>(3 * v);
-  };
-
-  NewtonResult result;
-  double value = objective.value_gradient(a, grad_);
-  reduce(grad_, reduced_grad_);
-  result.initial_gradient_norm = result.gradient_norm = reduced_grad_.norm();
-  result.gradient_norms.push_back(result.gradient_norm);
-  const double start_value = value;
-  const double tolerance = params_.relative_tolerance * result.initial_gradient_norm;
-  bool project = !params_.exact_hessian_first;
-
-  for (;;) {
-    result.value = value;
-    if (!std::isfinite(value) || !std::isfinite(result.gradient_norm)) {
-      result.status = SolveStatus::NonFinite;
-      return result;
-    }
-    if (result.gradient_norm <= tolerance) {
-      result.status = SolveStatus::Converged;
-      return result;
-    }
-    if (result.iterations >= params_.max_iterations) {
-      result.status = SolveStatus::IterationBudget;
-      return result;
-    }
-
-    bool factorized = factorize(objective.hessian(a, free_index, project));
-    if (!factorized && !project) {
-      project = true;
-      factorized = factorize(objective.hessian(a, free_index, project));
-    }
-    if (!factorized) {
-      result.status = SolveStatus::FactorizationFailed;
-      return result;
-    }
-    result.projected_iterations += project;
-    direction_ = -llt_.solve(reduced_grad_);
-    const double slope = reduced_grad_.dot(direction_);
-
-    // Backtracking line search on L(a + alpha d). Close to the minimum, L changes by less than
-    // its rounding error; there a step that lowers ||g|| is accepted instead.
-    const double rounding = 1e-13 * (std::abs(value) + std::abs(start_value));
-    double alpha = 1.0;
-    bool accepted = false;
-    for (int trial = 0; trial < params_.max_backtracks && !accepted; ++trial, alpha *= params_.backtrack) {
-      trial_ = a;
-      for (int v = 0; v < vertex_count; ++v)
-        if (free_index[v] >= 0) trial_.segment<3>(3 * v) += alpha * direction_.segment<3>(3 * free_index[v]);
-      const double trial_value = objective.value_gradient(trial_, trial_grad_);
-      if (!std::isfinite(trial_value)) continue;
-      const bool armijo = trial_value <= value + params_.armijo * alpha * slope;
-      bool flat = false;
-      if (!armijo && std::abs(trial_value - value) <= rounding) {
-        reduce(trial_grad_, reduced_trial_grad_);
-        flat = reduced_trial_grad_.norm() < result.gradient_norm;
-      }
-      if (armijo || flat) {
-        accepted = true;
-        a.swap(trial_);
-        grad_.swap(trial_grad_);
-        value = trial_value;
-      }
-    }
-    if (!accepted) {
-      result.status = SolveStatus::LineSearchFailed;
-      return result;
-    }
-    ++result.iterations;
-    reduce(grad_, reduced_grad_);
-    result.gradient_norm = reduced_grad_.norm();
-    result.gradient_norms.push_back(result.gradient_norm);
+NewtonOptimizer::CgOutcome NewtonOptimizer::preconditioned_cg(const Eigen::SparseMatrix<double>& H,
+                                                              const VecX& b, double tolerance) {
+  direction_.setZero(b.size());
+  residual_ = b;
+  preconditioned_ = llt_.solve(residual_);
+  search_ = preconditioned_;
+  double rz = residual_.dot(preconditioned_);
+  const double target = tolerance * b.norm();
+  for (int k = 0; k < params_.max_cg_iterations; ++k) {
+    ++counters_.cg_iterations;
+    product_.noalias() = H * search_;
+    const double curvature = search_.dot(product_);
+    if (curvature <= 0.0) return CgOutcome::NegativeCurvature;
+    const double step = rz / curvature;
+    direction_ += step * search_;
+    residual_ -= step * product_;
+    if (residual_.norm() <= target) return CgOutcome::Converged;
+    preconditioned_ = llt_.solve(residual_);
+    const double rz_next = residual_.dot(preconditioned_);
+    search_ = preconditioned_ + (rz_next / rz) * search_;
+    rz = rz_next;
   }
+  return CgOutcome::TooManyIterations;
+}
+
+bool NewtonOptimizer::newton_direction(StepProblem& problem, const VecX& a, double tolerance) {
+  const auto& free_index = problem.dirichlet().free_index();
+  for (bool project : {false, true}) {
+    const Eigen::SparseMatrix<double>& H = problem.objective().hessian(a, free_index, project);
+    counters_.projected_iterations += project;
+    if (have_factor_ && params_.max_cg_iterations > 0) {
+      const CgOutcome outcome = preconditioned_cg(H, rhs_, tolerance);
+      if (outcome == CgOutcome::NegativeCurvature) continue;
+      if (outcome == CgOutcome::Converged && rhs_.dot(direction_) > 0.0) return true;
+    }
+    // CG was slow, or there is no factor yet: refactorize. An indefinite H fails here and the
+    // loop moves on to the projected Hessian.
+    if (factorize_and_solve(H, rhs_) && rhs_.dot(direction_) > 0.0) return true;
+    counters_.projected_iterations -= project;
+  }
+  return false;
+}
+
+void NewtonOptimizer::begin_step(StepProblem&, const VecX&, double value, const VecX& gradient) {
+  start_value_ = value;
+  initial_gradient_norm_ = gradient.norm();
+}
+
+std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& a, double& value,
+                                                    VecX& gradient) {
+  const DirichletSet& dirichlet = problem.dirichlet();
+  const auto& free_index = dirichlet.free_index();
+  reduce(dirichlet, gradient, rhs_);
+  rhs_ = -rhs_;
+  const double gradient_norm = rhs_.norm();
+  const double forcing = std::min(params_.forcing_cap, gradient_norm / initial_gradient_norm_);
+  if (!newton_direction(problem, a, forcing)) return SolveStatus::FactorizationFailed;
+  const double slope = -rhs_.dot(direction_);
+
+  // Backtracking on L(a + alpha d). Armijo's test must also see a strict decrease, so that a
+  // step too small to change L is never taken as progress. Close to the minimum L changes by
+  // less than its rounding error; there a step that lowers ||g|| is accepted instead.
+  const double rounding = 1e-13 * (std::abs(value) + std::abs(start_value_));
+  double alpha = 1.0;
+  for (int trial = 0; trial < params_.max_backtracks; ++trial, alpha *= params_.backtrack) {
+    trial_ = a;
+    for (int v = 0; v < dirichlet.vertex_count(); ++v)
+      if (free_index[v] >= 0) trial_.segment<3>(3 * v) += alpha * direction_.segment<3>(3 * free_index[v]);
+    const double trial_value = problem.value_gradient(trial_, trial_gradient_);
+    if (!std::isfinite(trial_value)) continue;
+    const bool armijo = trial_value < value && trial_value <= value + params_.armijo * alpha * slope;
+    const bool flat = !armijo && std::abs(trial_value - value) <= rounding &&
+                      trial_gradient_.norm() < gradient_norm;
+    if (armijo || flat) {
+      a.swap(trial_);
+      gradient.swap(trial_gradient_);
+      value = trial_value;
+      return std::nullopt;
+    }
+  }
+  return SolveStatus::LineSearchFailed;
 }
 
 }  // namespace fnopt

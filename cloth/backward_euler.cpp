@@ -13,8 +13,9 @@ BackwardEulerObjective::BackwardEulerObjective(const Grid& grid, const Material&
     : grid_(grid),
       dt_(dt),
       damping_(material.damping),
+      gravity_(gravity),
       masses_(lumped_masses(grid, material.density)),
-      terms_(make_cloth_terms(grid, material, gravity)),
+      terms_(make_cloth_terms(grid, material)),
       x_trial_(grid.dof_count()),
       grad_x_(grid.dof_count()) {
   require(std::isfinite(dt) && dt > 0.0, "dt", "must be a positive time step in seconds");
@@ -32,7 +33,8 @@ double BackwardEulerObjective::value(const VecX& a) const {
   trial_positions(a, x_trial_);
   double total = 0.0;
   for (Eigen::Index k = 0; k < masses_.size(); ++k) {
-    total += 0.5 * masses_[k] * dt_ * dt_ * a.segment<3>(3 * k).squaredNorm();
+    const auto ak = a.segment<3>(3 * k);
+    total += masses_[k] * dt_ * dt_ * (0.5 * ak.squaredNorm() - gravity_.dot(ak));
     if (damping_ > 0.0)
       total += damping_ * masses_[k] / (2.0 * dt_) *
                (x_trial_.segment<3>(3 * k) - x_start_.segment<3>(3 * k)).squaredNorm();
@@ -50,8 +52,8 @@ double BackwardEulerObjective::value_gradient(const VecX& a, VecX& grad) const {
   grad.resize(a.size());
   for (Eigen::Index k = 0; k < masses_.size(); ++k) {
     const auto ak = a.segment<3>(3 * k);
-    total += 0.5 * masses_[k] * dt2 * ak.squaredNorm();
-    Vec3 gk = dt2 * (masses_[k] * ak + grad_x_.segment<3>(3 * k));
+    total += masses_[k] * dt2 * (0.5 * ak.squaredNorm() - gravity_.dot(ak));
+    Vec3 gk = dt2 * (masses_[k] * (ak - gravity_) + grad_x_.segment<3>(3 * k));
     if (damping_ > 0.0) {
       const Vec3 dx = x_trial_.segment<3>(3 * k) - x_start_.segment<3>(3 * k);
       total += damping_ * masses_[k] / (2.0 * dt_) * dx.squaredNorm();
@@ -86,6 +88,7 @@ const Eigen::SparseMatrix<double>& BackwardEulerObjective::hessian(const VecX& a
 double BackwardEulerObjective::potential(const VecX& x) const {
   double total = 0.0;
   for (const auto& term : terms_) total += term->energy(x);
+  for (Eigen::Index k = 0; k < masses_.size(); ++k) total -= masses_[k] * gravity_.dot(x.segment<3>(3 * k));
   return total;
 }
 

@@ -4,6 +4,10 @@
 //   L(a) = sum_i m_i/2 dt^2 |a_i|^2 + P(x(a)) [+ sum_i c m_i/(2 dt) |x_i(a) - x_t,i|^2],
 // whose minimiser is the implicit-Euler step. The gradient and Hessian w.r.t. a are
 //   grad L = dt^2 (M a + grad P(x)),   hess L = dt^2 M + dt^4 hess P(x).
+// Gravity, -sum_i m_i g.x_i, is linear: it enters L as -dt^2 sum_i m_i g.a_i, i.e. relative to
+// x^. Dropping the constant -sum_i m_i g.x^ changes no minimiser, gradient or difference of
+// values, but keeps L small: otherwise the gravity potential (~1 J) would dominate L and hide
+// decreases below ~1e-16 J from the line search.
 // Not thread-safe: evaluation reuses internal buffers (no allocation per call).
 #include <memory>
 #include <vector>
@@ -40,7 +44,7 @@ class BackwardEulerObjective {
   const Eigen::SparseMatrix<double>& hessian(const VecX& a, const std::vector<int>& free_index,
                                              bool project);
 
-  // The potential P(x) (elastic + gravity) and the kinetic energy of velocities v.
+  // The potential P(x) (elastic + gravity, zero at height 0) and the kinetic energy of v.
   double potential(const VecX& x) const;
   double kinetic(const VecX& v) const;
 
@@ -48,6 +52,7 @@ class BackwardEulerObjective {
   Grid grid_;
   double dt_;
   double damping_;
+  Vec3 gravity_;
   VecX masses_;
   std::vector<std::unique_ptr<EnergyTerm>> terms_;
   VecX x_start_, v_start_, x_inertial_;

@@ -1,8 +1,6 @@
 #include "cloth/cloth_terms.hpp"
 
 #include "cloth/angle_kernel.hpp"
-#include "cloth/gravity_term.hpp"
-#include "cloth/lumped_mass.hpp"
 #include "cloth/stencil_term.hpp"
 #include "cloth/stretch_kernel.hpp"
 
@@ -41,8 +39,7 @@ std::vector<std::array<int, 3>> grid_bend_hinges(const Grid& g) {
   return hinges;
 }
 
-std::vector<std::unique_ptr<EnergyTerm>> make_cloth_terms(const Grid& grid, const Material& material,
-                                                          const Vec3& gravity) {
+std::vector<std::unique_ptr<EnergyTerm>> make_cloth_terms(const Grid& grid, const Material& material) {
   std::vector<std::unique_ptr<EnergyTerm>> terms;
   if (material.stretch > 0.0)
     terms.push_back(std::make_unique<StencilTerm<StretchKernel>>(
@@ -53,8 +50,6 @@ std::vector<std::unique_ptr<EnergyTerm>> make_cloth_terms(const Grid& grid, cons
   if (material.bend > 0.0)
     terms.push_back(std::make_unique<StencilTerm<AngleKernel>>(
         "bend", AngleKernel::bend(material.bend), grid_bend_hinges(grid)));
-  if (gravity.squaredNorm() > 0.0)
-    terms.push_back(std::make_unique<GravityTerm>(lumped_masses(grid, material.density), gravity));
   return terms;
 }
 

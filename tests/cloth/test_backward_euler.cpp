@@ -124,7 +124,7 @@ TEST(ClothTerms, ZeroCoefficientsBuildNoTerm) {
   Material m;
   m.shear = 0.0;
   m.bend = 0.0;
-  const auto terms = make_cloth_terms(grid, m, Vec3::Zero());
+  const auto terms = make_cloth_terms(grid, m);
   ASSERT_EQ(terms.size(), 1u);
   EXPECT_EQ(terms[0]->name(), "stretch");
 }

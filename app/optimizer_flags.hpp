@@ -1,0 +1,29 @@
+#pragma once
+// Choosing an inner optimizer by name (polysolve style factory): the flags --optimizer,
+// --iters, --lr, --model shared by simulate, compare and stability.
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <string>
+
+#include "optimizer/inner_optimizer.hpp"
+#include "optimizer/rollout.hpp"
+
+namespace fnopt::app {
+
+struct OptimizerChoice {
+  std::string name = "newton";  // newton (the reference)
+  int iterations = 0;           // budget per step; 0 = the method's default
+  double learning_rate = 0.0;   // 0 = the method's default
+  std::string model;            // learned optimizer weights
+
+  // Throws Error("optimizer: ...") for an unknown name or invalid settings.
+  std::unique_ptr<InnerOptimizer> make() const;
+  // Budget and tolerance: Newton runs to its reference tolerance, the others their budget.
+  InnerSolveOptions solve_options() const;
+};
+
+std::string optimizer_names();  // "newton" ... for help texts
+
+void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice);
+
+}  // namespace fnopt::app

@@ -1,0 +1,58 @@
+#include "app/scene_flags.hpp"
+
+namespace fnopt::app {
+namespace {
+
+struct FlagSpec {
+  const char* key;
+  const char* help;
+};
+
+// Applied in this order: the grid, the material preset, its overrides, then everything else.
+const FlagSpec kFlags[] = {
+    {"res", "grid resolution N (N x N vertices)"},
+    {"rows", "grid rows R (non-square grids)"},
+    {"cols", "grid columns C (non-square grids)"},
+    {"size", "side of the cloth's longer edge [m] (default 1)"},
+    {"material", "material preset ('default') or a material file from fit-material"},
+    {"stretch", "stretch stiffness k_s [N/m]"},
+    {"shear", "shear stiffness k_sh [N/m]"},
+    {"bend", "bending stiffness k_b [N m]"},
+    {"density", "area density rho [kg/m^2]"},
+    {"damping", "damping coefficient c [1/s]"},
+    {"handles", "handle preset: corner, diagonal, mid-edge, corner-center, single-mid-edge, single-center"},
+    {"handle-vertices", "explicit handle vertices 'i,j;i,j;...' (overrides --handles)"},
+    {"motion", "handle motion: xy_v2, ..., rot_h1_opp, static"},
+    {"trajectory", "CSV of handle positions (t_s, hK_x, hK_y, hK_z); FILE.csv#MOTION picks rows"},
+    {"speed", "handle speed factor alpha"},
+    {"frames", "number of time steps"},
+    {"dt", "time step [s] (default 1/60)"},
+    {"gravity", "gravity vector 'x,y,z' [m/s^2]"},
+};
+
+}  // namespace
+
+void SceneFlags::add_to(CLI::App& command, bool with_resolution) {
+  command.add_option("--scene", scene_file_, "scene file (key = value lines); flags override it")
+      ->check(CLI::ExistingFile);
+  for (const FlagSpec& flag : kFlags) {
+    const std::string key = flag.key;
+    if (!with_resolution && (key == "res" || key == "rows" || key == "cols")) continue;
+    options_[key] = command.add_option("--" + key, values_[key], flag.help);
+  }
+  repulsion_flag_ = command.add_flag("--repulsion", repulsion_, "enable self-repulsion");
+}
+
+Scene SceneFlags::scene() const {
+  Scene scene = scene_file_.empty() ? Scene{} : load_scene_file(scene_file_);
+  for (const FlagSpec& flag : kFlags) {
+    const auto option = options_.find(flag.key);
+    if (option != options_.end() && option->second->count() > 0)
+      apply_scene_setting(scene, flag.key, values_.at(flag.key));
+  }
+  if (repulsion_flag_ && repulsion_flag_->count() > 0) apply_scene_setting(scene, "repulsion", "true");
+  scene.validate();
+  return scene;
+}
+
+}  // namespace fnopt::app

@@ -1,0 +1,31 @@
+#pragma once
+// The scene flags shared by simulate, compare, stability, bench: each flag is a scene-file key
+// (scenes/scene.hpp), applied after --scene FILE, so flags override the file.
+#include <CLI/CLI.hpp>
+#include <map>
+#include <string>
+
+#include "scenes/scene.hpp"
+
+namespace fnopt::app {
+
+class SceneFlags {
+ public:
+  // Adds --scene, --res, --rows, --cols, --size, --handles, --handle-vertices, --motion,
+  // --trajectory, --speed, --frames, --dt, --material, --stretch, --shear, --bend, --density,
+  // --damping, --gravity, --repulsion. `with_resolution` false leaves out --res/--rows/--cols
+  // (for commands that take a list of resolutions).
+  void add_to(CLI::App& command, bool with_resolution = true);
+  // The scene: defaults, then the --scene file, then every flag given (in a fixed order:
+  // grid, material, then the material overrides, then the rest).
+  Scene scene() const;
+
+ private:
+  std::string scene_file_;
+  std::map<std::string, std::string> values_;
+  std::map<std::string, CLI::Option*> options_;
+  bool repulsion_ = false;
+  CLI::Option* repulsion_flag_ = nullptr;
+};
+
+}  // namespace fnopt::app

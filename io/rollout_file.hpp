@@ -1,0 +1,37 @@
+#pragma once
+// Rollout files (DESIGN.md §8), in the layout of the ARCSim reference files
+// (../shared/data/arcsim/README.md), so that one reader serves both:
+//   positions          float32 [T, R, C, 3]   vertex (i, j) of frame t
+//   handle_positions   float32 [T, H, 3]      prescribed handle targets
+//   rest_positions     float32 [R, C, 3]
+//   faces              int32   [2(R-1)(C-1), 3]
+//   times_s            float64 [T]
+// plus, for fnopt rollouts: handle_vertices int32 [H] and per step (T-1 of them, or fewer if
+// it diverged) step_wall_ms, step_loss, step_initial_loss, step_gradient_norm,
+// step_initial_gradient_norm, step_max_strain, step_energy (float64), step_iterations and
+// step_status (int32, SolveStatus order); attributes rows, cols, dt, scene (the resolved scene
+// file text), optimizer (its settings), fnopt_version, diverged, divergence.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "optimizer/rollout.hpp"
+
+namespace fnopt {
+
+// Writes atomically (temporary name, then rename).
+void write_rollout_file(const std::string& path, const RolloutResult& rollout, const std::string& scene_text,
+                        const std::string& optimizer_settings);
+
+// The frames of a rollout file or an ARCSim reference file.
+struct TrajectoryFrames {
+  int rows = 0;
+  int cols = 0;
+  std::vector<double> times;                // [s]
+  std::vector<Eigen::VectorXf> positions;   // per frame, 3 floats per vertex, vertex i*cols + j
+};
+
+// Throws Error naming the file for anything missing or inconsistent.
+TrajectoryFrames read_trajectory_frames(const std::string& path);
+
+}  // namespace fnopt
