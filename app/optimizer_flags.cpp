@@ -1,15 +1,68 @@
 #include "app/optimizer_flags.hpp"
 
+#include <functional>
+#include <vector>
+
+#include "baselines/adam.hpp"
+#include "baselines/gradient_descent.hpp"
+#include "baselines/lbfgs.hpp"
 #include "baselines/newton.hpp"
 #include "util/error.hpp"
+#include "util/parse_text.hpp"
 
 namespace fnopt::app {
+namespace {
 
-std::string optimizer_names() { return "newton"; }
+// One entry per optimizer name: how to build it from the flags. To add a method, add a row.
+struct OptimizerEntry {
+  const char* name;
+  std::function<std::unique_ptr<InnerOptimizer>(const OptimizerChoice&)> make;
+};
+
+const std::vector<OptimizerEntry>& optimizer_table() {
+  static const std::vector<OptimizerEntry> table = {
+      {"newton", [](const OptimizerChoice&) { return std::make_unique<NewtonOptimizer>(); }},
+      {"gd",
+       [](const OptimizerChoice& c) {
+         GradientDescentParams params;
+         if (c.learning_rate > 0.0) params.learning_rate = c.learning_rate;
+         return std::make_unique<GradientDescentOptimizer>(params);
+       }},
+      {"adam",
+       [](const OptimizerChoice& c) {
+         AdamParams params;
+         if (c.learning_rate > 0.0) params.learning_rate = c.learning_rate;
+         return std::make_unique<AdamOptimizer>(params);
+       }},
+      {"lbfgs",
+       [](const OptimizerChoice&) {
+         LbfgsParams params;
+         params.line_search = false;
+         return std::make_unique<LbfgsOptimizer>(params);
+       }},
+      {"lbfgs-ls",
+       [](const OptimizerChoice&) {
+         LbfgsParams params;
+         params.line_search = true;
+         return std::make_unique<LbfgsOptimizer>(params);
+       }},
+  };
+  return table;
+}
+
+}  // namespace
+
+std::string optimizer_names() {
+  std::vector<std::string> names;
+  for (const auto& entry : optimizer_table()) names.push_back(entry.name);
+  return joined(names);
+}
 
 std::unique_ptr<InnerOptimizer> OptimizerChoice::make() const {
   require(iterations >= 0, "iters", "must be a positive iteration budget");
-  if (name == "newton") return std::make_unique<NewtonOptimizer>();
+  require(learning_rate >= 0.0, "lr", "must be positive");
+  for (const auto& entry : optimizer_table())
+    if (name == entry.name) return entry.make(*this);
   throw Error("optimizer: unknown optimizer '" + name + "' (choose from: " + optimizer_names() + ")");
 }
 
@@ -25,8 +78,11 @@ InnerSolveOptions OptimizerChoice::solve_options() const {
 void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice) {
   command.add_option("--optimizer", choice.name, "inner optimizer: " + optimizer_names())->capture_default_str();
   command.add_option("--iters", choice.iterations,
-                     "iterations per time step (newton: at most this many, default 100 to ||g|| <= 1e-9 ||g0||)");
-  command.add_option("--lr", choice.learning_rate, "learning rate of gd/adam");
+                     "iterations per time step (default 10; newton: at most this many, default 100 to "
+                     "||g|| <= 1e-9 ||g0||)");
+  command.add_option("--lr", choice.learning_rate,
+                     "learning rate: gd in units of 1/lambda_max of the mass-scaled Hessian (default 1), adam in "
+                     "cell widths per step^2 per iteration (default 0.003)");
   command.add_option("--model", choice.model, "learned optimizer weights file");
 }
 

@@ -27,7 +27,11 @@ void NewtonParams::validate() const {
   require(max_cg_iterations >= 0, "newton.max_cg_iterations", "must not be negative");
 }
 
-NewtonOptimizer::NewtonOptimizer(NewtonParams params) : params_(params) { params_.validate(); }
+NewtonOptimizer::NewtonOptimizer(NewtonParams params) : params_(params) {
+  params_.validate();
+  // An indefinite Hessian is expected (the projected one is used then): CHOLMOD must not print.
+  llt_.cholmod().print = 0;
+}
 
 std::string NewtonOptimizer::settings() const {
   std::ostringstream out;

@@ -1,0 +1,97 @@
+// fnopt bench: timing tables measured in one run (DESIGN.md §9): the Newton reference step at
+// several resolutions, and the FNO's forward/backward passes.
+#include <cstdio>
+#include <sstream>
+
+#include "app/commands.hpp"
+#include "app/scene_flags.hpp"
+#include "app/threads.hpp"
+#include "baselines/newton.hpp"
+#include "optimizer/rollout.hpp"
+#include "fno/fno_bench.hpp"
+#include "util/error.hpp"
+#include "util/parse_text.hpp"
+#include "util/progress_bar.hpp"
+
+namespace fnopt::app {
+namespace {
+
+struct BenchFlags {
+  std::string what = "newton";
+  std::string resolutions = "32,64,100";
+  int frames = 390;
+  int threads = 0;
+  bool warm_start = false;
+};
+
+std::vector<int> parse_resolutions(const std::string& list) {
+  std::vector<int> values;
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    int n = 0;
+    require(parse_int(item, n) && n >= 3, "res", "expected a comma-separated list of sizes >= 3, got '" + list + "'");
+    values.push_back(n);
+  }
+  return values;
+}
+
+void bench_newton(const BenchFlags& flags, int threads) {
+  std::printf("Newton reference step (||g|| <= 1e-9 ||g0||), corner handles, motion xy_v2, %d frames, dt = 1/60, "
+              "%d thread%s, warm start %s\n",
+              flags.frames, threads, threads == 1 ? "" : "s", flags.warm_start ? "on" : "off");
+  std::printf("%6s %10s %10s %9s %9s %9s %10s %10s %9s\n", "res", "ms/frame", "max ms", "iters", "max it",
+              "factor/st", "cg it/st", "projected", "converged");
+  for (int n : parse_resolutions(flags.resolutions)) {
+    Scene scene;
+    scene.rows = scene.cols = n;
+    scene.frames = flags.frames;
+    NewtonOptimizer newton;
+    RolloutOptions options;
+    options.solve = NewtonOptimizer::reference_solve_options();
+    options.warm_start = flags.warm_start;
+    ProgressBar bar("bench " + std::to_string(n) + "^2", scene.frames);
+    const RolloutResult r = run_rollout(scene, newton, options, [&](int done, int, const StepRecord&) { bar.update(done); });
+    bar.finish();
+    int converged = 0, max_iterations = 0;
+    double max_ms = 0.0;
+    for (const auto& s : r.steps) {
+      converged += s.status == SolveStatus::Converged;
+      max_iterations = std::max(max_iterations, s.iterations);
+      max_ms = std::max(max_ms, s.wall_ms);
+    }
+    const double steps = static_cast<double>(r.steps.size());
+    const auto& c = newton.counters();
+    std::printf("%4d^2 %10.1f %10.1f %9.2f %9d %9.2f %10.2f %9.1f%% %5d/%d\n", n, r.mean_step_ms(), max_ms,
+                r.total_iterations() / steps, max_iterations, c.factorizations / steps, c.cg_iterations / steps,
+                100.0 * c.projected_iterations / std::max(1, r.total_iterations()), converged,
+                static_cast<int>(r.steps.size()));
+    std::fflush(stdout);
+  }
+}
+
+void run_bench(const BenchFlags& flags) {
+  const int threads = set_thread_count(flags.threads);
+  if (flags.what == "newton" || flags.what == "all") bench_newton(flags, threads);
+  if (flags.what == "fno" || flags.what == "all") {
+    std::ostringstream table;
+    run_fno_bench(table, threads);
+    std::printf("%s", table.str().c_str());
+  }
+  if (flags.what != "newton" && flags.what != "fno" && flags.what != "all")
+    throw Error("bench: unknown benchmark '" + flags.what + "' (choose newton, fno or all)");
+}
+
+const RegisterCommand kRegister([](CLI::App& app) {
+  auto flags = std::make_shared<BenchFlags>();
+  CLI::App* command = app.add_subcommand("bench", "timing tables: the Newton step, the FNO passes");
+  command->add_option("what", flags->what, "newton, fno or all")->capture_default_str();
+  command->add_option("--res", flags->resolutions, "resolutions, comma-separated")->capture_default_str();
+  command->add_option("--frames", flags->frames, "frames per resolution (newton)")->capture_default_str();
+  command->add_option("--threads", flags->threads, "threads (default: all cores)");
+  command->add_flag("--warm-start", flags->warm_start, "start each step from the previous acceleration");
+  command->callback([flags] { run_bench(*flags); });
+});
+
+}  // namespace
+}  // namespace fnopt::app

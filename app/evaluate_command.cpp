@@ -1,0 +1,140 @@
+// fnopt evaluate: a rollout against a reference trajectory (an fnopt rollout or an ARCSim file),
+// at matching times: e_CD x 10^3, e_3D x 10^2, the rollout's max edge strain, and optionally the
+// per-step optimisation error of an inner optimizer on the reference's states (DESIGN.md §8).
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "app/commands.hpp"
+#include "app/optimizer_flags.hpp"
+#include "app/threads.hpp"
+#include "io/hdf5_file.hpp"
+#include "io/rollout_file.hpp"
+#include "metrics/step_error.hpp"
+#include "metrics/trajectory_error.hpp"
+#include "util/error.hpp"
+
+namespace fnopt::app {
+namespace {
+
+struct EvaluateFlags {
+  std::string reference;
+  std::string rollout;
+  ChamferOptions chamfer;
+  bool no_chamfer = false;
+  OptimizerChoice optimizer;
+  int step_samples = 16;
+  int threads = 0;
+};
+
+// The rest edge length h of a trajectory file: from rest_positions (both layouts have it),
+// else from frame 0.
+double rest_spacing(const std::string& path, const TrajectoryFrames& frames) {
+  const Hdf5File file(path, Hdf5File::Mode::Read);
+  std::vector<float> rest;
+  if (file.has("rest_positions")) rest = file.read_floats("rest_positions");
+  if (rest.size() != static_cast<std::size_t>(3 * frames.rows * frames.cols))
+    rest.assign(frames.positions[0].data(), frames.positions[0].data() + frames.positions[0].size());
+  const Eigen::Map<const Eigen::Vector3f> a(&rest[0]), b(&rest[3]);
+  return (a - b).cast<double>().norm();
+}
+
+std::string kind_of(const std::string& path) {
+  const Hdf5File file(path, Hdf5File::Mode::Read);
+  return file.has_attribute("fnopt_version") ? "fnopt rollout" : "ARCSim-layout file";
+}
+
+std::string describe(const std::string& path, const TrajectoryFrames& frames) {
+  char text[160];
+  std::snprintf(text, sizeof text, "%dx%d, %zu frames, t = %.4g ... %.4g s", frames.rows, frames.cols,
+                frames.positions.size(), frames.times.front(), frames.times.back());
+  return path + " (" + kind_of(path) + ", " + text + ")";
+}
+
+// The scene stored with an fnopt rollout (its `scene` attribute).
+Scene scene_of_rollout(const std::string& path) {
+  const Hdf5File file(path, Hdf5File::Mode::Read);
+  require(file.has_attribute("scene"), path,
+          "no 'scene' attribute: the per-step error needs an fnopt rollout as the reference");
+  const std::string text = file.string_attribute("scene");
+  const auto temporary = std::filesystem::temp_directory_path() /
+                         ("fnopt-evaluate-scene-" + std::to_string(::getpid()) + ".txt");
+  std::ofstream(temporary) << text;
+  try {
+    Scene scene = load_scene_file(temporary.string());
+    std::filesystem::remove(temporary);
+    return scene;
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+    throw;
+  }
+}
+
+void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
+  const int threads = set_thread_count(flags.threads);
+  const TrajectoryFrames reference = read_trajectory_frames(flags.reference);
+  const TrajectoryFrames rollout = read_trajectory_frames(flags.rollout);
+  TrajectoryComparisonOptions options;
+  options.chamfer = flags.chamfer;
+  options.chamfer_enabled = !flags.no_chamfer;
+  const TrajectoryComparison c =
+      compare_trajectories(reference, rollout, rest_spacing(flags.rollout, rollout), options);
+
+  std::printf("reference: %s\n", describe(flags.reference, reference).c_str());
+  std::printf("rollout:   %s\n", describe(flags.rollout, rollout).c_str());
+  std::printf("matched:   %s\n", c.describe_matching().c_str());
+  if (c.matches.empty()) throw Error("evaluate: the two trajectories have no frames at matching times");
+  if (options.chamfer_enabled)
+    std::printf("e_CD x 10^3 = %.4f   (mean over %zu frames; %d points per mesh sampled by area, seed %llu)\n",
+                1e3 * c.chamfer, c.matches.size(), flags.chamfer.samples,
+                static_cast<unsigned long long>(flags.chamfer.seed));
+  if (c.correspondence)
+    std::printf("e_3D x 10^2 = %.4f   (mean over %zu frames of ||X - X_ref||_F / ||X_ref||_F)\n", 1e2 * c.e3d,
+                c.matches.size());
+  else
+    std::printf("e_3D x 10^2 = n/a      (no vertex correspondence: %dx%d against %dx%d)\n", rollout.rows,
+                rollout.cols, reference.rows, reference.cols);
+  std::printf("max edge strain of the rollout = %.2f %%\n", 100 * c.max_strain);
+
+  if (with_step_error) {
+    const Scene scene = scene_of_rollout(flags.reference);
+    StepErrorBench bench(scene, reference, flags.step_samples);
+    const auto method = flags.optimizer.make();
+    const StepErrorSummary summary = bench.evaluate(*method, flags.optimizer.solve_options());
+    std::printf("per-step error of %s (%s), N = %d, on %zu reference states: mean %.4g, median %.4g"
+                "   ((L(a_N) - L*)/(L(a_0) - L*), L* by Newton to 1e-9; %d thread%s)\n",
+                method->name().c_str(), method->settings().c_str(), flags.optimizer.solve_options().max_iterations,
+                summary.samples.size(), summary.mean, summary.median, threads, threads == 1 ? "" : "s");
+  }
+}
+
+const RegisterCommand kRegister([](CLI::App& app) {
+  auto flags = std::make_shared<EvaluateFlags>();
+  CLI::App* command = app.add_subcommand(
+      "evaluate", "compare a rollout with a reference (fnopt rollout or ARCSim file): e_CD x 10^3, e_3D x 10^2");
+  command->add_option("--reference", flags->reference, "reference trajectory (HDF5)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command->add_option("rollout", flags->rollout, "rollout to evaluate (HDF5)")->required()->check(CLI::ExistingFile);
+  command->add_option("--cd-samples", flags->chamfer.samples, "points sampled per mesh for e_CD")
+      ->capture_default_str();
+  command->add_option("--cd-seed", flags->chamfer.seed, "seed of the e_CD sampling")->capture_default_str();
+  command->add_flag("--no-chamfer", flags->no_chamfer, "skip e_CD");
+  CLI::Option* optimizer = command->add_option(
+      "--optimizer", flags->optimizer.name,
+      "also report the per-step error of this optimizer on the reference's states (an fnopt rollout)");
+  command->add_option("--iters", flags->optimizer.iterations, "its iteration budget");
+  command->add_option("--lr", flags->optimizer.learning_rate, "its learning rate (gd, adam)");
+  command->add_option("--model", flags->optimizer.model, "learned optimizer weights file");
+  command->add_option("--step-samples", flags->step_samples, "reference states for the per-step error")
+      ->capture_default_str();
+  command->add_option("--threads", flags->threads, "threads (default: all cores)");
+  command->callback([flags, optimizer] { run_evaluate(*flags, optimizer->count() > 0); });
+});
+
+}  // namespace
+}  // namespace fnopt::app
