@@ -7,6 +7,7 @@
 #include "app/optimizer_flags.hpp"
 #include "app/scene_flags.hpp"
 #include "app/threads.hpp"
+#include "cloth/grid_units.hpp"
 #include "io/obj_file.hpp"
 #include "io/rollout_file.hpp"
 #include "util/error.hpp"
@@ -37,6 +38,9 @@ void run_simulate(const SimulateFlags& flags) {
                scene.handle_vertices.empty() ? scene.handles.c_str() : "explicit",
                scene.trajectory.empty() ? ("motion " + scene.motion).c_str() : scene.trajectory.c_str(),
                scene.frames, optimizer->name().c_str(), threads, threads == 1 ? "" : "s");
+  const GridUnitStiffness k = grid_unit_stiffness(resolve(scene).grid, scene.material, scene.dt, scene.gravity.norm());
+  std::fprintf(stderr, "grid units: stretch %.4g, shear %.4g, bend %.4g, gravity %.4g (DESIGN.md §2)\n", k.stretch,
+               k.shear, k.bend, k.gravity);
   ProgressBar bar("simulate", scene.frames);
   const RolloutResult rollout = run_rollout(scene, *optimizer, options, [&](int done, int, const StepRecord& s) {
     char status[96];

@@ -1,0 +1,174 @@
+#include "optimizer/learned/meta_trainer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "optimizer/learned/energy_loss.hpp"
+#include "optimizer/learned/grid_tensor.hpp"
+#include "optimizer/learned/learned_update.hpp"
+#include "util/atomic_file.hpp"
+#include "util/error.hpp"
+
+namespace fnopt {
+
+void TrainOptions::validate() const {
+  pool.validate();
+  fnopt::validate(model);
+  check_learned_model(model, "train.model");
+  require(steps > 0, "train.steps", "must be positive");
+  require(batch > 0 && batch <= pool.environments, "train.batch", "must lie in [1, environments]");
+  require(learning_rate > 0.0, "train.learning_rate", "must be positive");
+  require(weight_decay >= 0.0, "train.weight_decay", "must not be negative");
+  require(decay_every > 0, "train.decay_every", "must be positive");
+  require(clip_norm > 0.0, "train.clip_norm", "must be positive");
+  require(newton_weight >= 0.0, "train.newton_weight", "must not be negative");
+}
+
+std::string TrainOptions::signature() const {
+  std::ostringstream s;
+  s << "res=" << pool.resolution << " envs=" << pool.environments << " width=" << model.width()
+    << " layers=" << model.fourier_layers() << " modes=" << model.modes_x() << "x" << model.modes_y()
+    << " lifting=" << model.lifting_channels() << " projection=" << model.projection_channels()
+    << " batch=" << batch << " lr=" << learning_rate << " newton_weight=" << newton_weight << " seed=" << seed;
+  return s.str();
+}
+
+MetaTrainer::MetaTrainer(const TrainOptions& options) : options_(options), model_(nullptr), rng_(options.seed) {
+  options_.validate();
+  torch::manual_seed(options_.seed);
+  model_ = FNO2d(options_.model);
+  adam_ = std::make_unique<torch::optim::AdamW>(
+      model_->parameters(),
+      torch::optim::AdamWOptions(options_.learning_rate).weight_decay(options_.weight_decay));
+  for (int id = 0; id < options_.pool.environments; ++id)
+    pool_.push_back(std::make_unique<TrainingEnv>(options_.pool, options_.seed, id));
+}
+
+TrainStepStats MetaTrainer::step() {
+  TrainStepStats stats;
+  stats.learning_rate = options_.learning_rate * std::pow(0.5, step_ / options_.decay_every);
+  for (auto& group : adam_->param_groups())
+    static_cast<torch::optim::AdamWOptions&>(group.options()).lr(stats.learning_rate);
+
+  // A batch of distinct environments.
+  std::vector<int> order(pool_.size());
+  std::iota(order.begin(), order.end(), 0);
+  for (int i = 0; i < options_.batch; ++i)
+    std::swap(order[i], order[std::uniform_int_distribution<int>(i, static_cast<int>(order.size()) - 1)(rng_)]);
+
+  EnergyLossBatch batch;
+  std::vector<torch::Tensor> gradients, previous_gradients, previous_deltas, scales, masks, newton_deltas;
+  VecX g;
+  for (int i = 0; i < options_.batch; ++i) {
+    TrainingEnv& env = *pool_[order[i]];
+    batch.envs.push_back(&env);
+    batch.current_loss.push_back(env.objective().value_gradient(env.acceleration(), g));
+    env.dirichlet().zero_fixed(g);
+    gradients.push_back(to_coordinate_samples(g, env.grid()));
+    previous_gradients.push_back(env.previous_gradient);
+    previous_deltas.push_back(env.previous_delta);
+    scales.push_back(env.scale);
+    masks.push_back(free_mask(env.dirichlet(), env.grid()).expand({3, 1, env.grid().rows, env.grid().cols}));
+    const double to_grid_units = env.dt() * env.dt() / env.grid().spacing;
+    newton_deltas.push_back(to_coordinate_samples(env.reference_acceleration() - env.acceleration(), env.grid(), to_grid_units));
+  }
+  const torch::Tensor gradient = torch::cat(gradients);
+  const LearnedState state{torch::cat(previous_gradients), torch::cat(previous_deltas), torch::cat(scales)};
+  const LearnedStep update = learned_step(model_, gradient, state, torch::cat(masks));
+  torch::Tensor loss = EnergyLoss::apply(update.delta, &batch);
+  if (options_.newton_weight > 0.0) {
+    const auto target = torch::cat(newton_deltas).view({options_.batch, -1});
+    const auto error = (update.delta.view({options_.batch, -1}) - target).pow(2).sum(1);
+    const auto newton_loss = (error / (target.pow(2).sum(1) + 1e-20)).mean();
+    stats.newton_loss = newton_loss.item<double>();
+    loss = loss + options_.newton_weight * newton_loss;
+  }
+
+  stats.loss = loss.item<double>();
+  adam_->zero_grad();
+  loss.backward();
+  stats.gradient_norm = torch::nn::utils::clip_grad_norm_(model_->parameters(), options_.clip_norm);
+  stats.skipped = !std::isfinite(stats.loss) || !std::isfinite(stats.gradient_norm);
+  if (!stats.skipped) adam_->step();
+
+  // Write each update back into its environment.
+  double ratio_sum = 0.0;
+  int finite = 0;
+  for (int i = 0; i < options_.batch; ++i) {
+    TrainingEnv& env = *batch.envs[i];
+    const torch::Tensor delta = update.delta.narrow(0, 3 * i, 3).detach();
+    if (!std::isfinite(batch.ratio[i]) || !torch::isfinite(delta).all().item<bool>()) {
+      env.renew();
+      ++stats.renewed;
+      continue;
+    }
+    ratio_sum += batch.ratio[i];
+    ++finite;
+    add_coordinate_samples(delta, env.grid(), env.grid().spacing / (env.dt() * env.dt()), env.acceleration());
+    env.previous_gradient = gradients[i];
+    env.previous_delta = delta;
+    env.scale = update.scale.narrow(0, 3 * i, 3).detach();
+    env.finish_iteration();
+  }
+  stats.mean_ratio = finite ? ratio_sum / finite : NAN;
+  ++step_;
+  return stats;
+}
+
+void MetaTrainer::save_checkpoint(const std::string& path) const {
+  write_atomically(path, [&](const std::string& temporary) {
+    torch::serialize::OutputArchive archive;
+    archive.write("format", c10::IValue(std::string("fnopt-train-checkpoint")));
+    archive.write("signature", c10::IValue(options_.signature()));
+    archive.write("step", c10::IValue(static_cast<int64_t>(step_)));
+    std::ostringstream rng;
+    rng << rng_;
+    archive.write("rng", c10::IValue(rng.str()));
+    torch::serialize::OutputArchive model, adam;
+    model_->save(model);
+    adam_->save(adam);
+    archive.write("model", model);
+    archive.write("adam", adam);
+    for (std::size_t e = 0; e < pool_.size(); ++e) {
+      const auto tensors = pool_[e]->state_tensors();
+      for (std::size_t k = 0; k < tensors.size(); ++k)
+        archive.write("env" + std::to_string(e) + "_" + std::to_string(k), tensors[k]);
+    }
+    archive.save_to(temporary);
+  });
+}
+
+void MetaTrainer::resume(const std::string& path) {
+  torch::serialize::InputArchive archive;
+  try {
+    archive.load_from(path);
+  } catch (const c10::Error&) {
+    throw Error(path + ": not a readable training checkpoint");
+  }
+  c10::IValue value;
+  require(archive.try_read("format", value) && value.isString() && value.toStringRef() == "fnopt-train-checkpoint",
+          path, "not an fnopt training checkpoint");
+  require(archive.try_read("signature", value) && value.isString(), path, "checkpoint without options");
+  require(value.toStringRef() == options_.signature(), path,
+          "checkpoint made with other options (" + value.toStringRef() + "; now " + options_.signature() + ")");
+  archive.read("step", value);
+  step_ = static_cast<int>(value.toInt());
+  archive.read("rng", value);
+  std::istringstream rng(value.toStringRef());
+  rng >> rng_;
+  torch::serialize::InputArchive model, adam;
+  archive.read("model", model);
+  archive.read("adam", adam);
+  model_->load(model);
+  adam_->load(adam);
+  for (std::size_t e = 0; e < pool_.size(); ++e) {
+    std::vector<torch::Tensor> tensors(7);
+    for (std::size_t k = 0; k < tensors.size(); ++k)
+      archive.read("env" + std::to_string(e) + "_" + std::to_string(k), tensors[k]);
+    pool_[e]->restore(tensors);
+  }
+}
+
+}  // namespace fnopt

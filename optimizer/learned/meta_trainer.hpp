@@ -1,0 +1,69 @@
+#pragma once
+// Self-supervised meta-training of the learned optimizer (DESIGN.md §5). One training step:
+// draw a batch of environments from the pool, take their masked gradients, run the update
+// rule (learned_update.hpp), score the energy after the update (energy_loss.hpp), step AdamW
+// on the FNO's parameters, and write each update back into its environment. Checkpoints hold
+// everything that the next steps depend on (model, AdamW moments, pool, random state), so a
+// killed run resumes where its last checkpoint left it and takes the same next steps.
+#include <cstdint>
+#include <random>
+#include <string>
+
+#include "fno/fno2d.hpp"
+#include "optimizer/learned/training_env.hpp"
+
+namespace fnopt {
+
+struct TrainOptions {
+  PoolOptions pool;
+  FNO2dOptions model = FNO2dOptions().width(32).lifting_channels(64).projection_channels(32);
+  int steps = 20000;              // training steps in all
+  int batch = 8;                  // environments per step (3 FNO samples each)
+  double learning_rate = 1e-3;    // AdamW
+  double weight_decay = 1e-4;
+  int decay_every = 4000;         // the learning rate halves every this many steps
+  double clip_norm = 1.0;         // gradient-norm clipping
+  // Weight of the auxiliary loss toward the Newton correction: mean over environments of
+  // ||delta - delta*||^2 / ||delta*||^2, delta* = a* - a in grid units. The teacher is the
+  // energy's own exact minimiser (no data); it gives every vertex a target where the energy
+  // loss gives one scalar, which speeds up CPU training. 0 turns it off.
+  double newton_weight = 1.0;
+  std::uint64_t seed = 1;
+
+  void validate() const;
+  std::string signature() const;  // what a checkpoint must match to be resumed
+};
+
+struct TrainStepStats {
+  double loss = 0.0;
+  double newton_loss = 0.0;      // the auxiliary term, unweighted
+  double mean_ratio = 0.0;       // mean r_e (remaining error fraction after the update)
+  double gradient_norm = 0.0;    // before clipping
+  double learning_rate = 0.0;
+  int renewed = 0;               // environments replaced after a non-finite update
+  bool skipped = false;          // non-finite loss or gradient: no parameter update
+};
+
+class MetaTrainer {
+ public:
+  explicit MetaTrainer(const TrainOptions& options);
+
+  TrainStepStats step();
+  int completed_steps() const { return step_; }
+  FNO2d& model() { return model_; }
+
+  // Writes atomically. resume() throws Error naming the file if it is unreadable or was made
+  // with other options.
+  void save_checkpoint(const std::string& path) const;
+  void resume(const std::string& path);
+
+ private:
+  TrainOptions options_;
+  FNO2d model_;
+  std::unique_ptr<torch::optim::AdamW> adam_;
+  std::vector<std::unique_ptr<TrainingEnv>> pool_;
+  std::mt19937_64 rng_;
+  int step_ = 0;
+};
+
+}  // namespace fnopt

@@ -1,0 +1,78 @@
+// The learned optimizer: runs on odd and non-square grids, never moves handles, rejects bad
+// model files, and the shipped model lowers the energy of a real step.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "baselines/newton.hpp"
+#include "fno/fno_io.hpp"
+#include "optimizer/learned/learned_optimizer.hpp"
+#include "util/error.hpp"
+
+namespace fnopt {
+namespace {
+
+FNO2d tiny_model() {
+  torch::manual_seed(3);
+  return FNO2d(FNO2dOptions().width(4).fourier_layers(2).modes_x(4).modes_y(4).lifting_channels(8).projection_channels(4));
+}
+
+// One time step of a falling cloth with two corner handles and a third moving handle.
+struct Step {
+  Grid grid;
+  BackwardEulerObjective objective;
+  DirichletSet handles;
+  StepProblem problem{objective, handles};
+  VecX a;
+  Step(int rows, int cols)
+      : grid(Grid::make(rows, cols, 1.0)),
+        objective(grid, Material{}, 1.0 / 60.0, Vec3(0, 0, -9.81)),
+        handles(grid.vertex_count(), {0, cols - 1, grid.index(rows / 2, cols / 2)}) {
+    VecX v = VecX::Zero(grid.dof_count());
+    for (int k = 0; k < grid.vertex_count(); ++k) v[3 * k + 1] = 0.5 * (k % cols) / cols;
+    objective.begin_step(grid.rest_positions(), v);
+    a = VecX::Zero(grid.dof_count());
+    handles.prescribe(a, grid.rest_positions(), v, {Vec3(0, 0.01, 0), Vec3(1, 0, 0.01), vertex(grid.rest_positions(), grid.index(rows / 2, cols / 2))}, 1.0 / 60.0);
+  }
+};
+
+TEST(LearnedOptimizer, TinyRandomModelRunsOnOddAndNonSquareGridsAndNeverMovesHandles) {
+  for (auto [rows, cols] : {std::pair{17, 23}, std::pair{40, 40}}) {
+    Step step(rows, cols);
+    LearnedOptimizer optimizer(tiny_model(), "tiny");
+    const VecX before = step.a;
+    const InnerSolveResult result = solve_step(optimizer, step.problem, step.a, {10, 0.0});
+    EXPECT_EQ(result.status, SolveStatus::IterationBudget);
+    EXPECT_EQ(result.iterations, 10);
+    EXPECT_TRUE(step.a.allFinite());
+    EXPECT_GT((step.a - before).norm(), 0.0);
+    for (int k : step.handles.fixed_vertices())
+      EXPECT_EQ(step.a.segment<3>(3 * k), before.segment<3>(3 * k)) << rows << "x" << cols << " handle " << k;
+  }
+}
+
+TEST(LearnedOptimizer, RejectsMissingAndIncompatibleModelFiles) {
+  EXPECT_THROW(LearnedOptimizer("/nonexistent/model.pt"), Error);
+  const auto path = (std::filesystem::temp_directory_path() / "fnopt_test_wrong_model.pt").string();
+  save_fno(path, FNO2d(FNO2dOptions().in_channels(5).width(4).fourier_layers(2).lifting_channels(4).projection_channels(4)));
+  try {
+    LearnedOptimizer optimizer(path);
+    FAIL() << "a 5-channel FNO was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not a learned-optimizer model"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(LearnedOptimizer, ShippedModelLowersTheEnergyOfA32Step) {
+  const std::string path = std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt";
+  ASSERT_TRUE(std::filesystem::exists(path)) << "the shipped model is missing: " << path;
+  Step step(32, 32);
+  LearnedOptimizer optimizer(path);
+  const InnerSolveResult result = solve_step(optimizer, step.problem, step.a, {10, 0.0});
+  EXPECT_TRUE(std::isfinite(result.value));
+  EXPECT_LT(result.value, result.initial_value);
+}
+
+}  // namespace
+}  // namespace fnopt
