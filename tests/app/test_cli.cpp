@@ -1,0 +1,73 @@
+// The fnopt command as a user runs it: bad input gives one line naming the problem and exit
+// status 2; a small simulation writes a rollout file.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+namespace {
+
+struct CommandResult {
+  int status;
+  std::string output;
+};
+
+CommandResult run(const std::string& arguments) {
+  const std::string command = std::string(FNOPT_BINARY) + " " + arguments + " 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+  std::string output;
+  std::array<char, 256> buffer{};
+  while (fgets(buffer.data(), buffer.size(), pipe.get())) output += buffer.data();
+  const int raw = pclose(pipe.release());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, output};
+}
+
+void expect_rejected(const std::string& arguments, const std::string& message) {
+  const CommandResult r = run(arguments);
+  EXPECT_NE(r.status, 0) << arguments;
+  EXPECT_NE(r.output.find(message), std::string::npos) << arguments << "\n" << r.output;
+}
+
+TEST(Cli, RejectsBadInputWithOneLineNamingTheProblem) {
+  expect_rejected("simulate --res 2 --frames 1", "res: ");
+  expect_rejected("simulate --rows 2 --frames 1", "rows: ");
+  expect_rejected("simulate --frames 0", "frames");
+  expect_rejected("simulate --handles nowhere --frames 1", "handles");
+  expect_rejected("simulate --motion sideways --frames 1", "motion");
+  expect_rejected("simulate --density -1 --frames 1", "density");
+  expect_rejected("simulate --stretch nan --frames 1", "stretch");
+  expect_rejected("simulate --handle-vertices 0,99 --res 8 --frames 1", "handle-vertices");
+  expect_rejected("simulate --trajectory /nonexistent.csv --frames 1", "trajectory");
+  expect_rejected("simulate --optimizer magic --frames 1", "optimizer");
+  const CommandResult r = run("simulate --res 2 --frames 1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+}
+
+TEST(Cli, SimulateWritesARolloutAndSaysSo) {
+  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_cli";
+  std::filesystem::create_directories(dir);
+  const auto out = (dir / "r.h5").string();
+  const CommandResult r = run("simulate --res 8 --frames 5 --out " + out + " --obj-dir " + (dir / "obj").string());
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(out));
+  EXPECT_TRUE(std::filesystem::exists(dir / "obj" / "frame_0005.obj"));
+  EXPECT_NE(r.output.find("5/5 frames"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("5/5 steps converged"), std::string::npos) << r.output;
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Cli, EverySubcommandHasHelp) {
+  for (const char* command : {"simulate", "train", "bench"}) {
+    const CommandResult r = run(std::string(command) + " --help");
+    EXPECT_EQ(r.status, 0) << command;
+    EXPECT_NE(r.output.find("Usage"), std::string::npos) << command;
+  }
+}
+
+}  // namespace

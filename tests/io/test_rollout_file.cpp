@@ -1,0 +1,113 @@
+// HDF5 rollout files: write -> read round trip, the ARCSim layout, atomic writes, bad files.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "io/hdf5_file.hpp"
+#include "io/obj_file.hpp"
+#include "io/rollout_file.hpp"
+#include "util/error.hpp"
+
+namespace fnopt {
+namespace {
+
+std::filesystem::path temp_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("fnopt_test_io_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+RolloutResult small_rollout() {
+  RolloutResult r;
+  r.grid = Grid::make(3, 4, 1.0);
+  r.handle_vertices = {0, 3};
+  r.dt = 0.01;
+  for (int t = 0; t < 3; ++t) {
+    r.times.push_back(t * r.dt);
+    Eigen::VectorXf x = r.grid.rest_positions().cast<float>();
+    x.array() += 0.25f * t;
+    r.positions.push_back(x);
+    r.handle_targets.push_back({Vec3(t, 0, 0), Vec3(1, t, 0)});
+    if (t > 0) {
+      StepRecord s;
+      s.wall_ms = 1.5 * t;
+      s.iterations = t;
+      s.status = SolveStatus::Converged;
+      r.steps.push_back(s);
+    }
+  }
+  return r;
+}
+
+TEST(RolloutFile, WriteReadRoundTrip) {
+  const auto dir = temp_dir("roundtrip");
+  const std::string path = (dir / "r.h5").string();
+  const RolloutResult r = small_rollout();
+  write_rollout_file(path, r, "res = 3\n", "newton: test");
+  const TrajectoryFrames frames = read_trajectory_frames(path);
+  EXPECT_EQ(frames.rows, 3);
+  EXPECT_EQ(frames.cols, 4);
+  ASSERT_EQ(frames.positions.size(), 3u);
+  for (int t = 0; t < 3; ++t) {
+    EXPECT_EQ(frames.positions[t], r.positions[t]);
+    EXPECT_DOUBLE_EQ(frames.times[t], r.times[t]);
+  }
+  const Hdf5File file(path, Hdf5File::Mode::Read);
+  EXPECT_EQ(file.string_attribute("scene"), "res = 3\n");
+  EXPECT_EQ(file.string_attribute("optimizer"), "newton: test");
+  EXPECT_EQ(file.dims("faces"), (std::vector<hsize_t>{12, 3}));
+  EXPECT_EQ(file.dims("handle_positions"), (std::vector<hsize_t>{3, 2, 3}));
+  EXPECT_EQ(file.read_ints("step_iterations"), (std::vector<int>{1, 2}));
+  EXPECT_EQ(file.read_floats("handle_positions")[16], 2.0f);  // frame 2, handle 1, y
+  // Only the final file is left: the temporary name was renamed.
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator{}), 1);
+}
+
+TEST(RolloutFile, RejectsMissingAndForeignFiles) {
+  const auto dir = temp_dir("bad");
+  EXPECT_THROW(read_trajectory_frames((dir / "missing.h5").string()), Error);
+  const std::string text = (dir / "text.h5").string();
+  std::ofstream(text) << "not hdf5";
+  try {
+    read_trajectory_frames(text);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not an HDF5 file"), std::string::npos) << e.what();
+  }
+  const std::string empty = (dir / "empty.h5").string();
+  { Hdf5File(empty, Hdf5File::Mode::Create); }
+  try {
+    read_trajectory_frames(empty);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("positions"), std::string::npos) << e.what();
+  }
+}
+
+TEST(RolloutFile, FailedWriteLeavesNothingBehind) {
+  const auto dir = temp_dir("unwritable");
+  const std::string path = (dir / "no_such_subdir" / "r.h5").string();
+  EXPECT_THROW(write_rollout_file(path, small_rollout(), "", ""), Error);
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
+TEST(ObjFile, WritesVerticesAndOneBasedFaces) {
+  const auto dir = temp_dir("obj");
+  const Grid grid = Grid::make(3, 3, 1.0);
+  write_obj_file((dir / "f.obj").string(), grid, grid.rest_positions().cast<float>());
+  std::ifstream in(dir / "f.obj");
+  int v = 0, f = 0;
+  std::string line, first_face;
+  while (std::getline(in, line)) {
+    v += line.rfind("v ", 0) == 0;
+    if (line.rfind("f ", 0) == 0 && f++ == 0) first_face = line;
+  }
+  EXPECT_EQ(v, 9);
+  EXPECT_EQ(f, 8);
+  EXPECT_EQ(first_face, "f 1 2 5");
+}
+
+}  // namespace
+}  // namespace fnopt
