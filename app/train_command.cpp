@@ -79,7 +79,7 @@ void run_train(TrainFlags& flags) {
   std::ofstream log(log_path, std::ios::app);
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  ProgressBar bar("train", flags.options.steps);
+  ProgressBar bar("train", flags.options.steps, trainer.completed_steps());
   double running_loss = NAN, running_ratio = NAN;
   auto save = [&] {
     trainer.save_checkpoint(checkpoint);

@@ -15,14 +15,14 @@ std::string format_duration(double seconds) {
   return text;
 }
 
-ProgressBar::ProgressBar(std::string label, int total)
-    : label_(std::move(label)), total_(total), terminal_(::isatty(STDERR_FILENO)),
+ProgressBar::ProgressBar(std::string label, int total, int first)
+    : label_(std::move(label)), total_(total), first_(first), terminal_(::isatty(STDERR_FILENO)),
       start_(std::chrono::steady_clock::now()) {}
 
 void ProgressBar::update(int done, const std::string& status) {
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const double fraction = total_ > 0 ? static_cast<double>(done) / total_ : 1.0;
-  const double eta = done > 0 ? elapsed * (total_ - done) / done : 0.0;
+  const double eta = done > first_ ? elapsed * (total_ - done) / (done - first_) : 0.0;
   if (terminal_) {
     constexpr int width = 30;
     const int filled = static_cast<int>(fraction * width);

@@ -8,7 +8,9 @@ namespace fnopt {
 
 class ProgressBar {
  public:
-  ProgressBar(std::string label, int total);
+  // `first` units were done before this bar started (a resumed run): they count for the
+  // fraction shown but not for the rate behind the ETA.
+  ProgressBar(std::string label, int total, int first = 0);
   // Reports `done` of `total` units, with a short status text (e.g. the running loss).
   void update(int done, const std::string& status = {});
   // Ends the line (terminal) so that later output starts on a fresh line.
@@ -17,6 +19,7 @@ class ProgressBar {
  private:
   std::string label_;
   int total_;
+  int first_;
   bool terminal_;
   int last_decile_ = -1;
   bool finished_ = false;
