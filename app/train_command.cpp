@@ -25,6 +25,7 @@ struct TrainFlags {
   int threads = 0;
   bool resume = false;
   int64_t width = 32, layers = 4, modes = 8, lifting = 64, projection = 32;
+  bool combined = false;
 };
 
 constexpr const char* kLogHeader =
@@ -55,7 +56,8 @@ double trim_log(const std::string& path, int step) {
 
 void run_train(TrainFlags& flags) {
   flags.options.model.width(flags.width).fourier_layers(flags.layers).modes_x(flags.modes).modes_y(flags.modes)
-      .lifting_channels(flags.lifting).projection_channels(flags.projection);
+      .lifting_channels(flags.lifting).projection_channels(flags.projection)
+      .in_channels(flags.combined ? 9 : 3).out_channels(flags.combined ? 3 : 1);
   const int threads = set_thread_count(flags.threads);
   std::filesystem::create_directories(flags.out);
   const std::string checkpoint = (std::filesystem::path(flags.out) / "checkpoint.pt").string();
@@ -133,6 +135,9 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--modes", flags->modes, "Fourier modes per axis")->capture_default_str();
   command->add_option("--lifting", flags->lifting, "lifting MLP width")->capture_default_str();
   command->add_option("--projection", flags->projection, "projection MLP width")->capture_default_str();
+  command->add_flag("--combined", flags->combined,
+                    "one sample per environment with x, y, z as channels (9 in, 3 out) instead of FNOpt's three "
+                    "single-channel samples");
   command->add_option("--checkpoint-every", flags->checkpoint_every, "steps between checkpoints")->capture_default_str();
   command->add_option("--minutes", flags->minutes, "stop (with a checkpoint) after this many minutes");
   command->add_option("--threads", flags->threads, "threads (default: all cores)");

@@ -3,11 +3,12 @@
 // with its analytic gradient handed to LibTorch (a custom autograd Function), so the energy is
 // written once, in cloth/, not again in torch ops. Per environment e, with L* the Newton
 // minimum of its time step,
-//   r_e = (L_e(a_e + delta_e h/dt^2) - L*_e) / max(L_e(a_e) - L*_e, 1e-9 (L_e(a_0) - L*_e)),
+//   r_e = (L_e(a_e + delta_e h/dt^2) - L*_e) / max(L_e(a_e) - L*_e, 1e-9 (L_e(a_0) - L*_e), rounding),
 // the fraction of the remaining error this update leaves (1 = no progress, 0 = exact). r is
 // scale-free: every material, stage of the solve and resolution weighs alike. The loss is the
 // batch mean of r_e for r_e <= 1 and 1 + log r_e above (an overshoot is penalised, smoothly,
-// without letting one exploding step dominate the batch).
+// without letting one exploding step dominate the batch); r below -1 (rounding, or a Newton
+// reference that stopped early) counts as -1 with no gradient.
 #include <torch/torch.h>
 
 #include <vector>
@@ -20,11 +21,12 @@ struct EnergyLossBatch {
   std::vector<TrainingEnv*> envs;
   std::vector<double> current_loss;  // L_e(a_e), the iterate before the update
   std::vector<double> ratio;         // r_e, filled by the forward pass
+  int samples_per_environment = 3;   // the model's layout (learned_update.hpp)
 };
 
 class EnergyLoss : public torch::autograd::Function<EnergyLoss> {
  public:
-  // delta: [3E, 1, R, C] grid-unit updates (environment e owns samples 3e..3e+2).
+  // delta: grid-unit updates in the model's layout, [3E, 1, R, C] or [E, 3, R, C].
   static torch::Tensor forward(torch::autograd::AutogradContext* ctx, torch::Tensor delta, EnergyLossBatch* batch);
   static torch::autograd::tensor_list backward(torch::autograd::AutogradContext* ctx,
                                                torch::autograd::tensor_list grad_outputs);

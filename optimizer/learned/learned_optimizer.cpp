@@ -42,10 +42,10 @@ std::optional<SolveStatus> LearnedOptimizer::iterate(StepProblem& problem, VecX&
   torch::NoGradGuard no_grad;
   const Grid& grid = problem.grid();
   const double dt = problem.objective().dt();
-  const torch::Tensor g = to_coordinate_samples(gradient, grid);
+  const torch::Tensor g = to_model_layout(to_coordinate_samples(gradient, grid), samples_per_environment(model_->options));
   const LearnedStep step = learned_step(model_, g, state_, mask_);
   // delta is in cell widths of position change: a changes by delta * h / dt^2.
-  add_coordinate_samples(step.delta, grid, grid.spacing / (dt * dt), a);
+  add_coordinate_samples(to_coordinate_layout(step.delta), grid, grid.spacing / (dt * dt), a);
   state_ = {g, step.delta, step.scale};
   value = problem.value_gradient(a, gradient);
   return std::nullopt;

@@ -13,6 +13,17 @@ torch::Tensor soft_normalize(const torch::Tensor& x) {
 
 }  // namespace
 
+int samples_per_environment(const FNO2dOptions& options) { return options.in_channels() == 9 ? 1 : 3; }
+
+torch::Tensor to_model_layout(const torch::Tensor& coordinate_samples, int samples_per_environment) {
+  if (samples_per_environment == 3) return coordinate_samples;
+  return coordinate_samples.view({1, 3, coordinate_samples.size(2), coordinate_samples.size(3)});
+}
+
+torch::Tensor to_coordinate_layout(const torch::Tensor& model_samples) {
+  return model_samples.reshape({3, 1, model_samples.size(2), model_samples.size(3)});
+}
+
 torch::Tensor learned_inputs(const torch::Tensor& gradient, const LearnedState& state) {
   const auto sigma_g = gradient.pow(2).mean({1, 2, 3}, true).sqrt().clamp_min(1e-30);
   const auto g_hat = 10.0 * torch::tanh(gradient / (10.0 * sigma_g));
@@ -36,9 +47,11 @@ LearnedStep learned_step(FNO2d& model, const torch::Tensor& gradient, const Lear
 }
 
 void check_learned_model(const FNO2dOptions& options, const std::string& path) {
-  require(options.in_channels() == 3 && options.out_channels() == 1 && options.scale_head(), path,
-          "not a learned-optimizer model (needs an FNO with 3 input channels, 1 output channel and a scale "
-          "head; this one has " + std::to_string(options.in_channels()) + " in, " +
+  const bool per_coordinate = options.in_channels() == 3 && options.out_channels() == 1;
+  const bool combined = options.in_channels() == 9 && options.out_channels() == 3;
+  require((per_coordinate || combined) && options.scale_head(), path,
+          "not a learned-optimizer model (needs an FNO with 3 input channels and 1 output channel, or 9 and 3, "
+          "and a scale head; this one has " + std::to_string(options.in_channels()) + " in, " +
               std::to_string(options.out_channels()) + " out" + (options.scale_head() ? "" : ", no scale head") + ")");
 }
 

@@ -1,8 +1,13 @@
 #pragma once
 // The learned update rule (FNOpt's Algorithm 2, DESIGN.md §4), shared by inference and
-// meta-training. Each coordinate x, y, z of an environment is one single-channel sample, so a
-// batch of E environments is 3E samples [3E, 1, R, C]. Per sample, with sigma_g = ||g||/sqrt(RC)
-// and sigma_d likewise for the previous update,
+// meta-training, in one of two layouts chosen by the model's channels:
+//   per-coordinate (FNOpt; FNO with 3 inputs, 1 output): each coordinate x, y, z of an
+//     environment is one single-channel sample, E environments are 3E samples [3E, 1, R, C];
+//   combined (FNO with 9 inputs, 3 outputs): one sample per environment with the coordinates
+//     as channels, [E, 3, R, C]: a third of the FNO passes, and the coordinates can couple
+//     (the stretch Hessian mixes them along every edge).
+// Per sample, with sigma_g = ||g||/sqrt(RC) (over all of the sample's channels) and sigma_d
+// likewise for the previous update,
 //   inputs  g^ = 10 tanh(g/(10 sigma_g)), g^_prev = 10 tanh(g_prev/(10 sigma_g)),
 //           d^_prev = 10 tanh(d_prev/(10 sigma_d))            (+ the FNO's grid channels)
 //   outputs u (a field) and d (the scale head's scalar)
@@ -19,6 +24,12 @@
 namespace fnopt {
 
 inline constexpr double kInitialStepScale = 0.05;  // s at the first iteration
+
+// Samples per environment: 3 (per-coordinate layout) or 1 (combined layout).
+int samples_per_environment(const FNO2dOptions& options);
+// Coordinate samples [3, 1, R, C] of one environment in the model's layout, and back.
+torch::Tensor to_model_layout(const torch::Tensor& coordinate_samples, int samples_per_environment);
+torch::Tensor to_coordinate_layout(const torch::Tensor& model_samples);
 
 // Per-sample recurrent state; undefined tensors mean "first iteration".
 struct LearnedState {
@@ -40,8 +51,8 @@ torch::Tensor learned_inputs(const torch::Tensor& gradient, const LearnedState& 
 LearnedStep learned_step(FNO2d& model, const torch::Tensor& gradient, const LearnedState& state,
                          const torch::Tensor& free_mask);
 
-// Throws Error("<path>: ...") unless the model has the learned optimizer's architecture:
-// 3 input channels, 1 output channel, a scale head.
+// Throws Error("<path>: ...") unless the model has one of the learned optimizer's
+// architectures: 3 inputs and 1 output, or 9 inputs and 3 outputs; and a scale head.
 void check_learned_model(const FNO2dOptions& options, const std::string& path);
 
 }  // namespace fnopt

@@ -28,7 +28,8 @@ void TrainOptions::validate() const {
 
 std::string TrainOptions::signature() const {
   std::ostringstream s;
-  s << "res=" << pool.resolution << " envs=" << pool.environments << " width=" << model.width()
+  s << "res=" << pool.resolution << " envs=" << pool.environments << (model.in_channels() == 9 ? " combined" : "")
+    << " width=" << model.width()
     << " layers=" << model.fourier_layers() << " modes=" << model.modes_x() << "x" << model.modes_y()
     << " lifting=" << model.lifting_channels() << " projection=" << model.projection_channels()
     << " batch=" << batch << " lr=" << learning_rate << " newton_weight=" << newton_weight << " seed=" << seed;
@@ -58,7 +59,12 @@ TrainStepStats MetaTrainer::step() {
   for (int i = 0; i < options_.batch; ++i)
     std::swap(order[i], order[std::uniform_int_distribution<int>(i, static_cast<int>(order.size()) - 1)(rng_)]);
 
+  // Environments keep their state per coordinate ([3, 1, R, C], scale [3, 1, 1, 1]); the
+  // model sees it in its own layout (k samples per environment).
+  const int k = samples_per_environment(options_.model);
+  auto scale_to_model = [k](const torch::Tensor& scale) { return k == 3 ? scale : scale.narrow(0, 0, 1); };
   EnergyLossBatch batch;
+  batch.samples_per_environment = k;
   std::vector<torch::Tensor> gradients, previous_gradients, previous_deltas, scales, masks, newton_deltas;
   VecX g;
   for (int i = 0; i < options_.batch; ++i) {
@@ -66,13 +72,14 @@ TrainStepStats MetaTrainer::step() {
     batch.envs.push_back(&env);
     batch.current_loss.push_back(env.objective().value_gradient(env.acceleration(), g));
     env.dirichlet().zero_fixed(g);
-    gradients.push_back(to_coordinate_samples(g, env.grid()));
-    previous_gradients.push_back(env.previous_gradient);
-    previous_deltas.push_back(env.previous_delta);
-    scales.push_back(env.scale);
-    masks.push_back(free_mask(env.dirichlet(), env.grid()).expand({3, 1, env.grid().rows, env.grid().cols}));
+    gradients.push_back(to_model_layout(to_coordinate_samples(g, env.grid()), k));
+    previous_gradients.push_back(to_model_layout(env.previous_gradient, k));
+    previous_deltas.push_back(to_model_layout(env.previous_delta, k));
+    scales.push_back(scale_to_model(env.scale));
+    masks.push_back(free_mask(env.dirichlet(), env.grid()).expand({k, 1, env.grid().rows, env.grid().cols}));
     const double to_grid_units = env.dt() * env.dt() / env.grid().spacing;
-    newton_deltas.push_back(to_coordinate_samples(env.reference_acceleration() - env.acceleration(), env.grid(), to_grid_units));
+    newton_deltas.push_back(to_model_layout(
+        to_coordinate_samples(env.reference_acceleration() - env.acceleration(), env.grid(), to_grid_units), k));
   }
   const torch::Tensor gradient = torch::cat(gradients);
   const LearnedState state{torch::cat(previous_gradients), torch::cat(previous_deltas), torch::cat(scales)};
@@ -98,7 +105,7 @@ TrainStepStats MetaTrainer::step() {
   int finite = 0;
   for (int i = 0; i < options_.batch; ++i) {
     TrainingEnv& env = *batch.envs[i];
-    const torch::Tensor delta = update.delta.narrow(0, 3 * i, 3).detach();
+    const torch::Tensor delta = to_coordinate_layout(update.delta.narrow(0, k * i, k).detach());
     if (!std::isfinite(batch.ratio[i]) || !torch::isfinite(delta).all().item<bool>()) {
       env.renew();
       ++stats.renewed;
@@ -107,9 +114,9 @@ TrainStepStats MetaTrainer::step() {
     ratio_sum += batch.ratio[i];
     ++finite;
     add_coordinate_samples(delta, env.grid(), env.grid().spacing / (env.dt() * env.dt()), env.acceleration());
-    env.previous_gradient = gradients[i];
+    env.previous_gradient = to_coordinate_layout(gradients[i]);
     env.previous_delta = delta;
-    env.scale = update.scale.narrow(0, 3 * i, 3).detach();
+    env.scale = update.scale.narrow(0, k * i, k).detach().expand({3, 1, 1, 1}).contiguous();
     env.finish_iteration();
   }
   stats.mean_ratio = finite ? ratio_sum / finite : NAN;

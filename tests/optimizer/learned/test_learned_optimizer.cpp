@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <tuple>
 
 #include "baselines/newton.hpp"
 #include "fno/fno_io.hpp"
@@ -12,9 +13,11 @@
 namespace fnopt {
 namespace {
 
-FNO2d tiny_model() {
+// combined: one sample with x, y, z as channels (9 in, 3 out) instead of three samples.
+FNO2d tiny_model(bool combined = false) {
   torch::manual_seed(3);
-  return FNO2d(FNO2dOptions().width(4).fourier_layers(2).modes_x(4).modes_y(4).lifting_channels(8).projection_channels(4));
+  return FNO2d(FNO2dOptions().width(4).fourier_layers(2).modes_x(4).modes_y(4).lifting_channels(8).projection_channels(4)
+                   .in_channels(combined ? 9 : 3).out_channels(combined ? 3 : 1));
 }
 
 // One time step of a falling cloth with two corner handles and a third moving handle.
@@ -37,9 +40,9 @@ struct Step {
 };
 
 TEST(LearnedOptimizer, TinyRandomModelRunsOnOddAndNonSquareGridsAndNeverMovesHandles) {
-  for (auto [rows, cols] : {std::pair{17, 23}, std::pair{40, 40}}) {
+  for (auto [rows, cols, combined] : {std::tuple{17, 23, false}, std::tuple{40, 40, false}, std::tuple{17, 23, true}}) {
     Step step(rows, cols);
-    LearnedOptimizer optimizer(tiny_model(), "tiny");
+    LearnedOptimizer optimizer(tiny_model(combined), "tiny");
     const VecX before = step.a;
     const InnerSolveResult result = solve_step(optimizer, step.problem, step.a, {10, 0.0});
     EXPECT_EQ(result.status, SolveStatus::IterationBudget);

@@ -100,6 +100,22 @@ TEST(MetaTraining, ResumedCheckpointTakesTheSameNextSteps) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(MetaTraining, CombinedLayoutTrainsAndResumesToo) {
+  TrainOptions options = tiny_training();
+  options.model.in_channels(9).out_channels(3);
+  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_resume_combined";
+  std::filesystem::create_directories(dir);
+  const std::string checkpoint = (dir / "checkpoint.pt").string();
+  MetaTrainer original(options);
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(std::isfinite(original.step().loss));
+  original.save_checkpoint(checkpoint);
+  const double next = original.step().loss;
+  MetaTrainer resumed(options);
+  resumed.resume(checkpoint);
+  EXPECT_NEAR(resumed.step().loss, next, 1e-6 * std::abs(next));
+  std::filesystem::remove_all(dir);
+}
+
 TEST(MetaTraining, RejectsACheckpointOfOtherOptions) {
   const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_resume_other";
   std::filesystem::create_directories(dir);
