@@ -7,6 +7,7 @@
 #include "baselines/gradient_descent.hpp"
 #include "baselines/lbfgs.hpp"
 #include "baselines/newton.hpp"
+#include "optimizer/learned/learned_optimizer.hpp"
 #include "util/error.hpp"
 #include "util/parse_text.hpp"
 
@@ -22,6 +23,10 @@ struct OptimizerEntry {
 const std::vector<OptimizerEntry>& optimizer_table() {
   static const std::vector<OptimizerEntry> table = {
       {"newton", [](const OptimizerChoice&) { return std::make_unique<NewtonOptimizer>(); }},
+      {"fnopt",
+       [](const OptimizerChoice& c) {
+         return std::make_unique<LearnedOptimizer>(c.model.empty() ? shipped_model_path() : c.model);
+       }},
       {"gd",
        [](const OptimizerChoice& c) {
          GradientDescentParams params;
@@ -51,6 +56,8 @@ const std::vector<OptimizerEntry>& optimizer_table() {
 }
 
 }  // namespace
+
+std::string shipped_model_path() { return std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt"; }
 
 std::string optimizer_names() {
   std::vector<std::string> names;
@@ -83,7 +90,7 @@ void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice) {
   command.add_option("--lr", choice.learning_rate,
                      "learning rate: gd in units of 1/lambda_max of the mass-scaled Hessian (default 1), adam in "
                      "cell widths per step^2 per iteration (default 0.003)");
-  command.add_option("--model", choice.model, "learned optimizer weights file");
+  command.add_option("--model", choice.model, "learned optimizer weights (default: the shipped models/fnopt-32.pt)");
 }
 
 }  // namespace fnopt::app

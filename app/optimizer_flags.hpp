@@ -23,6 +23,8 @@ struct OptimizerChoice {
 };
 
 std::string optimizer_names();  // "newton" ... for help texts
+// The trained model shipped in the repository (models/fnopt-32.pt), the default of --model.
+std::string shipped_model_path();
 
 void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice);
 

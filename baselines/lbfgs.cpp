@@ -83,19 +83,20 @@ void LbfgsOptimizer::begin(SmoothProblem&, const VecX&, double, const VecX&) {
 
 void LbfgsOptimizer::remember(const VecX& x_old, const VecX& g_old, const VecX& x_new, const VecX& g_new,
                               const VecX& inverse_metric) {
-  CurvaturePair& pair = ring_[(newest_ + 1) % params_.history];
-  pair.s = x_new - x_old;
-  pair.y = g_new - g_old;
-  const double sy = pair.s.dot(pair.y);
-  const double s_norm2 = pair.s.cwiseQuotient(inverse_metric).dot(pair.s);  // s.P s
-  const double y_norm2 = pair.y.cwiseProduct(inverse_metric).dot(pair.y);   // y.P^-1 y
+  // Built aside: a rejected pair must not overwrite the oldest stored one.
+  candidate_.s = x_new - x_old;
+  candidate_.y = g_new - g_old;
+  const double sy = candidate_.s.dot(candidate_.y);
+  const double s_norm2 = candidate_.s.cwiseQuotient(inverse_metric).dot(candidate_.s);  // s.P s
+  const double y_norm2 = candidate_.y.cwiseProduct(inverse_metric).dot(candidate_.y);   // y.P^-1 y
   // Keep only pairs of clearly positive curvature (cosine in the metric above 1e-10).
   if (!std::isfinite(sy) || !(sy > 1e-10 * std::sqrt(s_norm2 * y_norm2))) {
     ++skipped_pairs_;
     return;
   }
-  pair.rho = 1.0 / sy;
+  candidate_.rho = 1.0 / sy;
   newest_ = (newest_ + 1) % params_.history;
+  std::swap(ring_[newest_], candidate_);
   count_ = std::min(count_ + 1, params_.history);
 }
 

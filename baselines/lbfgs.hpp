@@ -66,6 +66,7 @@ class LbfgsOptimizer final : public FirstOrderOptimizer {
 
   LbfgsParams params_;
   std::vector<CurvaturePair> ring_;
+  CurvaturePair candidate_;
   int newest_ = -1, count_ = 0;
   std::vector<const CurvaturePair*> ordered_;
   std::vector<double> alphas_;

@@ -1,0 +1,656 @@
+// fnopt compare: every inner optimizer on the same scenes, error against run time (DESIGN.md
+// §8, §10; issue 3). Per scene (resolution x motion): a Newton reference rollout (cached in the
+// output directory, keyed by a hash of the resolved scene), then one rollout per optimizer and
+// iteration budget, each measured the same way: ms/frame after warm-up at a fixed thread count,
+// e_CD x 10^3 and e_3D x 10^2 against the reference, the mean per-step optimisation error on
+// sampled reference states, max edge strain, divergence; optionally e_CD against ARCSim.
+// Writes DIR/compare.csv (one row per run, rewritten after every run) and DIR/compare.svg.
+#include <time.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <set>
+
+#include "app/commands.hpp"
+#include "app/optimizer_flags.hpp"
+#include "app/scene_flags.hpp"
+#include "app/threads.hpp"
+#include "baselines/newton.hpp"
+#include "boundary/trajectory.hpp"
+#include "io/csv_table.hpp"
+#include "io/rollout_file.hpp"
+#include "io/svg_plot.hpp"
+#include "metrics/step_error.hpp"
+#include "metrics/trajectory_error.hpp"
+#include "util/error.hpp"
+#include "util/parse_text.hpp"
+#include "util/progress_bar.hpp"
+
+namespace fnopt::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CompareFlags {
+  SceneFlags scene;
+  std::string resolutions = "32";
+  std::string motions = "xy_v2";
+  std::string optimizers = "gd,adam,lbfgs,lbfgs-ls,newton";
+  std::string iters = "10,100,500";
+  std::vector<std::string> iters_for;  // METHOD=N,N,...
+  std::string lr_gd = "0.25,0.5,1,1.5,1.9";
+  std::string lr_adam = "0.0003,0.001,0.003,0.01";
+  std::string model;
+  std::string out;
+  std::string arcsim_dir;
+  int threads = 1;
+  int step_samples = 16;
+  int cd_samples = 10000;
+  int cd_stride = 2;
+  bool warm_start = false;
+  bool keep_rollouts = false;
+  bool resume = false;
+};
+
+bool uses_learning_rate(const std::string& method) { return method == "gd" || method == "adam"; }
+
+std::vector<int> int_list(const std::string& flag, const std::string& text) {
+  std::vector<int> values;
+  for (auto piece : split(text, ',')) {
+    int value = 0;
+    require(parse_int(piece, value) && value > 0, flag, "expected positive integers 'a,b,c', got '" + text + "'");
+    values.push_back(value);
+  }
+  return values;
+}
+
+std::vector<double> number_list(const std::string& flag, const std::string& text) {
+  std::vector<double> values;
+  for (auto piece : split(text, ',')) {
+    double value = 0.0;
+    require(parse_double(piece, value) && std::isfinite(value) && value > 0.0, flag,
+            "expected positive numbers 'a,b,c', got '" + text + "'");
+    values.push_back(value);
+  }
+  return values;
+}
+
+std::vector<std::string> name_list(const std::string& flag, const std::string& text) {
+  std::vector<std::string> names;
+  for (auto piece : split(text, ',')) {
+    const std::string name(trim(piece));
+    require(!name.empty(), flag, "empty name in '" + text + "'");
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  }
+  return names;
+}
+
+std::string hex_hash(const std::string& text) {
+  std::uint64_t hash = 1469598103934665603ULL;  // FNV-1a, 64 bit
+  for (unsigned char c : text) {
+    hash ^= c;
+    hash *= 1099511628211ULL;
+  }
+  char out[17];
+  std::snprintf(out, sizeof out, "%016llx", static_cast<unsigned long long>(hash));
+  return out;
+}
+
+std::string resolution_text(const Scene& scene) {
+  return scene.rows == scene.cols ? std::to_string(scene.rows)
+                                  : std::to_string(scene.rows) + "x" + std::to_string(scene.cols);
+}
+
+std::string motion_text(const Scene& scene) {
+  return scene.trajectory.empty() ? scene.motion : fs::path(scene.trajectory).filename().string();
+}
+
+TrajectoryFrames frames_of(const RolloutResult& rollout) {
+  TrajectoryFrames frames;
+  frames.rows = rollout.grid.rows;
+  frames.cols = rollout.grid.cols;
+  frames.times = rollout.times;
+  frames.positions = rollout.positions;
+  return frames;
+}
+
+// Mean wall time of a step after the first ones (plan caches, first-touch memory, the GD
+// curvature estimate): skips min(10, steps/5) steps.
+double ms_per_frame(const RolloutResult& rollout) {
+  const int n = static_cast<int>(rollout.steps.size());
+  const int warmup = std::min(10, n / 5);
+  double total = 0.0;
+  for (int k = warmup; k < n; ++k) total += rollout.steps[k].wall_ms;
+  return n > warmup ? total / (n - warmup) : std::nan("");
+}
+
+double iterations_per_frame(const RolloutResult& rollout) {
+  return rollout.steps.empty() ? std::nan("") : static_cast<double>(rollout.total_iterations()) / rollout.steps.size();
+}
+
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+// A rollout and the share of a core the process got while it ran (CPU time / wall time).
+struct TimedRollout {
+  RolloutResult rollout;
+  double cpu_share = NAN;
+};
+
+// Relative cost of one frame, for the progress bar's ETA only.
+double cost_weight(const std::string& method, int budget) {
+  if (method == "newton") return 40.0;
+  if (method == "lbfgs-ls") return 1.3 * budget;
+  return std::max(1, budget);
+}
+
+struct RunSpec {
+  std::string method;
+  int budget = 0;  // 0: newton to its reference tolerance
+};
+
+struct LearningRate {
+  double value = 0.0;
+  std::string source;
+};
+
+struct RunResult {
+  RunSpec spec;
+  std::string resolution, motion;
+  double lr = 0.0;
+  double ms = NAN, cpu_share = NAN, iterations = NAN, e_cd = NAN, e_3d = NAN, step_mean = NAN, step_median = NAN, strain = NAN;
+  double e_cd_arcsim = NAN;
+  bool diverged = false, failed = false;
+  int frames = 0, frames_requested = 0;
+  std::string note;
+};
+
+std::string run_key(const std::string& method, const std::string& budget, const std::string& res,
+                    const std::string& motion) {
+  return method + "|" + budget + "|" + res + "|" + motion;
+}
+
+std::string budget_text(const RunSpec& spec) {
+  return spec.method == "newton" ? "tol1e-9" : std::to_string(spec.budget);
+}
+
+const std::vector<std::string> kColumns = {
+    "method", "N", "lr", "lr_source", "resolution", "motion", "frames", "threads", "ms_per_frame",
+    "cpu_share", "ms_per_frame_cpu", "iterations_per_frame", "e_cd_x1e3", "e_3d_x1e2", "step_error_mean", "step_error_median", "max_strain",
+    "diverged", "e_cd_arcsim_x1e3", "note"};
+
+std::vector<std::string> csv_row(const RunResult& r, int threads, const std::string& lr_source) {
+  auto num = [](double v, int digits = 4) { return CsvTable::number(v, digits); };
+  return {r.spec.method,
+          budget_text(r.spec),
+          uses_learning_rate(r.spec.method) ? num(r.lr) : "",
+          lr_source,
+          r.resolution,
+          r.motion,
+          std::to_string(r.frames) + "/" + std::to_string(r.frames_requested),
+          std::to_string(threads),
+          num(r.ms),
+          num(r.cpu_share, 3),
+          num(r.ms * std::min(1.0, r.cpu_share)),
+          num(r.iterations),
+          num(1e3 * r.e_cd),
+          num(1e2 * r.e_3d),
+          num(r.step_mean),
+          num(r.step_median),
+          num(r.strain),
+          r.failed ? "error" : (r.diverged ? "yes" : "no"),
+          std::isnan(r.e_cd_arcsim) ? "" : num(1e3 * r.e_cd_arcsim),
+          r.note};
+}
+
+// A row of an earlier compare.csv back into a result (--resume).
+RunResult result_of_row(const RunSpec& spec, const std::vector<std::string>& row) {
+  auto cell = [&](const std::string& column) {
+    const auto at = std::find(kColumns.begin(), kColumns.end(), column) - kColumns.begin();
+    return row[at];
+  };
+  auto num = [&](const std::string& column) {
+    double value = NAN;
+    return parse_double(cell(column), value) ? value : NAN;
+  };
+  RunResult r;
+  r.spec = spec;
+  r.resolution = cell("resolution");
+  r.motion = cell("motion");
+  r.lr = num("lr");
+  r.ms = num("ms_per_frame");
+  r.cpu_share = num("cpu_share");
+  r.iterations = num("iterations_per_frame");
+  r.e_cd = 1e-3 * num("e_cd_x1e3");
+  r.e_3d = 1e-2 * num("e_3d_x1e2");
+  r.step_mean = num("step_error_mean");
+  r.step_median = num("step_error_median");
+  r.strain = num("max_strain");
+  r.e_cd_arcsim = 1e-3 * num("e_cd_arcsim_x1e3");
+  r.diverged = cell("diverged") == "yes";
+  r.failed = cell("diverged") == "error";
+  const auto frames = split(cell("frames"), '/');
+  if (frames.size() == 2) parse_int(frames[0], r.frames), parse_int(frames[1], r.frames_requested);
+  r.note = cell("note");
+  return r;
+}
+
+// "1/60" for the usual time steps, the number otherwise.
+std::string dt_text(double dt) {
+  const double steps = 1.0 / dt;
+  return std::abs(steps - std::round(steps)) < 1e-9 * steps ? "1/" + std::to_string(std::lround(steps))
+                                                            : number_text(dt);
+}
+
+// The run time a plot shows: with one thread, the solve's wall time times the CPU share the
+// process got (what it would take on an idle core, the machine being shared); otherwise wall time.
+double plotted_ms(const RunResult& r, int threads) {
+  return threads == 1 && std::isfinite(r.cpu_share) ? r.ms * std::min(1.0, r.cpu_share) : r.ms;
+}
+
+double mean_finite(const std::vector<double>& values) {
+  double sum = 0.0;
+  int n = 0;
+  for (double v : values)
+    if (std::isfinite(v)) sum += v, ++n;
+  return n ? sum / n : std::nan("");
+}
+
+PlotFigure make_plot(const std::vector<RunResult>& results, const std::vector<std::string>& methods,
+                     const std::vector<std::string>& resolutions, const std::vector<std::string>& motions,
+                     int threads, const std::vector<std::string>& notes) {
+  PlotFigure figure;
+  figure.title = "fnopt compare: error against run time (log-log; mean over " + std::to_string(motions.size()) +
+                 " motion" + (motions.size() == 1 ? "" : "s") + ")";
+  figure.notes = notes;
+  figure.marked_meaning = "diverged (in at least one motion; error over the frames before it)";
+  const bool have_arcsim = std::any_of(results.begin(), results.end(), [](const RunResult& r) {
+    return std::isfinite(r.e_cd_arcsim);
+  });
+  struct Metric {
+    std::string title, y_label;
+    double RunResult::*value;
+    double scale;
+    bool newton_is_reference;
+  };
+  std::vector<Metric> metrics = {
+      {"e_CD x 10^3 vs the Newton reference", "e_CD x 10^3 (Chamfer, vs Newton)", &RunResult::e_cd, 1e3, true},
+      {"per-step error vs the Newton step", "mean (L(a_N) - L*)/(L(a_0) - L*)", &RunResult::step_mean, 1.0, true}};
+  if (have_arcsim)
+    metrics.push_back({"e_CD x 10^3 vs ARCSim", "e_CD x 10^3 (Chamfer, vs ARCSim)", &RunResult::e_cd_arcsim, 1e3,
+                       false});
+  const std::string x_label = threads == 1 ? "ms/frame, 1 thread (after warm-up; wall time x CPU share)"
+                                           : "ms/frame, " + std::to_string(threads) + " threads (after warm-up)";
+  figure.columns = static_cast<int>(metrics.size());  // one row of panels per resolution
+  for (const std::string& res : resolutions) {
+    for (const Metric& metric : metrics) {
+      PlotPanel panel;
+      panel.title = metric.title + ", " + res + "^2";
+      panel.x_label = x_label;
+      panel.y_label = metric.y_label;
+      for (const std::string& method : methods) {
+        std::map<int, std::vector<const RunResult*>> by_budget;
+        for (const auto& r : results)
+          if (r.resolution == res && r.spec.method == method) by_budget[r.spec.budget].push_back(&r);
+        if (by_budget.empty()) continue;
+        if (method == "newton" && metric.newton_is_reference) {
+          std::vector<double> ms;
+          for (const auto* r : by_budget.begin()->second) ms.push_back(plotted_ms(*r, threads));
+          panel.vertical_lines.push_back({mean_finite(ms), "newton (the reference)"});
+          continue;
+        }
+        PlotSeries series;
+        series.name = method;
+        for (const auto& [budget, runs] : by_budget) {
+          std::vector<double> ms, value;
+          bool diverged = false;
+          for (const auto* r : runs) {
+            ms.push_back(plotted_ms(*r, threads));
+            value.push_back(metric.scale * (r->*metric.value));
+            diverged = diverged || r->diverged || r->failed;
+          }
+          series.points.push_back(
+              {mean_finite(ms), mean_finite(value), method == "newton" ? "" : "N=" + std::to_string(budget), diverged});
+        }
+        panel.series.push_back(series);
+      }
+      figure.panels.push_back(panel);
+    }
+  }
+  return figure;
+}
+
+void run_compare(const CompareFlags& flags) {
+  require(!flags.out.empty(), "out", "an output directory is required");
+  const std::vector<int> resolutions = int_list("res", flags.resolutions);
+  std::vector<std::string> motions = flags.motions == "eval" ? motion_names() : name_list("motions", flags.motions);
+  if (flags.motions == "eval") motions.resize(15);  // the fifteen benchmark motions, not "static"
+  const std::vector<std::string> methods = name_list("optimizers", flags.optimizers);
+  const std::vector<int> default_budgets = int_list("iters", flags.iters);
+  std::map<std::string, std::vector<int>> budgets;
+  for (const auto& method : methods) budgets[method] = default_budgets;
+  for (const std::string& entry : flags.iters_for) {
+    const auto equals = entry.find('=');
+    require(equals != std::string::npos, "iters-for", "expected METHOD=N,N,..., got '" + entry + "'");
+    const std::string method(trim(entry.substr(0, equals)));
+    require(budgets.count(method) > 0, "iters-for", "'" + method + "' is not in --optimizers");
+    budgets[method] = int_list("iters-for", entry.substr(equals + 1));
+  }
+  std::map<std::string, std::vector<double>> lr_candidates = {{"gd", number_list("lr-gd", flags.lr_gd)},
+                                                              {"adam", number_list("lr-adam", flags.lr_adam)}};
+  for (const auto& method : methods) {  // fail on a bad name before any work
+    OptimizerChoice choice;
+    choice.name = method;
+    choice.model = flags.model;
+    choice.make();
+  }
+  require(flags.step_samples >= 1, "step-samples", "must be positive");
+  ChamferOptions chamfer;
+  chamfer.samples = flags.cd_samples;
+  chamfer.validate();
+  fs::create_directories(flags.out);
+  const int threads = set_thread_count(flags.threads);
+
+  Scene base = flags.scene.scene();
+  std::vector<Scene> scenes;
+  for (int res : resolutions)
+    for (const auto& motion : motions) {
+      Scene scene = base;
+      apply_scene_setting(scene, "res", std::to_string(res));
+      if (base.trajectory.empty()) apply_scene_setting(scene, "motion", motion);
+      scene.validate();
+      scenes.push_back(scene);
+      if (!base.trajectory.empty()) break;  // a trajectory file replaces the motion list
+    }
+  std::vector<std::string> resolution_names, motion_names_used;
+  for (const auto& scene : scenes) {
+    if (std::find(resolution_names.begin(), resolution_names.end(), resolution_text(scene)) == resolution_names.end())
+      resolution_names.push_back(resolution_text(scene));
+    if (std::find(motion_names_used.begin(), motion_names_used.end(), motion_text(scene)) == motion_names_used.end())
+      motion_names_used.push_back(motion_text(scene));
+  }
+
+  std::vector<RunSpec> runs;
+  for (const auto& method : methods) {
+    if (method == "newton") runs.push_back({method, 0});
+    else
+      for (int budget : budgets[method]) runs.push_back({method, budget});
+  }
+  NewtonOptimizer reference_solver;
+  const InnerSolveOptions reference_options = NewtonOptimizer::reference_solve_options();
+  auto reference_file = [&](const Scene& scene) {
+    const std::string key = to_scene_text(scene) + "\n" + reference_solver.settings() + "\ntol=" +
+                            number_text(reference_options.relative_tolerance) +
+                            " max=" + std::to_string(reference_options.max_iterations) + "\n" + FNOPT_VERSION;
+    return (fs::path(flags.out) / ("newton_reference_" + resolution_text(scene) + "_" + motion_text(scene) + "_" +
+                                   hex_hash(key) + ".h5"))
+        .string();
+  };
+
+  // Progress in frame-cost units (budget x frames), so that the ETA weighs Adam-500 over L-BFGS-10.
+  long long total_units = 0;
+  for (const auto& scene : scenes) {
+    if (!fs::exists(reference_file(scene))) total_units += static_cast<long long>(scene.frames * cost_weight("newton", 0));
+    for (const auto& run : runs) total_units += static_cast<long long>(scene.frames * cost_weight(run.method, run.budget));
+  }
+  const double unit_scale = total_units > 1'000'000'000LL ? 1e-3 : 1.0;
+  ProgressBar bar("compare", static_cast<int>(total_units * unit_scale));
+  long long done_units = 0;
+
+  std::fprintf(stderr,
+               "fnopt compare: %zu scene%s (res %s; motions %s), %zu runs each, %d frames, %d thread%s (fixed for "
+               "every timing), output %s\n",
+               scenes.size(), scenes.size() == 1 ? "" : "s", flags.resolutions.c_str(),
+               joined(motion_names_used).c_str(), runs.size(), base.frames, threads, threads == 1 ? "" : "s",
+               flags.out.c_str());
+
+  CsvTable table(kColumns);
+  const std::string csv_path = (fs::path(flags.out) / "compare.csv").string();
+  // --resume: the rows of an earlier run with the same columns are kept and not run again.
+  std::map<std::string, std::vector<std::string>> resumed;
+  if (flags.resume && fs::exists(csv_path)) {
+    const CsvTable earlier = CsvTable::read(csv_path);
+    require(earlier.columns() == kColumns, csv_path, "written by another version of compare: cannot resume");
+    for (const auto& row : earlier.rows()) resumed[run_key(row[0], row[1], row[4], row[5])] = row;
+    std::fprintf(stderr, "resuming: %zu finished runs in %s\n", resumed.size(), csv_path.c_str());
+  }
+  const std::string svg_path = (fs::path(flags.out) / "compare.svg").string();
+  std::vector<RunResult> results;
+  std::map<std::pair<std::string, int>, LearningRate> chosen_lr;
+  std::vector<std::string> lr_notes;
+  TrajectoryComparisonOptions comparison_options;
+  comparison_options.chamfer = chamfer;
+  comparison_options.chamfer_stride = flags.cd_stride;
+
+  auto rollout_with_progress = [&](const Scene& scene, InnerOptimizer& optimizer, const RolloutOptions& options,
+                                   double weight, const std::string& label) {
+    const long long start_units = done_units;
+    const double cpu_start = process_cpu_seconds();
+    const auto wall_start = std::chrono::steady_clock::now();
+    TimedRollout timed;
+    timed.rollout = run_rollout(scene, optimizer, options, [&](int done, int, const StepRecord& s) {
+      char status[160];
+      std::snprintf(status, sizeof status, "%s: %.1f ms/step, strain %.0f%%", label.c_str(), s.wall_ms,
+                    100 * s.max_strain);
+      bar.update(static_cast<int>((start_units + static_cast<long long>(done * weight)) * unit_scale), status);
+    });
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    timed.cpu_share = wall > 0.0 ? (process_cpu_seconds() - cpu_start) / wall : NAN;
+    done_units = start_units + static_cast<long long>(scene.frames * weight);
+    return timed;
+  };
+
+  for (const Scene& scene : scenes) {
+    const std::string res = resolution_text(scene), motion = motion_text(scene);
+    for (const auto& run : runs) {  // learning rates of resumed runs
+      const auto row = resumed.find(run_key(run.method, budget_text(run), res, motion));
+      if (row != resumed.end() && uses_learning_rate(run.method) && !chosen_lr.count({run.method, run.budget}))
+        chosen_lr[{run.method, run.budget}] = {result_of_row(run, row->second).lr, row->second[3]};
+    }
+    const bool all_resumed = std::all_of(runs.begin(), runs.end(), [&](const RunSpec& run) {
+      return resumed.count(run_key(run.method, budget_text(run), res, motion)) > 0;
+    });
+    // 1. The Newton reference: cached, or computed now (and then also used as the newton run).
+    const std::string cache = reference_file(scene);
+    std::optional<TimedRollout> fresh_reference;
+    TrajectoryFrames reference;
+    std::unique_ptr<StepErrorBench> bench_storage;
+    if (!all_resumed) {
+      if (fs::exists(cache)) {
+        reference = read_trajectory_frames(cache);
+        std::fprintf(stderr, "reference %s/%s: cached %s\n", res.c_str(), motion.c_str(), cache.c_str());
+      } else {
+        NewtonOptimizer newton;
+        RolloutOptions options;
+        options.solve = reference_options;
+        fresh_reference = rollout_with_progress(scene, newton, options, cost_weight("newton", 0),
+                                                "reference " + res + "/" + motion);
+        write_rollout_file(cache, fresh_reference->rollout, to_scene_text(scene), newton.settings());
+        reference = frames_of(fresh_reference->rollout);
+        if (fresh_reference->rollout.diverged)
+          std::fprintf(stderr, "warning: the Newton reference of %s/%s %s\n", res.c_str(), motion.c_str(),
+                       fresh_reference->rollout.divergence.c_str());
+      }
+      bench_storage = std::make_unique<StepErrorBench>(scene, reference, flags.step_samples);
+    } else if (!fs::exists(cache)) {
+      done_units += static_cast<long long>(scene.frames * cost_weight("newton", 0));
+    }
+    StepErrorBench* bench = bench_storage.get();
+
+    std::optional<TrajectoryFrames> arcsim;
+    std::string arcsim_path;
+    if (!all_resumed && !flags.arcsim_dir.empty() && scene.rows == scene.cols && scene.trajectory.empty()) {
+      arcsim_path = (fs::path(flags.arcsim_dir) / ("arcsim_N" + res + "_" + motion + ".h5")).string();
+      if (fs::exists(arcsim_path)) arcsim = read_trajectory_frames(arcsim_path);
+    }
+
+    // 2. Learning rates: swept once, on the first scene, per method and budget, by the mean
+    //    per-step error on that scene's reference states.
+    for (const auto& run : runs) {
+      if (!uses_learning_rate(run.method) || chosen_lr.count({run.method, run.budget}) || !bench) continue;
+      const auto& candidates = lr_candidates[run.method];
+      LearningRate best{candidates.front(), "given"};
+      if (candidates.size() > 1) {
+        double best_error = INFINITY;
+        std::string tried;
+        for (double lr : candidates) {
+          OptimizerChoice choice;
+          choice.name = run.method;
+          choice.iterations = run.budget;
+          choice.learning_rate = lr;
+          const auto optimizer = choice.make();
+          const double error = bench->evaluate(*optimizer, choice.solve_options()).mean;
+          tried += (tried.empty() ? "" : " ") + CsvTable::number(lr, 3) + ":" + CsvTable::number(error, 3);
+          if (error < best_error) best_error = error, best.value = lr;
+        }
+        best.source = "swept on " + res + "/" + motion + " by mean step error";
+        std::fprintf(stderr, "lr sweep %s N=%d on %s/%s (lr:mean step error) %s -> lr %g\n", run.method.c_str(),
+                     run.budget, res.c_str(), motion.c_str(), tried.c_str(), best.value);
+        lr_notes.push_back(run.method + " N=" + std::to_string(run.budget) + ": " + CsvTable::number(best.value, 3));
+      }
+      chosen_lr[{run.method, run.budget}] = best;
+    }
+
+    // 3. Every optimizer and budget.
+    for (const auto& run : runs) {
+      const std::string label = run.method + (run.budget ? " N=" + std::to_string(run.budget) : "") + " " + res +
+                                "/" + motion;
+      const double weight = cost_weight(run.method, run.budget);
+      const auto earlier = resumed.find(run_key(run.method, budget_text(run), res, motion));
+      if (earlier != resumed.end()) {
+        results.push_back(result_of_row(run, earlier->second));
+        table.add_row(earlier->second);
+        done_units += static_cast<long long>(scene.frames * weight);
+        std::fprintf(stderr, "%-26s resumed from %s\n", label.c_str(), csv_path.c_str());
+        continue;
+      }
+      RunResult r;
+      r.spec = run;
+      r.resolution = res;
+      r.motion = motion;
+      r.frames_requested = scene.frames;
+      std::string lr_source;
+      OptimizerChoice choice;
+      choice.name = run.method;
+      choice.iterations = run.budget;
+      choice.model = flags.model;
+      if (uses_learning_rate(run.method)) {
+        const LearningRate& lr = chosen_lr[{run.method, run.budget}];
+        choice.learning_rate = r.lr = lr.value;
+        lr_source = lr.source;
+      }
+      try {
+        const auto optimizer = choice.make();
+        RolloutOptions options;
+        options.solve = choice.solve_options();
+        options.warm_start = flags.warm_start;
+        TimedRollout timed;
+        if (run.method == "newton" && fresh_reference && !flags.warm_start) {
+          timed = *fresh_reference;  // the same solver, just run: reuse it (its timing included)
+          done_units += static_cast<long long>(scene.frames * weight);
+          r.note = "the reference rollout itself";
+        } else {
+          timed = rollout_with_progress(scene, *optimizer, options, weight, label);
+        }
+        const RolloutResult& rollout = timed.rollout;
+        r.cpu_share = timed.cpu_share;
+        if (flags.keep_rollouts)
+          write_rollout_file((fs::path(flags.out) / ("rollout_" + run.method +
+                                                     (run.budget ? "_" + std::to_string(run.budget) : "") + "_" +
+                                                     res + "_" + motion + ".h5"))
+                                 .string(),
+                             rollout, to_scene_text(scene), optimizer->settings());
+        r.frames = static_cast<int>(rollout.steps.size());
+        r.ms = ms_per_frame(rollout);
+        r.iterations = iterations_per_frame(rollout);
+        r.strain = rollout.max_strain();
+        r.diverged = rollout.diverged;
+        if (rollout.diverged) r.note = rollout.divergence;
+        const TrajectoryFrames frames = frames_of(rollout);
+        const TrajectoryComparison c = compare_trajectories(reference, frames, -1.0, comparison_options);
+        r.e_cd = c.chamfer;
+        r.e_3d = c.e3d;
+        if (arcsim) {
+          TrajectoryComparisonOptions o = comparison_options;
+          r.e_cd_arcsim = compare_trajectories(*arcsim, frames, -1.0, o).chamfer;
+        }
+        const auto fresh = choice.make();  // a fresh optimizer: no state from the rollout
+        const StepErrorSummary steps = bench->evaluate(*fresh, choice.solve_options());
+        r.step_mean = steps.mean;
+        r.step_median = steps.median;
+      } catch (const std::exception& e) {
+        r.failed = true;
+        r.note = std::string("failed: ") + e.what();
+        done_units += static_cast<long long>(scene.frames * weight);
+      }
+      results.push_back(r);
+      table.add_row(csv_row(r, threads, lr_source));
+      table.write(csv_path);
+      bar.update(static_cast<int>(done_units * unit_scale), label + " done");
+      std::fprintf(stderr, "%-26s %8.2f ms/frame (cpu share %.2f)  e_CD %8.3f  e_3D %8.3f  step err %9.3g  strain %6.1f%%  %s\n",
+                   label.c_str(), r.ms, r.cpu_share, 1e3 * r.e_cd, 1e2 * r.e_3d, r.step_mean, 100 * r.strain,
+                   r.failed ? r.note.c_str() : (r.diverged ? "DIVERGED" : "ok"));
+    }
+  }
+  bar.finish();
+
+  std::vector<std::string> notes = {
+      std::to_string(base.frames) + " frames at dt = " + dt_text(base.dt) + " s; N = iterations per time step; " +
+          "errors vs a Newton rollout converged to 1e-9; per-step error on " + std::to_string(flags.step_samples) +
+          " reference states; e_CD with " + std::to_string(chamfer.samples) + " points per mesh",
+      "motions: " + joined(motion_names_used)};
+  if (!lr_notes.empty()) notes.push_back("learning rates (swept on the first scene): " + joined(lr_notes));
+  write_svg(svg_path, make_plot(results, methods, resolution_names, motion_names_used, threads, notes));
+  std::printf("%s", table.text().c_str());
+  std::printf("wrote %s and %s (%d thread%s)\n", csv_path.c_str(), svg_path.c_str(), threads, threads == 1 ? "" : "s");
+}
+
+const RegisterCommand kRegister([](CLI::App& app) {
+  auto flags = std::make_shared<CompareFlags>();
+  CLI::App* command =
+      app.add_subcommand("compare", "every optimizer on the same scenes: error against run time (CSV + SVG plot)");
+  flags->scene.add_to(*command, /*with_resolution=*/false);
+  command->add_option("--res", flags->resolutions, "resolutions N (N x N grids), comma-separated")
+      ->capture_default_str();
+  command->add_option("--motions", flags->motions, "motions, comma-separated, or 'eval' (the fifteen)")
+      ->capture_default_str();
+  command->add_option("--optimizers", flags->optimizers, "optimizers, comma-separated: " + optimizer_names())
+      ->capture_default_str();
+  command->add_option("--iters", flags->iters, "iteration budgets per time step, comma-separated")
+      ->capture_default_str();
+  command->add_option("--iters-for", flags->iters_for,
+                      "budgets of one method, overriding --iters: METHOD=N,N,... (repeatable)");
+  command->add_option("--lr-gd", flags->lr_gd,
+                      "gd learning rates (x 1/lambda_max); several: the best per budget on the first scene")
+      ->capture_default_str();
+  command->add_option("--lr-adam", flags->lr_adam,
+                      "adam learning rates (cell widths per step^2); several: the best per budget on the first scene")
+      ->capture_default_str();
+  command->add_option("--model", flags->model, "learned optimizer weights file");
+  command->add_option("--out", flags->out, "output directory (CSV, SVG, cached references)")->required();
+  command->add_option("--arcsim-dir", flags->arcsim_dir,
+                      "also report e_CD against DIR/arcsim_N{res}_{motion}.h5 where it exists");
+  command->add_option("--threads", flags->threads, "threads for every run (fixed, printed)")->capture_default_str();
+  command->add_option("--step-samples", flags->step_samples, "reference states for the per-step error")
+      ->capture_default_str();
+  command->add_option("--cd-samples", flags->cd_samples, "points sampled per mesh for e_CD")->capture_default_str();
+  command->add_flag("--warm-start", flags->warm_start, "start each step from the previous step's acceleration");
+  command->add_flag("--keep-rollouts", flags->keep_rollouts, "also write every rollout to DIR");
+  command->add_flag("--resume", flags->resume,
+                    "keep the runs already in DIR/compare.csv (same method, N, resolution, motion) and run the rest");
+  command->add_option("--cd-stride", flags->cd_stride,
+                      "e_CD on every k-th matched frame (2: every 1/30 s at dt = 1/60, as the ARCSim files)")
+      ->capture_default_str();
+  command->callback([flags] { run_compare(*flags); });
+});
+
+}  // namespace
+}  // namespace fnopt::app
