@@ -88,7 +88,9 @@ TrainStepStats MetaTrainer::step() {
   if (options_.newton_weight > 0.0) {
     const auto target = torch::cat(newton_deltas).view({options_.batch, -1});
     const auto error = (update.delta.view({options_.batch, -1}) - target).pow(2).sum(1);
-    const auto newton_loss = (error / (target.pow(2).sum(1) + 1e-20)).mean();
+    // Corrections below 1e-4 cell widths (an environment at rest) are not worth a target.
+    const double floor = 1e-8 * static_cast<double>(target.size(1));
+    const auto newton_loss = (error / (target.pow(2).sum(1) + floor)).mean();
     stats.newton_loss = newton_loss.item<double>();
     loss = loss + options_.newton_weight * newton_loss;
   }
