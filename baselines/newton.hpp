@@ -41,8 +41,11 @@ class NewtonOptimizer final : public InnerOptimizer {
  public:
   explicit NewtonOptimizer(NewtonParams params = {});
 
-  // The reference: converged to ||g|| <= 1e-9 ||g_0||, at most 100 iterations.
-  static InnerSolveOptions reference_solve_options() { return {100, 1e-9}; }
+  // The reference: converged to ||g|| <= 1e-9 ||g_0||. Most steps take 3-10 iterations; near
+  // a saddle of compressed, buckling cloth the exact Hessian is indefinite and the projected
+  // one escapes only linearly (measured on the 32^2 benchmark: 4 of 390 steps needed 39-87
+  // iterations), hence the generous cap.
+  static InnerSolveOptions reference_solve_options() { return {300, 1e-9}; }
 
   std::string name() const override { return "newton"; }
   std::string settings() const override;
