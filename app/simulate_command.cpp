@@ -66,11 +66,15 @@ void run_simulate(const SimulateFlags& flags) {
     max_iterations = std::max(max_iterations, s.iterations);
   }
   const int steps = static_cast<int>(rollout.steps.size());
+  // A method with a tolerance reports how many steps reached it; a fixed budget does not.
+  const std::string convergence = options.solve.relative_tolerance > 0.0
+                                      ? std::to_string(converged) + "/" + std::to_string(steps) + " steps converged"
+                                      : "fixed budget";
   std::printf("%s: %d/%d frames, %dx%d, %.1f ms/frame, max edge strain %.1f %%, %.2f iterations/step (max %d), "
-              "%d/%d steps converged, %s; wrote %s\n",
+              "%s, %s; wrote %s\n",
               optimizer->name().c_str(), steps, scene.frames, scene.rows, scene.cols, rollout.mean_step_ms(),
               100 * rollout.max_strain(), steps ? static_cast<double>(rollout.total_iterations()) / steps : 0.0,
-              max_iterations, converged, steps, rollout.diverged ? rollout.divergence.c_str() : "finite",
+              max_iterations, convergence.c_str(), rollout.diverged ? rollout.divergence.c_str() : "finite",
               flags.out.c_str());
   if (rollout.diverged) throw Error("simulate: " + rollout.divergence);
 }

@@ -54,6 +54,42 @@ TEST(LearnedOptimizer, TinyRandomModelRunsOnOddAndNonSquareGridsAndNeverMovesHan
   }
 }
 
+// Records L after every iteration of the wrapped optimizer.
+class EnergyLog final : public InnerOptimizer {
+ public:
+  explicit EnergyLog(InnerOptimizer& inner) : inner_(inner) {}
+  std::string name() const override { return inner_.name(); }
+  std::string settings() const override { return inner_.settings(); }
+  void begin_step(StepProblem& p, const VecX& a, double value, const VecX& g) override {
+    values = {value};
+    inner_.begin_step(p, a, value, g);
+  }
+  std::optional<SolveStatus> iterate(StepProblem& p, VecX& a, double& value, VecX& g) override {
+    const auto status = inner_.iterate(p, a, value, g);
+    values.push_back(value);
+    return status;
+  }
+  std::vector<double> values;
+
+ private:
+  InnerOptimizer& inner_;
+};
+
+TEST(LearnedOptimizer, SafeguardNeverLetsTheEnergyRise) {
+  // An untrained model proposes poor updates: with the safeguard L never increases, without
+  // it, it does.
+  for (bool safeguard : {true, false}) {
+    Step step(20, 20);
+    LearnedOptimizer learned(tiny_model(), "tiny", safeguard);
+    EnergyLog log(learned);
+    solve_step(log, step.problem, step.a, {30, 0.0});
+    int rises = 0;
+    for (std::size_t k = 1; k < log.values.size(); ++k) rises += log.values[k] > log.values[k - 1];
+    if (safeguard) EXPECT_EQ(rises, 0);
+    else EXPECT_GT(rises, 0) << "the test model must make bad updates for this test to mean anything";
+  }
+}
+
 TEST(LearnedOptimizer, RejectsMissingAndIncompatibleModelFiles) {
   EXPECT_THROW(LearnedOptimizer("/nonexistent/model.pt"), Error);
   const auto path = (std::filesystem::temp_directory_path() / "fnopt_test_wrong_model.pt").string();
