@@ -50,7 +50,7 @@ double trim_log(const std::string& path, int step) {
     kept << line << '\n';
   }
   in.close();
-  write_atomically(path, [&](const std::string& temporary) { std::ofstream(temporary) << kept.str(); });
+  write_text_atomically(path, kept.str());
   return seconds;
 }
 

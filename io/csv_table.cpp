@@ -89,14 +89,6 @@ std::string CsvTable::text() const {
   return out;
 }
 
-void CsvTable::write(const std::string& path) const {
-  const std::string content = text();
-  write_atomically(path, [&](const std::string& temporary) {
-    std::ofstream file(temporary, std::ios::binary);
-    file << content;
-    file.close();
-    if (!file) throw Error(path + ": cannot write the file");
-  });
-}
+void CsvTable::write(const std::string& path) const { write_text_atomically(path, text()); }
 
 }  // namespace fnopt

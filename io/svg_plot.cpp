@@ -253,14 +253,6 @@ std::string render_svg(const PlotFigure& figure) {
   return svg.str();
 }
 
-void write_svg(const std::string& path, const PlotFigure& figure) {
-  const std::string content = render_svg(figure);
-  write_atomically(path, [&](const std::string& temporary) {
-    std::ofstream file(temporary, std::ios::binary);
-    file << content;
-    file.close();
-    if (!file) throw Error(path + ": cannot write the file");
-  });
-}
+void write_svg(const std::string& path, const PlotFigure& figure) { write_text_atomically(path, render_svg(figure)); }
 
 }  // namespace fnopt

@@ -2,6 +2,7 @@
 // Output files are written under a temporary name and renamed into place, so a crash or a kill
 // never leaves a half-written file under the final name.
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <system_error>
 #include <unistd.h>
@@ -27,6 +28,16 @@ void write_atomically(const std::string& path, Write&& write) {
     std::filesystem::remove(temporary, ec);
     throw Error(path + ": cannot write the file (" + ec.message() + ")");
   }
+}
+
+// Writes `content` to `path` atomically.
+inline void write_text_atomically(const std::string& path, const std::string& content) {
+  write_atomically(path, [&](const std::string& temporary) {
+    std::ofstream file(temporary, std::ios::binary);
+    file << content;
+    file.close();
+    if (!file) throw Error(path + ": cannot write the file");
+  });
 }
 
 }  // namespace fnopt
