@@ -6,7 +6,8 @@
 //
 // H is the exact Hessian where it is positive definite (quadratic convergence near a minimum);
 // where it is not (compressed or buckling cloth), that iteration uses the projected Hessian
-// (per-stencil PSD projection, Teran et al. 2005), positive definite thanks to the mass term.
+// (per-stencil, negative eigenvalues flipped: cloth/psd_projection.hpp), positive definite
+// thanks to the mass term.
 //
 // Linear solves: a sparse Cholesky factor (CHOLMOD supernodal on OpenBLAS) costs ~20x a
 // triangular solve at 100^2, and H changes little from one iteration or time step to the next.
@@ -42,9 +43,8 @@ class NewtonOptimizer final : public InnerOptimizer {
   explicit NewtonOptimizer(NewtonParams params = {});
 
   // The reference: converged to ||g|| <= 1e-9 ||g_0||. Most steps take 3-10 iterations; near
-  // a saddle of compressed, buckling cloth the exact Hessian is indefinite and the projected
-  // one escapes only linearly (measured on the 32^2 benchmark: 4 of 390 steps needed 39-87
-  // iterations), hence the generous cap.
+  // a saddle of compressed, buckling cloth it takes longer (on the 32^2 benchmark at most 157),
+  // hence the generous cap.
   static InnerSolveOptions reference_solve_options() { return {300, 1e-9}; }
 
   std::string name() const override { return "newton"; }

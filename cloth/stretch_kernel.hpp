@@ -4,7 +4,7 @@
 // Gradient w.r.t. e: k (|e| - h) e/|e|. Hessian w.r.t. e:
 //   k [ (1 - h/|e|) (I - e e^T/|e|^2) + e e^T/|e|^2 ],
 // whose only possibly negative eigenvalue is the transverse k (1 - h/|e|) of a compressed edge:
-// the PSD projection clamps it to zero in closed form.
+// the projection (psd_projection.hpp) replaces it with its absolute value, in closed form.
 #include <Eigen/Core>
 
 namespace fnopt {
@@ -36,7 +36,7 @@ struct StretchKernel {
     const double length = e.norm();
     const Eigen::Matrix3d axial = e * e.transpose() / (length * length);
     double transverse = 1.0 - rest_length / length;
-    if (project && transverse < 0.0) transverse = 0.0;
+    if (project && transverse < 0.0) transverse = -transverse;
     const Eigen::Matrix3d He =
         stiffness * (transverse * (Eigen::Matrix3d::Identity() - axial) + axial);
     H << He, -He, -He, He;

@@ -172,10 +172,10 @@ TEST(Kernels, ProjectedHessiansArePositiveSemidefinite) {
   check_projection(bend(), hinge_rest(), 10);
 }
 
-TEST(PsdProjection, ClampsOnlyNegativeEigenvalues) {
+TEST(PsdProjection, FlipsOnlyNegativeEigenvalues) {
   Eigen::Matrix3d Q = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
   const Eigen::Matrix3d H = Q * Eigen::Vector3d(2.0, -1.0, 0.5).asDiagonal() * Q.transpose();
-  const Eigen::Matrix3d expected = Q * Eigen::Vector3d(2.0, 0.0, 0.5).asDiagonal() * Q.transpose();
+  const Eigen::Matrix3d expected = Q * Eigen::Vector3d(2.0, 1.0, 0.5).asDiagonal() * Q.transpose();
   EXPECT_LT((project_psd<3>(H) - expected).norm(), 1e-12);
   const Eigen::Matrix3d spd = Q * Eigen::Vector3d(2.0, 1.0, 0.5).asDiagonal() * Q.transpose();
   EXPECT_EQ(project_psd<3>(spd), spd);
