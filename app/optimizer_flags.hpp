@@ -11,7 +11,7 @@
 namespace fnopt::app {
 
 struct OptimizerChoice {
-  std::string name = "newton";  // newton (the reference)
+  std::string name = "fnopt";  // the learned optimizer on the shipped model
   int iterations = 0;           // budget per step; 0 = the method's default
   double learning_rate = 0.0;   // 0 = the method's default
   std::string model;            // learned optimizer weights

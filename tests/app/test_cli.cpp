@@ -53,7 +53,8 @@ TEST(Cli, SimulateWritesARolloutAndSaysSo) {
   const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_cli";
   std::filesystem::create_directories(dir);
   const auto out = (dir / "r.h5").string();
-  const CommandResult r = run("simulate --res 8 --frames 5 --out " + out + " --obj-dir " + (dir / "obj").string());
+  const CommandResult r =
+      run("simulate --optimizer newton --res 8 --frames 5 --out " + out + " --obj-dir " + (dir / "obj").string());
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(std::filesystem::exists(out));
   EXPECT_TRUE(std::filesystem::exists(dir / "obj" / "frame_0005.obj"));
@@ -62,8 +63,17 @@ TEST(Cli, SimulateWritesARolloutAndSaysSo) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(Cli, SimulateRunsTheShippedLearnedOptimizerByDefault) {
+  const auto out = (std::filesystem::temp_directory_path() / "fnopt_test_cli_default.h5").string();
+  const CommandResult r = run("simulate --res 16 --frames 10 --out " + out);
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("fnopt: 10/10 frames"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("finite"), std::string::npos) << r.output;
+  std::filesystem::remove(out);
+}
+
 TEST(Cli, EverySubcommandHasHelp) {
-  for (const char* command : {"simulate", "train", "bench"}) {
+  for (const char* command : {"simulate", "train", "bench", "compare", "evaluate"}) {
     const CommandResult r = run(std::string(command) + " --help");
     EXPECT_EQ(r.status, 0) << command;
     EXPECT_NE(r.output.find("Usage"), std::string::npos) << command;
