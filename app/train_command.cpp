@@ -64,10 +64,10 @@ void run_train(TrainFlags& flags) {
   const std::string model_path = (std::filesystem::path(flags.out) / "model.pt").string();
   const std::string log_path = (std::filesystem::path(flags.out) / "train_log.csv").string();
 
-  MetaTrainer trainer(flags.options);
+  const bool resuming = flags.resume && std::filesystem::exists(checkpoint);
+  MetaTrainer trainer(flags.options, resuming ? checkpoint : std::string());
   double seconds_before = 0.0;
-  if (flags.resume && std::filesystem::exists(checkpoint)) {
-    trainer.resume(checkpoint);
+  if (resuming) {
     seconds_before = trim_log(log_path, trainer.completed_steps());
     std::fprintf(stderr, "fnopt train: resumed %s at step %d\n", checkpoint.c_str(), trainer.completed_steps());
   } else {

@@ -36,13 +36,18 @@ std::string TrainOptions::signature() const {
   return s.str();
 }
 
-MetaTrainer::MetaTrainer(const TrainOptions& options) : options_(options), model_(nullptr), rng_(options.seed) {
+MetaTrainer::MetaTrainer(const TrainOptions& options, const std::string& checkpoint)
+    : options_(options), model_(nullptr), rng_(options.seed) {
   options_.validate();
   torch::manual_seed(options_.seed);
   model_ = FNO2d(options_.model);
   adam_ = std::make_unique<torch::optim::AdamW>(
       model_->parameters(),
       torch::optim::AdamWOptions(options_.learning_rate).weight_decay(options_.weight_decay));
+  if (!checkpoint.empty()) {
+    restore(checkpoint);
+    return;
+  }
   for (int id = 0; id < options_.pool.environments; ++id)
     pool_.push_back(std::make_unique<TrainingEnv>(options_.pool, options_.seed, id));
 }
@@ -149,7 +154,7 @@ void MetaTrainer::save_checkpoint(const std::string& path) const {
   });
 }
 
-void MetaTrainer::resume(const std::string& path) {
+void MetaTrainer::restore(const std::string& path) {
   torch::serialize::InputArchive archive;
   try {
     archive.load_from(path);
@@ -172,11 +177,11 @@ void MetaTrainer::resume(const std::string& path) {
   archive.read("adam", adam);
   model_->load(model);
   adam_->load(adam);
-  for (std::size_t e = 0; e < pool_.size(); ++e) {
+  for (int e = 0; e < options_.pool.environments; ++e) {
     std::vector<torch::Tensor> tensors(7);
     for (std::size_t k = 0; k < tensors.size(); ++k)
       archive.read("env" + std::to_string(e) + "_" + std::to_string(k), tensors[k]);
-    pool_[e]->restore(tensors);
+    pool_.push_back(TrainingEnv::restored(options_.pool, options_.seed, e, tensors));
   }
 }
 

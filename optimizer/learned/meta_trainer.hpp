@@ -46,19 +46,22 @@ struct TrainStepStats {
 
 class MetaTrainer {
  public:
-  explicit MetaTrainer(const TrainOptions& options);
+  // A fresh run, or, with `checkpoint`, the run saved there: it then takes exactly the steps
+  // the saved run would have taken. Throws Error naming the file if it is unreadable or was
+  // made with other options.
+  explicit MetaTrainer(const TrainOptions& options, const std::string& checkpoint = {});
 
   TrainStepStats step();
   int completed_steps() const { return step_; }
   FNO2d& model() { return model_; }
 
-  // Writes atomically. resume() throws Error naming the file if it is unreadable or was made
-  // with other options.
+  // Writes atomically.
   void save_checkpoint(const std::string& path) const;
-  void resume(const std::string& path);
 
  private:
   TrainOptions options_;
+  void restore(const std::string& checkpoint);
+
   FNO2d model_;
   std::unique_ptr<torch::optim::AdamW> adam_;
   std::vector<std::unique_ptr<TrainingEnv>> pool_;

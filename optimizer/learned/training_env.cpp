@@ -45,6 +45,16 @@ TrainingEnv::TrainingEnv(const PoolOptions& options, std::uint64_t seed, int id,
   begin_step();
 }
 
+TrainingEnv::TrainingEnv(const PoolOptions& options, std::uint64_t seed, int id, Unbuilt)
+    : options_(options), seed_(seed), id_(id), generation_(0), newton_(reference_newton()) {}
+
+std::unique_ptr<TrainingEnv> TrainingEnv::restored(const PoolOptions& options, std::uint64_t seed, int id,
+                                                   const std::vector<torch::Tensor>& tensors) {
+  std::unique_ptr<TrainingEnv> env(new TrainingEnv(options, seed, id, Unbuilt{}));
+  env->restore(tensors);
+  return env;
+}
+
 void TrainingEnv::generate() {
   rng_.seed(seed_ ^ (0x9E3779B97F4A7C15ull * (static_cast<std::uint64_t>(id_) + 1)) ^
             (0xBF58476D1CE4E5B9ull * static_cast<std::uint64_t>(generation_ + 1)));

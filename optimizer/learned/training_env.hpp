@@ -44,6 +44,10 @@ struct PoolOptions {
 class TrainingEnv {
  public:
   TrainingEnv(const PoolOptions& options, std::uint64_t seed, int id, long generation = 0);
+  // An environment as saved by state_tensors(), without first building a fresh one (each build
+  // solves a Newton step).
+  static std::unique_ptr<TrainingEnv> restored(const PoolOptions& options, std::uint64_t seed, int id,
+                                               const std::vector<torch::Tensor>& tensors);
 
   const Grid& grid() const { return grid_; }
   double dt() const { return dt_; }
@@ -71,9 +75,12 @@ class TrainingEnv {
 
   // The state that is not derived from (seed, id, generation), for checkpoints.
   std::vector<torch::Tensor> state_tensors() const;
-  void restore(const std::vector<torch::Tensor>& tensors);
 
  private:
+  struct Unbuilt {};
+  TrainingEnv(const PoolOptions& options, std::uint64_t seed, int id, Unbuilt);
+  void restore(const std::vector<torch::Tensor>& tensors);
+
   void generate();     // material, pose, handles, motion from (seed, id, generation)
   void begin_step();   // handle targets, a_0, Newton reference, budget
   Vec3 handle_target(int h, double t) const;

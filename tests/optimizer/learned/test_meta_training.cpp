@@ -93,8 +93,7 @@ TEST(MetaTraining, ResumedCheckpointTakesTheSameNextSteps) {
   std::vector<double> expected;
   for (int i = 0; i < 6; ++i) expected.push_back(original.step().loss);
 
-  MetaTrainer resumed(tiny_training());
-  resumed.resume(checkpoint);
+  MetaTrainer resumed(tiny_training(), checkpoint);
   EXPECT_EQ(resumed.completed_steps(), 4);
   for (int i = 0; i < 6; ++i) EXPECT_NEAR(resumed.step().loss, expected[i], 1e-6 * std::abs(expected[i])) << "step " << i;
   std::filesystem::remove_all(dir);
@@ -110,8 +109,7 @@ TEST(MetaTraining, CombinedLayoutTrainsAndResumesToo) {
   for (int i = 0; i < 3; ++i) EXPECT_TRUE(std::isfinite(original.step().loss));
   original.save_checkpoint(checkpoint);
   const double next = original.step().loss;
-  MetaTrainer resumed(options);
-  resumed.resume(checkpoint);
+  MetaTrainer resumed(options, checkpoint);
   EXPECT_NEAR(resumed.step().loss, next, 1e-6 * std::abs(next));
   std::filesystem::remove_all(dir);
 }
@@ -123,8 +121,7 @@ TEST(MetaTraining, RejectsACheckpointOfOtherOptions) {
   MetaTrainer(tiny_training()).save_checkpoint(checkpoint);
   TrainOptions other = tiny_training();
   other.batch = 3;
-  MetaTrainer trainer(other);
-  EXPECT_THROW(trainer.resume(checkpoint), Error);
+  EXPECT_THROW(static_cast<void>(MetaTrainer(other, checkpoint)), Error);
   std::filesystem::remove_all(dir);
 }
 
