@@ -4,6 +4,8 @@
 #include <cmath>
 #include <random>
 
+#include "cloth/grid_units.hpp"
+
 namespace fnopt {
 
 ClothSmoothProblem::ClothSmoothProblem(StepProblem& problem) : problem_(&problem) {
@@ -13,7 +15,7 @@ ClothSmoothProblem::ClothSmoothProblem(StepProblem& problem) : problem_(&problem
   inverse_metric_.resize(3 * masses.size());
   for (Eigen::Index k = 0; k < masses.size(); ++k)
     inverse_metric_.segment<3>(3 * k).setConstant(1.0 / (dt * dt * masses[k]));
-  step_unit_ = problem.grid().spacing / (dt * dt);
+  step_unit_ = acceleration_per_grid_unit(problem.grid(), dt);
 }
 
 void FirstOrderOptimizer::begin_step(StepProblem& problem, const VecX& a, double value, const VecX& gradient) {

@@ -16,6 +16,10 @@ struct GridUnitStiffness {
   double gravity = 0.0;
 };
 
+// Acceleration [m/s^2] per grid unit of acceleration: a grid-unit update of 1 moves a vertex by
+// one cell width h in one step (x changes by dt^2 a), so a = (h/dt^2) * (grid-unit value).
+inline double acceleration_per_grid_unit(const Grid& grid, double dt) { return grid.spacing / (dt * dt); }
+
 inline GridUnitStiffness grid_unit_stiffness(const Grid& grid, const Material& m, double dt,
                                              double gravity) {
   const double h2 = grid.spacing * grid.spacing, dt2 = dt * dt;

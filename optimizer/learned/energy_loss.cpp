@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "cloth/grid_units.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
 #include "optimizer/learned/learned_update.hpp"
 
@@ -16,7 +17,7 @@ torch::Tensor EnergyLoss::forward(torch::autograd::AutogradContext* ctx, torch::
   for (int e = 0; e < count; ++e) {
     TrainingEnv& env = *batch->envs[e];
     const Grid& grid = env.grid();
-    const double to_acceleration = grid.spacing / (env.dt() * env.dt());
+    const double to_acceleration = acceleration_per_grid_unit(grid, env.dt());
     trial = env.acceleration();
     const int k = batch->samples_per_environment;
     add_coordinate_samples(to_coordinate_layout(delta.narrow(0, k * e, k)), grid, to_acceleration, trial);

@@ -1,5 +1,6 @@
 #include "optimizer/learned/learned_optimizer.hpp"
 
+#include "cloth/grid_units.hpp"
 #include "fno/fno_io.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
 
@@ -49,8 +50,7 @@ std::optional<SolveStatus> LearnedOptimizer::iterate(StepProblem& problem, VecX&
     previous_a_ = a;
     previous_gradient_ = gradient;
   }
-  // delta is in cell widths of position change: a changes by delta * h / dt^2.
-  add_coordinate_samples(to_coordinate_layout(step.delta), grid, grid.spacing / (dt * dt), a);
+  add_coordinate_samples(to_coordinate_layout(step.delta), grid, acceleration_per_grid_unit(grid, dt), a);
   state_ = {g, step.delta, step.scale};
   const double previous_value = value;
   value = problem.value_gradient(a, gradient);

@@ -5,6 +5,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "cloth/grid_units.hpp"
 #include "optimizer/learned/energy_loss.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
 #include "optimizer/learned/learned_update.hpp"
@@ -82,7 +83,7 @@ TrainStepStats MetaTrainer::step() {
     previous_deltas.push_back(to_model_layout(env.previous_delta, k));
     scales.push_back(scale_to_model(env.scale));
     masks.push_back(free_mask(env.dirichlet(), env.grid()).expand({k, 1, env.grid().rows, env.grid().cols}));
-    const double to_grid_units = env.dt() * env.dt() / env.grid().spacing;
+    const double to_grid_units = 1.0 / acceleration_per_grid_unit(env.grid(), env.dt());
     newton_deltas.push_back(to_model_layout(
         to_coordinate_samples(env.reference_acceleration() - env.acceleration(), env.grid(), to_grid_units), k));
   }
@@ -120,7 +121,7 @@ TrainStepStats MetaTrainer::step() {
     }
     ratio_sum += batch.ratio[i];
     ++finite;
-    add_coordinate_samples(delta, env.grid(), env.grid().spacing / (env.dt() * env.dt()), env.acceleration());
+    add_coordinate_samples(delta, env.grid(), acceleration_per_grid_unit(env.grid(), env.dt()), env.acceleration());
     env.previous_gradient = to_coordinate_layout(gradients[i]);
     env.previous_delta = delta;
     env.scale = update.scale.narrow(0, k * i, k).detach().expand({3, 1, 1, 1}).contiguous();
