@@ -1,16 +1,13 @@
 // fnopt evaluate: a rollout against a reference trajectory (an fnopt rollout or an ARCSim file),
 // at matching times: e_CD x 10^3, e_3D x 10^2, the rollout's max edge strain, and optionally the
 // per-step optimisation error of an inner optimizer on the reference's states (DESIGN.md §8).
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 
 #include "app/commands.hpp"
 #include "app/optimizer_flags.hpp"
 #include "app/threads.hpp"
+#include "io/csv_table.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/rollout_file.hpp"
 #include "metrics/step_error.hpp"
@@ -28,6 +25,7 @@ struct EvaluateFlags {
   OptimizerChoice optimizer;
   int step_samples = 16;
   int threads = 0;
+  std::string per_frame;
 };
 
 // The rest edge length h of a trajectory file: from rest_positions (both layouts have it),
@@ -54,24 +52,16 @@ std::string describe(const std::string& path, const TrajectoryFrames& frames) {
   return path + " (" + kind_of(path) + ", " + text + ")";
 }
 
-// The scene stored with an fnopt rollout (its `scene` attribute).
-Scene scene_of_rollout(const std::string& path) {
-  const Hdf5File file(path, Hdf5File::Mode::Read);
-  require(file.has_attribute("scene"), path,
-          "no 'scene' attribute: the per-step error needs an fnopt rollout as the reference");
-  const std::string text = file.string_attribute("scene");
-  const auto temporary = std::filesystem::temp_directory_path() /
-                         ("fnopt-evaluate-scene-" + std::to_string(::getpid()) + ".txt");
-  std::ofstream(temporary) << text;
-  try {
-    Scene scene = load_scene_file(temporary.string());
-    std::filesystem::remove(temporary);
-    return scene;
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
+// One row per matched frame: its time, e_CD x 10^3 (empty with --no-chamfer) and e_3D x 10^2
+// (empty without vertex correspondence): shows where in the motion the error grows.
+void write_per_frame_table(const std::string& path, const TrajectoryComparison& c) {
+  CsvTable table({"t_s", "e_cd_x1e3", "e_3d_x1e2"});
+  for (std::size_t k = 0; k < c.matches.size(); ++k) {
+    const std::string cd = k < c.chamfer_per_frame.size() ? CsvTable::number(1e3 * c.chamfer_per_frame[k]) : "";
+    const std::string e3d = k < c.e3d_per_frame.size() ? CsvTable::number(1e2 * c.e3d_per_frame[k]) : "";
+    table.add_row({CsvTable::number(c.matches[k].time), cd, e3d});
   }
+  table.write(path);
 }
 
 void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
@@ -99,9 +89,13 @@ void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
     std::printf("e_3D x 10^2 = n/a      (no vertex correspondence: %dx%d against %dx%d)\n", rollout.rows,
                 rollout.cols, reference.rows, reference.cols);
   std::printf("max edge strain of the rollout = %.2f %%\n", 100 * c.max_strain);
+  if (!flags.per_frame.empty()) {
+    write_per_frame_table(flags.per_frame, c);
+    std::printf("per-frame errors: %s\n", flags.per_frame.c_str());
+  }
 
   if (with_step_error) {
-    const Scene scene = scene_of_rollout(flags.reference);
+    const Scene scene = read_rollout_scene(flags.reference);
     StepErrorBench bench(scene, reference, flags.step_samples);
     const auto method = flags.optimizer.make();
     const StepErrorSummary summary = bench.evaluate(*method, flags.optimizer.solve_options());
@@ -133,6 +127,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--step-samples", flags->step_samples, "reference states for the per-step error")
       ->capture_default_str();
   command->add_option("--threads", flags->threads, "threads (default: all cores)");
+  command->add_option("--per-frame", flags->per_frame, "also write the errors of every matched frame (CSV)");
   command->callback([flags, optimizer] { run_evaluate(*flags, optimizer->count() > 0); });
 });
 

@@ -34,4 +34,8 @@ struct TrajectoryFrames {
 // Throws Error naming the file for anything missing or inconsistent.
 TrajectoryFrames read_trajectory_frames(const std::string& path);
 
+// The scene stored with an fnopt rollout (its `scene` attribute). Throws Error naming the file if
+// it has none (an ARCSim file, say) or the text is not a valid scene.
+Scene read_rollout_scene(const std::string& path);
+
 }  // namespace fnopt
