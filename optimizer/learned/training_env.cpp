@@ -31,7 +31,21 @@ NewtonParams reference_newton() {
 
 }  // namespace
 
+void TrainingRanges::validate() const {
+  auto range = [](double lo, double hi, const char* name) {
+    require(std::isfinite(lo) && std::isfinite(hi) && lo > 0.0 && lo <= hi, std::string("train.ranges.") + name,
+            "must be 0 < min <= max");
+  };
+  range(stretch_min, stretch_max, "stretch");
+  range(shear_min, shear_max, "shear");
+  range(bend_min, bend_max, "bend");
+  range(gravity_min, gravity_max, "gravity");
+  range(damping_min, damping_max, "damping");
+  require(undamped_share >= 0.0 && undamped_share <= 1.0, "train.ranges.undamped_share", "must be in [0, 1]");
+}
+
 void PoolOptions::validate() const {
+  ranges.validate();
   require(resolution >= 3, "train.resolution", "must be at least 3");
   require(environments > 0, "train.environments", "must be positive");
   require(max_age > 0, "train.max_age", "must be positive");
@@ -69,7 +83,6 @@ void TrainingEnv::generate() {
   m.bend = log_uniform(rng_, r.bend_min, r.bend_max) * kDensity * h2 * h2 / dt2;
   turn_axis_ = random_unit(rng_);
   const Vec3 gravity = log_uniform(rng_, r.gravity_min, r.gravity_max) * h / dt2 * turn_axis_;
-  objective_ = std::make_unique<BackwardEulerObjective>(grid_, m, dt_, gravity);
 
   // A random rigid pose of the flat rest grid.
   const Eigen::Matrix3d R =
@@ -99,6 +112,12 @@ void TrainingEnv::generate() {
   phase_ = std::uniform_real_distribution<double>(0, 2 * M_PI)(rng_);
   turn_amplitude_ = still ? 0.0 : std::uniform_real_distribution<double>(0.0, M_PI / 2)(rng_);
   turn_frequency_ = std::uniform_real_distribution<double>(0.5, 3.0)(rng_);
+  // Drawn last, so that the draws above stay those of the checkpoints made before damping was
+  // sampled (a resumed pool keeps its environments' poses and handles).
+  const bool undamped = std::uniform_real_distribution<double>(0, 1)(rng_) < r.undamped_share;
+  const double damping = log_uniform(rng_, r.damping_min, r.damping_max);
+  m.damping = undamped ? 0.0 : damping / dt_;
+  objective_ = std::make_unique<BackwardEulerObjective>(grid_, m, dt_, gravity);
   t_ = 0.0;
   age_ = 0;
   scale = torch::full({3, 1, 1, 1}, kInitialStepScale);

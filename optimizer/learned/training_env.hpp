@@ -20,14 +20,19 @@
 
 namespace fnopt {
 
-// Log-uniform ranges of the grid-unit quantities (cloth/grid_units.hpp) the pool samples.
-// Defaults cover the default material at 32^2 (k~ = 428 / 4.3 / 0.027, g~ = 0.085) up to
-// 100^2 (4367 / 44 / 2.9, 0.27) with margin.
+// Log-uniform ranges of the grid-unit quantities (cloth/grid_units.hpp) the pool samples, and of
+// the damping c dt (implicit force -c m v; none in `undamped_share` of the environments). They
+// cover the default material at 32^2 up to 100^2 with margin (README, "Grid units") and the
+// stiffer and softer cases of `fnopt stability`.
 struct TrainingRanges {
-  double stretch_min = 150.0, stretch_max = 8000.0;
+  double stretch_min = 40.0, stretch_max = 8000.0;
   double shear_min = 0.5, shear_max = 200.0;
   double bend_min = 0.005, bend_max = 20.0;
   double gravity_min = 0.03, gravity_max = 0.6;
+  double damping_min = 0.005, damping_max = 0.3;
+  double undamped_share = 0.25;
+
+  void validate() const;  // throws Error("train.ranges.<field>: ...")
 };
 
 struct PoolOptions {
