@@ -10,6 +10,7 @@
 #include "app/scene_flags.hpp"
 #include "app/threads.hpp"
 #include "studies/material_fit.hpp"
+#include "util/error.hpp"
 #include "util/parse_text.hpp"
 #include "util/progress_bar.hpp"
 
@@ -21,6 +22,7 @@ struct FitFlags {
   std::vector<std::string> checks;
   std::string coefficients = "stretch,shear,bend,damping";
   std::string start = "default";
+  std::vector<std::string> ranges;
   std::string out = "fitted-material.txt";
   MaterialFitParams params;
   int threads = 1;
@@ -49,6 +51,16 @@ void run_fit(FitFlags& flags) {
   const int threads = set_thread_count(flags.threads);
   flags.params.coefficients.clear();
   for (auto name : split(flags.coefficients, ',')) flags.params.coefficients.push_back(material_coefficient(std::string(trim(name))));
+  for (const auto& text : flags.ranges) {
+    const auto eq = text.find('=');
+    const auto colon = text.find(':');
+    CoefficientRange range;
+    require(eq != std::string::npos && colon != std::string::npos && colon > eq &&
+                parse_double(text.substr(eq + 1, colon - eq - 1), range.low) &&
+                parse_double(text.substr(colon + 1), range.high),
+            "range", "expected COEFFICIENT=LOW:HIGH, got '" + text + "'");
+    flags.params.range(material_coefficient(text.substr(0, eq))) = range;
+  }
   flags.params.validate();
   const Material start = material_preset(flags.start);
   const auto references = load_references(flags.references);
@@ -66,6 +78,7 @@ void run_fit(FitFlags& flags) {
         bar.update(k, "best e_CD x1e3 " + number_text(1e3 * best.mean_error));
         std::printf("\n  %3d  %s  ->  e_CD x 10^3 = %s\n", k, material_text(e.material).c_str(),
                     number_text(1e3 * e.mean_error).c_str());
+        std::fflush(stdout);
       });
   bar.finish();
 
@@ -107,6 +120,9 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->check(CLI::ExistingFile);
   command->add_option("--fit", flags->coefficients, "coefficients to fit: stretch, shear, bend, damping")
       ->capture_default_str();
+  command->add_option("--range", flags->ranges,
+                      "search interval COEFFICIENT=LOW:HIGH (defaults: stretch 1:800 N/m, shear 0.001:1e4 N/m, "
+                      "bend 1e-9:0.01 N m, damping 0.001:100 1/s)");
   command->add_option("--start", flags->start, "material to start from: a preset or a material file")
       ->capture_default_str();
   command->add_option("--frames", flags->params.frames, "time steps per rollout (0: the reference's whole duration)")
@@ -118,6 +134,8 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--final-step", flags->params.final_step, "stop when the step is below this")
       ->capture_default_str();
   command->add_option("--cd-samples", flags->params.chamfer.samples, "points sampled per mesh for e_CD")
+      ->capture_default_str();
+  command->add_option("--cd-stride", flags->params.chamfer_stride, "e_CD on every k-th matched frame")
       ->capture_default_str();
   command->add_option("--out", flags->out, "material file to write")->capture_default_str();
   command->add_option("--threads", flags->threads, "threads")->capture_default_str();

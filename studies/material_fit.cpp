@@ -16,22 +16,6 @@
 namespace fnopt {
 namespace {
 
-// Bounds of each coefficient in the search (physical units): far outside any cloth, they only
-// keep the search from wandering into meaningless values.
-struct CoefficientRange {
-  double low, high;
-};
-
-CoefficientRange range_of(MaterialCoefficient coefficient) {
-  switch (coefficient) {
-    case MaterialCoefficient::Stretch: return {1.0, 1e5};
-    case MaterialCoefficient::Shear: return {1e-3, 1e4};
-    case MaterialCoefficient::Bend: return {1e-9, 1e-2};
-    case MaterialCoefficient::Damping: return {1e-3, 1e2};
-  }
-  return {0.0, 0.0};
-}
-
 TrajectoryFrames frames_of(const RolloutResult& rollout) {
   TrajectoryFrames frames;
   frames.rows = rollout.grid.rows;
@@ -87,12 +71,32 @@ double& coefficient_of(Material& material, MaterialCoefficient coefficient) {
   return material.stretch;
 }
 
+const CoefficientRange& MaterialFitParams::range(MaterialCoefficient coefficient) const {
+  switch (coefficient) {
+    case MaterialCoefficient::Stretch: return stretch_range;
+    case MaterialCoefficient::Shear: return shear_range;
+    case MaterialCoefficient::Bend: return bend_range;
+    case MaterialCoefficient::Damping: return damping_range;
+  }
+  return stretch_range;
+}
+
+CoefficientRange& MaterialFitParams::range(MaterialCoefficient coefficient) {
+  return const_cast<CoefficientRange&>(static_cast<const MaterialFitParams&>(*this).range(coefficient));
+}
+
 void MaterialFitParams::validate() const {
   require(!coefficients.empty(), "fit.coefficients", "name at least one coefficient to fit");
   for (std::size_t i = 0; i < coefficients.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       require(coefficients[i] != coefficients[j], "fit.coefficients",
               "'" + coefficient_name(coefficients[i]) + "' is named twice");
+  for (auto c : {MaterialCoefficient::Stretch, MaterialCoefficient::Shear, MaterialCoefficient::Bend,
+                 MaterialCoefficient::Damping}) {
+    const auto& r = range(c);
+    require(std::isfinite(r.low) && std::isfinite(r.high) && r.low > 0.0 && r.low < r.high,
+            "fit." + coefficient_name(c) + "_range", "must be 0 < low < high");
+  }
   require(std::isfinite(initial_step) && initial_step > 0.0, "fit.initial_step", "must be positive");
   require(std::isfinite(final_step) && final_step > 0.0 && final_step <= initial_step, "fit.final_step",
           "must be positive and at most the initial step");
@@ -161,7 +165,7 @@ MaterialFitResult fit_material(const std::vector<FitReference>& references, cons
       value = coefficient_of(fallback, coefficients[i]);
       if (!(value > 0.0)) value = 1.0;
     }
-    const auto range = range_of(coefficients[i]);
+    const auto& range = params.range(coefficients[i]);
     point[i] = std::log(std::clamp(value, range.low, range.high));
   }
   auto material_at = [&](const std::vector<double>& p) {
@@ -195,7 +199,7 @@ MaterialFitResult fit_material(const std::vector<FitReference>& references, cons
   while (step >= params.final_step && result.evaluations < params.max_evaluations) {
     bool improved = false;
     for (std::size_t i = 0; i < n && !improved && result.evaluations < params.max_evaluations; ++i) {
-      const auto range = range_of(coefficients[i]);
+      const auto& range = params.range(coefficients[i]);
       for (double sign : {+1.0, -1.0}) {
         std::vector<double> trial = point;
         trial[i] = std::clamp(point[i] + sign * step, std::log(range.low), std::log(range.high));

@@ -26,9 +26,22 @@ MaterialCoefficient material_coefficient(const std::string& name);
 std::string coefficient_name(MaterialCoefficient coefficient);
 double& coefficient_of(Material& material, MaterialCoefficient coefficient);
 
+// The interval a coefficient is searched in (physical units).
+struct CoefficientRange {
+  double low = 0.0, high = 0.0;
+};
+
 struct MaterialFitParams {
   std::vector<MaterialCoefficient> coefficients = {MaterialCoefficient::Stretch, MaterialCoefficient::Shear,
                                                    MaterialCoefficient::Bend, MaterialCoefficient::Damping};
+  // Search intervals. Stretch stops at 800 N/m: the stiffest entry of ARCSim's gray-interlock
+  // table (2 x 414 N/m, above 17 % strain); e_CD keeps falling slowly towards an inextensible
+  // cloth (xy_v2 + rot_h0 at 32^2: 6.12 at 324 N/m, 5.92 at 2649 N/m), which only makes every
+  // step stiffer. The others are far outside any cloth and only keep the search finite.
+  CoefficientRange stretch_range{1.0, 800.0};
+  CoefficientRange shear_range{1e-3, 1e4};
+  CoefficientRange bend_range{1e-9, 1e-2};
+  CoefficientRange damping_range{1e-3, 1e2};
   double initial_step = 1.0;     // first poll step in ln(coefficient): a factor e = 2.7
   double final_step = 0.02;      // stop once the step is below this (2 % relative change)
   int max_evaluations = 120;     // rollouts at most, per reference set
@@ -38,6 +51,8 @@ struct MaterialFitParams {
   int chamfer_stride = 2;        // e_CD on every k-th matched frame
   ChamferOptions chamfer;
 
+  const CoefficientRange& range(MaterialCoefficient coefficient) const;
+  CoefficientRange& range(MaterialCoefficient coefficient);
   void validate() const;  // throws Error("fit.<field>: ...")
 };
 
