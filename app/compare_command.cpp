@@ -14,9 +14,11 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <fstream>
 #include <set>
 
 #include "app/commands.hpp"
+#include "app/compare_report.hpp"
 #include "app/optimizer_flags.hpp"
 #include "app/scene_flags.hpp"
 #include "app/threads.hpp"
@@ -27,6 +29,7 @@
 #include "io/svg_plot.hpp"
 #include "metrics/step_error.hpp"
 #include "metrics/trajectory_error.hpp"
+#include "optimizer/interpolated_optimizer.hpp"
 #include "util/error.hpp"
 #include "util/parse_text.hpp"
 #include "util/progress_bar.hpp"
@@ -48,6 +51,8 @@ struct CompareFlags {
   std::string model;
   std::string out;
   std::string arcsim_dir;
+  std::string preset;
+  int preset_frames = 0;  // the preset's frame count, where --frames was not given
   int threads = 1;
   int step_samples = 16;
   int cd_samples = 10000;
@@ -101,6 +106,57 @@ std::string hex_hash(const std::string& text) {
   return out;
 }
 
+// --res: "N" (N x N) or "RxC" (R rows x C columns), comma-separated.
+struct GridSize {
+  int rows = 0, cols = 0;
+};
+
+std::vector<GridSize> resolution_list(const std::string& text) {
+  std::vector<GridSize> sizes;
+  const std::string expected = "expected resolutions N (N x N) or RxC (R rows x C columns), comma-separated, e.g. "
+                               "'32,64,32x64', got '" + text + "'";
+  for (auto piece : split(text, ',')) {
+    const std::string item(trim(piece));
+    const auto x = item.find_first_of("xX");
+    GridSize size;
+    if (x == std::string::npos) {
+      require(parse_int(item, size.rows) && size.rows > 0, "res", expected);
+      size.cols = size.rows;
+    } else {
+      require(parse_int(item.substr(0, x), size.rows) && parse_int(item.substr(x + 1), size.cols) && size.rows > 0 &&
+                  size.cols > 0,
+              "res", expected);
+    }
+    sizes.push_back(size);
+  }
+  return sizes;
+}
+
+// The command line of this process, for the report (arguments with spaces quoted).
+std::string command_line() {
+  std::ifstream file("/proc/self/cmdline", std::ios::binary);
+  std::string text, argument;
+  while (std::getline(file, argument, '\0')) {
+    const bool quote = argument.empty() || argument.find_first_of(" \t'\"$;&|<>*?") != std::string::npos;
+    text += (text.empty() ? "" : " ") + (quote ? "'" + argument + "'" : argument);
+  }
+  return text.empty() ? "fnopt compare" : text;
+}
+
+// --preset superres: the zero-shot super-resolution study (issue 6). Explicit flags win.
+struct Preset {
+  const char* resolutions;
+  const char* optimizers;
+  const char* iters;
+  const char* iters_for;  // "" for none
+  const char* motions;
+  int frames;
+  int step_samples;
+};
+
+const Preset kSuperres = {"32,32x64,64x32,48,48x80,64,100,128", "fnopt,fnopt-interp32,newton-interp32", "10",
+                          "newton-interp32=300", "xy_v2", 30, 8};
+
 std::string resolution_text(const Scene& scene) {
   return scene.rows == scene.cols ? std::to_string(scene.rows)
                                   : std::to_string(scene.rows) + "x" + std::to_string(scene.cols);
@@ -146,40 +202,21 @@ struct TimedRollout {
 };
 
 // Relative cost of one frame, for the progress bar's ETA only.
-double cost_weight(const std::string& method, int budget) {
+double cost_weight(const std::string& method, int budget, int vertices) {
   if (method == "newton") return 40.0;
+  if (is_interpolated_method(method)) return 1.0 + budget * std::min(1.0, 1024.0 / std::max(1, vertices));
   if (method == "lbfgs-ls") return 1.3 * budget;
   return std::max(1, budget);
 }
-
-struct RunSpec {
-  std::string method;
-  int budget = 0;  // 0: newton to its reference tolerance
-};
 
 struct LearningRate {
   double value = 0.0;
   std::string source;
 };
 
-struct RunResult {
-  RunSpec spec;
-  std::string resolution, motion;
-  double lr = 0.0;
-  double ms = NAN, cpu_share = NAN, iterations = NAN, e_cd = NAN, e_3d = NAN, step_mean = NAN, step_median = NAN, strain = NAN;
-  double e_cd_arcsim = NAN;
-  bool diverged = false, failed = false;
-  int frames = 0, frames_requested = 0;
-  std::string note;
-};
-
 std::string run_key(const std::string& method, const std::string& budget, const std::string& res,
                     const std::string& motion) {
   return method + "|" + budget + "|" + res + "|" + motion;
-}
-
-std::string budget_text(const RunSpec& spec) {
-  return spec.method == "newton" ? "tol1e-9" : std::to_string(spec.budget);
 }
 
 const std::vector<std::string> kColumns = {
@@ -250,87 +287,9 @@ std::string dt_text(double dt) {
                                                             : number_text(dt);
 }
 
-// The run time a plot shows: with one thread, the solve's wall time times the CPU share the
-// process got (what it would take on an idle core, the machine being shared); otherwise wall time.
-double plotted_ms(const RunResult& r, int threads) {
-  return threads == 1 && std::isfinite(r.cpu_share) ? r.ms * std::min(1.0, r.cpu_share) : r.ms;
-}
-
-double mean_finite(const std::vector<double>& values) {
-  double sum = 0.0;
-  int n = 0;
-  for (double v : values)
-    if (std::isfinite(v)) sum += v, ++n;
-  return n ? sum / n : std::nan("");
-}
-
-PlotFigure make_plot(const std::vector<RunResult>& results, const std::vector<std::string>& methods,
-                     const std::vector<std::string>& resolutions, const std::vector<std::string>& motions,
-                     int threads, const std::vector<std::string>& notes) {
-  PlotFigure figure;
-  figure.title = "fnopt compare: error against run time (log-log; mean over " + std::to_string(motions.size()) +
-                 " motion" + (motions.size() == 1 ? "" : "s") + ")";
-  figure.notes = notes;
-  figure.marked_meaning = "diverged (in at least one motion; error over the frames before it)";
-  const bool have_arcsim = std::any_of(results.begin(), results.end(), [](const RunResult& r) {
-    return std::isfinite(r.e_cd_arcsim);
-  });
-  struct Metric {
-    std::string title, y_label;
-    double RunResult::*value;
-    double scale;
-    bool newton_is_reference;
-  };
-  std::vector<Metric> metrics = {
-      {"e_CD x 10^3 vs the Newton reference", "e_CD x 10^3 (Chamfer, vs Newton)", &RunResult::e_cd, 1e3, true},
-      {"per-step error vs the Newton step", "mean (L(a_N) - L*)/(L(a_0) - L*)", &RunResult::step_mean, 1.0, true}};
-  if (have_arcsim)
-    metrics.push_back({"e_CD x 10^3 vs ARCSim", "e_CD x 10^3 (Chamfer, vs ARCSim)", &RunResult::e_cd_arcsim, 1e3,
-                       false});
-  const std::string x_label = threads == 1 ? "ms/frame, 1 thread (after warm-up; wall time x CPU share)"
-                                           : "ms/frame, " + std::to_string(threads) + " threads (after warm-up)";
-  figure.columns = static_cast<int>(metrics.size());  // one row of panels per resolution
-  for (const std::string& res : resolutions) {
-    for (const Metric& metric : metrics) {
-      PlotPanel panel;
-      panel.title = metric.title + ", " + res + "^2";
-      panel.x_label = x_label;
-      panel.y_label = metric.y_label;
-      for (const std::string& method : methods) {
-        std::map<int, std::vector<const RunResult*>> by_budget;
-        for (const auto& r : results)
-          if (r.resolution == res && r.spec.method == method) by_budget[r.spec.budget].push_back(&r);
-        if (by_budget.empty()) continue;
-        if (method == "newton" && metric.newton_is_reference) {
-          std::vector<double> ms;
-          for (const auto* r : by_budget.begin()->second) ms.push_back(plotted_ms(*r, threads));
-          panel.vertical_lines.push_back({mean_finite(ms), "newton (the reference)"});
-          continue;
-        }
-        PlotSeries series;
-        series.name = method;
-        for (const auto& [budget, runs] : by_budget) {
-          std::vector<double> ms, value;
-          bool diverged = false;
-          for (const auto* r : runs) {
-            ms.push_back(plotted_ms(*r, threads));
-            value.push_back(metric.scale * (r->*metric.value));
-            diverged = diverged || r->diverged || r->failed;
-          }
-          series.points.push_back(
-              {mean_finite(ms), mean_finite(value), method == "newton" ? "" : "N=" + std::to_string(budget), diverged});
-        }
-        panel.series.push_back(series);
-      }
-      figure.panels.push_back(panel);
-    }
-  }
-  return figure;
-}
-
 void run_compare(const CompareFlags& flags) {
   require(!flags.out.empty(), "out", "an output directory is required");
-  const std::vector<int> resolutions = int_list("res", flags.resolutions);
+  const std::vector<GridSize> resolutions = resolution_list(flags.resolutions);
   std::vector<std::string> motions = flags.motions == "eval" ? motion_names() : name_list("motions", flags.motions);
   if (flags.motions == "eval") motions.resize(15);  // the fifteen benchmark motions, not "static"
   const std::vector<std::string> methods = name_list("optimizers", flags.optimizers);
@@ -360,11 +319,17 @@ void run_compare(const CompareFlags& flags) {
   const int threads = set_thread_count(flags.threads);
 
   Scene base = flags.scene.scene();
+  if (flags.preset_frames > 0) base.frames = flags.preset_frames;
   std::vector<Scene> scenes;
-  for (int res : resolutions)
+  for (const GridSize& res : resolutions)
     for (const auto& motion : motions) {
       Scene scene = base;
-      apply_scene_setting(scene, "res", std::to_string(res));
+      if (res.rows == res.cols) {
+        apply_scene_setting(scene, "res", std::to_string(res.rows));
+      } else {
+        apply_scene_setting(scene, "rows", std::to_string(res.rows));
+        apply_scene_setting(scene, "cols", std::to_string(res.cols));
+      }
       if (base.trajectory.empty()) apply_scene_setting(scene, "motion", motion);
       scene.validate();
       scenes.push_back(scene);
@@ -398,8 +363,8 @@ void run_compare(const CompareFlags& flags) {
   // Progress in frame-cost units (budget x frames), so that the ETA weighs Adam-500 over L-BFGS-10.
   long long total_units = 0;
   for (const auto& scene : scenes) {
-    if (!fs::exists(reference_file(scene))) total_units += static_cast<long long>(scene.frames * cost_weight("newton", 0));
-    for (const auto& run : runs) total_units += static_cast<long long>(scene.frames * cost_weight(run.method, run.budget));
+    if (!fs::exists(reference_file(scene))) total_units += static_cast<long long>(scene.frames * cost_weight("newton", 0, 0));
+    for (const auto& run : runs) total_units += static_cast<long long>(scene.frames * cost_weight(run.method, run.budget, scene.rows * scene.cols));
   }
   const double unit_scale = total_units > 1'000'000'000LL ? 1e-3 : 1.0;
   ProgressBar bar("compare", static_cast<int>(total_units * unit_scale));
@@ -429,6 +394,33 @@ void run_compare(const CompareFlags& flags) {
   TrajectoryComparisonOptions comparison_options;
   comparison_options.chamfer = chamfer;
   comparison_options.chamfer_stride = flags.cd_stride;
+
+  // compare.svg and report.md (and superres.svg), rewritten after every run.
+  CompareReport report;
+  report.directory = flags.out;
+  report.command_line = command_line();
+  report.scene_text = to_scene_text(scenes.front());
+  report.resolutions = resolution_names;
+  report.motions = motion_names_used;
+  report.methods = methods;
+  report.threads = threads;
+  report.preset = flags.preset;
+  report.superres = flags.preset == "superres" ||
+                    (std::count(methods.begin(), methods.end(), "fnopt") > 0 &&
+                     std::any_of(methods.begin(), methods.end(), is_interpolated_method));
+  const std::size_t total_runs = runs.size() * scenes.size();
+  auto write_outputs = [&](const std::string& status) {
+    std::vector<std::string> notes = {
+        std::to_string(base.frames) + " frames at dt = " + dt_text(base.dt) + " s; N = iterations per time step; " +
+            "errors vs a Newton rollout converged to 1e-9; per-step error on " + std::to_string(flags.step_samples) +
+            " reference states; e_CD with " + std::to_string(chamfer.samples) + " points per mesh",
+        "motions: " + joined(motion_names_used)};
+    if (!lr_notes.empty()) notes.push_back("learning rates (swept on the first scene): " + joined(lr_notes));
+    write_svg(svg_path, make_compare_plot(results, methods, resolution_names, motion_names_used, threads, notes));
+    report.notes = notes;
+    report.status = status;
+    write_compare_report(report, results);
+  };
 
   auto rollout_with_progress = [&](const Scene& scene, InnerOptimizer& optimizer, const RolloutOptions& options,
                                    double weight, const std::string& label) {
@@ -471,7 +463,7 @@ void run_compare(const CompareFlags& flags) {
         NewtonOptimizer newton;
         RolloutOptions options;
         options.solve = reference_options;
-        fresh_reference = rollout_with_progress(scene, newton, options, cost_weight("newton", 0),
+        fresh_reference = rollout_with_progress(scene, newton, options, cost_weight("newton", 0, 0),
                                                 "reference " + res + "/" + motion);
         write_rollout_file(cache, fresh_reference->rollout, to_scene_text(scene), newton.settings());
         reference = frames_of(fresh_reference->rollout);
@@ -481,7 +473,7 @@ void run_compare(const CompareFlags& flags) {
       }
       bench_storage = std::make_unique<StepErrorBench>(scene, reference, flags.step_samples);
     } else if (!fs::exists(cache)) {
-      done_units += static_cast<long long>(scene.frames * cost_weight("newton", 0));
+      done_units += static_cast<long long>(scene.frames * cost_weight("newton", 0, 0));
     }
     StepErrorBench* bench = bench_storage.get();
 
@@ -523,7 +515,7 @@ void run_compare(const CompareFlags& flags) {
     for (const auto& run : runs) {
       const std::string label = run.method + (run.budget ? " N=" + std::to_string(run.budget) : "") + " " + res +
                                 "/" + motion;
-      const double weight = cost_weight(run.method, run.budget);
+      const double weight = cost_weight(run.method, run.budget, scene.rows * scene.cols);
       const auto earlier = resumed.find(run_key(run.method, budget_text(run), res, motion));
       if (earlier != resumed.end()) {
         results.push_back(result_of_row(run, earlier->second));
@@ -583,6 +575,9 @@ void run_compare(const CompareFlags& flags) {
           r.e_cd_arcsim = compare_trajectories(*arcsim, frames, -1.0, o).chamfer;
         }
         const auto fresh = choice.make();  // a fresh optimizer: no state from the rollout
+        // The step-error bench's problems do not carry the scene's physics; interpolation needs it.
+        if (auto* interp = dynamic_cast<InterpolatedOptimizer*>(fresh.get()))
+          interp->set_physics(scene.material, scene.gravity);
         const StepErrorSummary steps = bench->evaluate(*fresh, choice.solve_options());
         r.step_mean = steps.mean;
         r.step_median = steps.median;
@@ -594,6 +589,8 @@ void run_compare(const CompareFlags& flags) {
       results.push_back(r);
       table.add_row(csv_row(r, threads, lr_source));
       table.write(csv_path);
+      write_outputs("in progress, " + std::to_string(results.size()) + " of " + std::to_string(total_runs) +
+                    " runs done");
       bar.update(static_cast<int>(done_units * unit_scale), label + " done");
       std::fprintf(stderr, "%-26s %8.2f ms/frame (cpu share %.2f)  e_CD %8.3f  e_3D %8.3f  step err %9.3g  strain %6.1f%%  %s\n",
                    label.c_str(), r.ms, r.cpu_share, 1e3 * r.e_cd, 1e2 * r.e_3d, r.step_mean, 100 * r.strain,
@@ -601,16 +598,10 @@ void run_compare(const CompareFlags& flags) {
     }
   }
   bar.finish();
-
-  std::vector<std::string> notes = {
-      std::to_string(base.frames) + " frames at dt = " + dt_text(base.dt) + " s; N = iterations per time step; " +
-          "errors vs a Newton rollout converged to 1e-9; per-step error on " + std::to_string(flags.step_samples) +
-          " reference states; e_CD with " + std::to_string(chamfer.samples) + " points per mesh",
-      "motions: " + joined(motion_names_used)};
-  if (!lr_notes.empty()) notes.push_back("learning rates (swept on the first scene): " + joined(lr_notes));
-  write_svg(svg_path, make_plot(results, methods, resolution_names, motion_names_used, threads, notes));
+  write_outputs("finished");
   std::printf("%s", table.text().c_str());
-  std::printf("wrote %s and %s (%d thread%s)\n", csv_path.c_str(), svg_path.c_str(), threads, threads == 1 ? "" : "s");
+  std::printf("wrote %s, %s and %s (%d thread%s)\n", csv_path.c_str(), svg_path.c_str(),
+              (fs::path(flags.out) / "report.md").string().c_str(), threads, threads == 1 ? "" : "s");
 }
 
 const RegisterCommand kRegister([](CLI::App& app) {
@@ -618,16 +609,36 @@ const RegisterCommand kRegister([](CLI::App& app) {
   CLI::App* command =
       app.add_subcommand("compare", "every optimizer on the same scenes: error against run time (CSV + SVG plot)");
   flags->scene.add_to(*command, /*with_resolution=*/false);
-  command->add_option("--res", flags->resolutions, "resolutions N (N x N grids), comma-separated")
-      ->capture_default_str();
-  command->add_option("--motions", flags->motions, "motions, comma-separated, or 'eval' (the fifteen)")
-      ->capture_default_str();
-  command->add_option("--optimizers", flags->optimizers, "optimizers, comma-separated: " + optimizer_names())
-      ->capture_default_str();
-  command->add_option("--iters", flags->iters, "iteration budgets per time step, comma-separated")
-      ->capture_default_str();
-  command->add_option("--iters-for", flags->iters_for,
-                      "budgets of one method, overriding --iters: METHOD=N,N,... (repeatable)");
+  CLI::Option* res = command->add_option(
+      "--res", flags->resolutions,
+      "resolutions, comma-separated: N (N x N) or RxC (R rows x C columns, the longer edge 1 m), e.g. 32,64,32x64");
+  res->capture_default_str();
+  CLI::Option* motions =
+      command->add_option("--motions", flags->motions, "motions, comma-separated, or 'eval' (the fifteen)");
+  motions->capture_default_str();
+  CLI::Option* optimizers =
+      command->add_option("--optimizers", flags->optimizers, "optimizers, comma-separated: " + optimizer_names());
+  optimizers->capture_default_str();
+  CLI::Option* iters = command->add_option("--iters", flags->iters, "iteration budgets per time step, comma-separated");
+  iters->capture_default_str();
+  CLI::Option* iters_for = command->add_option(
+      "--iters-for", flags->iters_for, "budgets of one method, overriding --iters: METHOD=N,N,... (repeatable)");
+  command
+      ->add_option(
+          "--preset", flags->preset,
+          "a prepared study; its values give way to the flags given. 'superres': zero-shot super-resolution "
+          "(issue 6): --res " + std::string(kSuperres.resolutions) + " --optimizers " + kSuperres.optimizers +
+              " --iters " + kSuperres.iters + " --iters-for " + kSuperres.iters_for + " --motions " +
+              kSuperres.motions + " --frames " + std::to_string(kSuperres.frames) + " --step-samples " +
+              std::to_string(kSuperres.step_samples) + " (the first " + number_text(kSuperres.frames / 60.0) +
+              " s of the motion at dt = 1/60, the handles' first swing: the Newton references cost ~20 s of CPU "
+              "per frame at 128^2 and ~10 s at 100^2, so this is what fits in about 45 min at 1 thread on an idle "
+              "core here; for more frames give --frames and a new --out: --resume keeps rows by method, N, resolution "
+              "and motion only); the "
+              "fine grid runs fnopt (the shipped 32^2 model) against fnopt-interp32 (solve at 32 "
+              "vertices along the longer edge, interpolate) and newton-interp32 (exact coarse step, interpolate); "
+              "also writes superres.svg and a super-resolution table in report.md")
+      ->check(CLI::IsMember({"superres"}));
   command->add_option("--lr-gd", flags->lr_gd,
                       "gd learning rates (x 1/lambda_max); several: the best per budget on the first scene")
       ->capture_default_str();
@@ -639,8 +650,9 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--arcsim-dir", flags->arcsim_dir,
                       "also report e_CD against DIR/arcsim_N{res}_{motion}.h5 where it exists");
   command->add_option("--threads", flags->threads, "threads for every run (fixed, printed)")->capture_default_str();
-  command->add_option("--step-samples", flags->step_samples, "reference states for the per-step error")
-      ->capture_default_str();
+  CLI::Option* step_samples =
+      command->add_option("--step-samples", flags->step_samples, "reference states for the per-step error");
+  step_samples->capture_default_str();
   command->add_option("--cd-samples", flags->cd_samples, "points sampled per mesh for e_CD")->capture_default_str();
   command->add_flag("--warm-start", flags->warm_start, "start each step from the previous step's acceleration");
   command->add_flag("--keep-rollouts", flags->keep_rollouts, "also write every rollout to DIR");
@@ -649,7 +661,20 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--cd-stride", flags->cd_stride,
                       "e_CD on every k-th matched frame (2: every 1/30 s at dt = 1/60, as the ARCSim files)")
       ->capture_default_str();
-  command->callback([flags] { run_compare(*flags); });
+  CLI::Option* frames = command->get_option("--frames");
+  command->callback([flags, res, motions, optimizers, iters, iters_for, frames, step_samples] {
+    if (flags->preset == "superres") {
+      const Preset& p = kSuperres;
+      if (res->count() == 0) flags->resolutions = p.resolutions;
+      if (motions->count() == 0) flags->motions = p.motions;
+      if (optimizers->count() == 0) flags->optimizers = p.optimizers;
+      if (iters->count() == 0) flags->iters = p.iters;
+      if (iters_for->count() == 0 && optimizers->count() == 0 && *p.iters_for) flags->iters_for = {p.iters_for};
+      if (frames->count() == 0) flags->preset_frames = p.frames;
+      if (step_samples->count() == 0) flags->step_samples = p.step_samples;
+    }
+    run_compare(*flags);
+  });
 });
 
 }  // namespace

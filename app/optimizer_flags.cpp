@@ -7,6 +7,7 @@
 #include "baselines/gradient_descent.hpp"
 #include "baselines/lbfgs.hpp"
 #include "baselines/newton.hpp"
+#include "optimizer/interpolated_optimizer.hpp"
 #include "optimizer/learned/learned_optimizer.hpp"
 #include "util/error.hpp"
 #include "util/parse_text.hpp"
@@ -55,6 +56,29 @@ const std::vector<OptimizerEntry>& optimizer_table() {
   return table;
 }
 
+// The interpolation ablation (optimizer/interpolated_optimizer.hpp): "METHOD-interpK" solves each
+// step with METHOD on the grid with K vertices along the longer edge and prolongs its answer.
+// The choice's budget, learning rate and model go to METHOD; the fine grid takes one iteration.
+constexpr const char* kInterpTag = "-interp";
+
+bool is_interpolated(const std::string& name) { return name.find(kInterpTag) != std::string::npos; }
+
+std::unique_ptr<InnerOptimizer> make_interpolated(const OptimizerChoice& c) {
+  const auto at = c.name.find(kInterpTag);
+  const std::string method = c.name.substr(0, at), size = c.name.substr(at + std::char_traits<char>::length(kInterpTag));
+  InterpolatedParams params;
+  require(!method.empty() && !is_interpolated(method) && parse_int(size, params.coarse_size) &&
+              params.coarse_size >= 3,
+          "optimizer",
+          "'" + c.name + "': expected METHOD-interpK, K >= 3 the coarse grid's vertices along its longer edge "
+          "(e.g. fnopt-interp32)");
+  OptimizerChoice coarse = c;
+  coarse.name = method;
+  coarse.make();  // an unknown METHOD fails here, with the list of names
+  params.coarse_solve = coarse.solve_options();
+  return std::make_unique<InterpolatedOptimizer>([coarse] { return coarse.make(); }, params);
+}
+
 }  // namespace
 
 std::string shipped_model_path() { return std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt"; }
@@ -62,6 +86,7 @@ std::string shipped_model_path() { return std::string(FNOPT_SOURCE_DIR) + "/mode
 std::string optimizer_names() {
   std::vector<std::string> names;
   for (const auto& entry : optimizer_table()) names.push_back(entry.name);
+  names.push_back("METHOD-interpK (METHOD on a K-vertex coarse grid, interpolated: fnopt-interp32, newton-interp32)");
   return joined(names);
 }
 
@@ -70,10 +95,12 @@ std::unique_ptr<InnerOptimizer> OptimizerChoice::make() const {
   require(learning_rate >= 0.0, "lr", "must be positive");
   for (const auto& entry : optimizer_table())
     if (name == entry.name) return entry.make(*this);
+  if (is_interpolated(name)) return make_interpolated(*this);
   throw Error("optimizer: unknown optimizer '" + name + "' (choose from: " + optimizer_names() + ")");
 }
 
 InnerSolveOptions OptimizerChoice::solve_options() const {
+  if (is_interpolated(name)) return {1, 0.0};  // one iteration gives the interpolated answer
   if (name == "newton") {
     InnerSolveOptions options = NewtonOptimizer::reference_solve_options();
     if (iterations > 0) options.max_iterations = iterations;

@@ -1,0 +1,67 @@
+#pragma once
+// What `fnopt compare` reports besides its CSV: the error-time plot (compare.svg), the
+// zero-shot super-resolution plot (superres.svg: error and ms/frame against vertex count, the
+// learned optimizer run on each grid against the same optimizer solving at 32^2 and
+// interpolating), and DIR/report.md tying them together. Internal to app/compare_*.cpp.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "io/svg_plot.hpp"
+
+namespace fnopt::app {
+
+struct RunSpec {
+  std::string method;
+  int budget = 0;  // 0: newton to its reference tolerance
+};
+
+struct RunResult {
+  RunSpec spec;
+  std::string resolution, motion;  // "32" (32 x 32) or "32x64" (rows x cols)
+  double lr = 0.0;
+  double ms = NAN, cpu_share = NAN, iterations = NAN, e_cd = NAN, e_3d = NAN, step_mean = NAN, step_median = NAN,
+         strain = NAN;
+  double e_cd_arcsim = NAN;
+  bool diverged = false, failed = false;
+  int frames = 0, frames_requested = 0;
+  std::string note;
+};
+
+// "10", or "tol1e-9" for newton (the CSV's N).
+std::string budget_text(const RunSpec& spec);
+// The run time a plot or report shows: with one thread, wall time x the CPU share the process
+// got (what it would take on an idle core of this shared machine); otherwise wall time.
+double plotted_ms(const RunResult& r, int threads);
+double mean_finite(const std::vector<double>& values);
+// Vertices of a resolution text ("32" -> 1024, "32x64" -> 2048); 0 if it is not one.
+int vertex_count_of(const std::string& resolution);
+// "32^2" or "32x64".
+std::string resolution_title(const std::string& resolution);
+// An interpolation-ablation method (METHOD-interpK).
+bool is_interpolated_method(const std::string& method);
+
+// The error-time figure: one row of panels per resolution, one line per method.
+PlotFigure make_compare_plot(const std::vector<RunResult>& results, const std::vector<std::string>& methods,
+                             const std::vector<std::string>& resolutions, const std::vector<std::string>& motions,
+                             int threads, const std::vector<std::string>& notes);
+
+struct CompareReport {
+  std::string directory;                 // where report.md, compare.csv, compare.svg live
+  std::string command_line;
+  std::string scene_text;                // the resolved scene of the first resolution
+  std::vector<std::string> resolutions;  // in the order run
+  std::vector<std::string> motions;
+  std::vector<std::string> methods;
+  std::vector<std::string> notes;        // as on the plot
+  int threads = 1;
+  bool superres = false;                 // write the super-resolution section and superres.svg
+  std::string preset;                    // "superres" or empty
+  std::string status;                    // e.g. "finished" or "in progress: 7 of 24 runs"
+};
+
+// Writes DIR/report.md and, if report.superres and the results hold fnopt and an
+// interpolation method, DIR/superres.svg. Safe to call after every run (partial results).
+void write_compare_report(const CompareReport& report, const std::vector<RunResult>& results);
+
+}  // namespace fnopt::app

@@ -1,0 +1,74 @@
+// fnopt compare as a user runs it: a small non-square comparison writes its CSV, plot and
+// report; a malformed resolution is one clear error line and a non-zero exit.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+namespace {
+
+struct CommandResult {
+  int status;
+  std::string output;
+};
+
+CommandResult run_fnopt(const std::string& arguments) {
+  const std::string command = "OMP_WAIT_POLICY=PASSIVE " + std::string(FNOPT_BINARY) + " " + arguments + " 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+  std::string output;
+  std::array<char, 256> buffer{};
+  while (fgets(buffer.data(), buffer.size(), pipe.get())) output += buffer.data();
+  const int raw = pclose(pipe.release());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, output};
+}
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+TEST(CompareCli, ANonSquareComparisonWritesCsvPlotAndReport) {
+  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_compare_cli";
+  std::filesystem::remove_all(dir);
+  const CommandResult r = run_fnopt("compare --res 12x16 --frames 4 --optimizers newton,lbfgs --iters 5 --threads 1 "
+                                    "--step-samples 2 --cd-samples 500 --out " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  ASSERT_TRUE(std::filesystem::exists(dir / "compare.csv"));
+  ASSERT_TRUE(std::filesystem::exists(dir / "compare.svg"));
+  ASSERT_TRUE(std::filesystem::exists(dir / "report.md"));
+  const std::string csv = read_text(dir / "compare.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3) << csv;  // header, newton, lbfgs N=5
+  EXPECT_NE(csv.find("lbfgs,5,,,12x16,"), std::string::npos) << csv;
+  const std::string report = read_text(dir / "report.md");
+  EXPECT_NE(report.find("compare --res 12x16 --frames 4"), std::string::npos) << report;  // the command line
+  EXPECT_NE(report.find("12x16 (192 vertices)"), std::string::npos) << report;          // a table per resolution
+  EXPECT_NE(report.find("| lbfgs | 5 |"), std::string::npos) << report;
+  EXPECT_NE(report.find("compare.svg"), std::string::npos) << report;
+  std::filesystem::remove_all(dir);
+}
+
+TEST(CompareCli, AMalformedResolutionIsOneClearErrorLine) {
+  for (const char* res : {"32x", "32,x32"}) {
+    const CommandResult r = run_fnopt(std::string("compare --res ") + res + " --frames 2 --out /tmp/fnopt_never_written");
+    EXPECT_NE(r.status, 0) << res;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_NE(r.output.find("fnopt: error: res: expected resolutions N (N x N) or RxC"), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(std::filesystem::exists("/tmp/fnopt_never_written"));
+}
+
+TEST(CompareCli, AnUnknownPresetIsRejected) {
+  const CommandResult r = run_fnopt("compare --preset nope --out /tmp/fnopt_never_written");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("preset"), std::string::npos) << r.output;
+}
+
+}  // namespace
