@@ -42,6 +42,9 @@ void run_simulate(const SimulateFlags& flags) {
       grid_unit_stiffness(Grid::make(scene.rows, scene.cols, scene.size), scene.material, scene.dt, scene.gravity.norm());
   std::fprintf(stderr, "grid units: stretch %.4g, shear %.4g, bend %.4g, gravity %.4g (DESIGN.md §2)\n", k.stretch,
                k.shear, k.bend, k.gravity);
+  std::fprintf(stderr, "self-repulsion: %s (repulsion = %s), lambda %.4g N/m, delta %.4g h\n",
+               scene.material.repulsion ? "on" : "off", repulsion_mode_name(scene.repulsion).c_str(),
+               scene.material.repulsion_stiffness, scene.material.repulsion_range);
   ProgressBar bar("simulate", scene.frames);
   const RolloutResult rollout = run_rollout(scene, *optimizer, options, [&](int done, int, const StepRecord& s) {
     char status[96];
@@ -61,16 +64,20 @@ void run_simulate(const SimulateFlags& flags) {
     }
   }
 
-  int converged = 0, max_iterations = 0;
+  int converged = 0, precision_limited = 0, max_iterations = 0;
   for (const auto& s : rollout.steps) {
-    converged += s.status == SolveStatus::Converged;
+    converged += is_converged(s.status);
+    precision_limited += s.status == SolveStatus::PrecisionLimit;
     max_iterations = std::max(max_iterations, s.iterations);
   }
   const int steps = static_cast<int>(rollout.steps.size());
   // A method with a tolerance reports how many steps reached it; a fixed budget does not.
-  const std::string convergence = options.solve.relative_tolerance > 0.0
-                                      ? std::to_string(converged) + "/" + std::to_string(steps) + " steps converged"
-                                      : "fixed budget";
+  std::string convergence = "fixed budget";
+  if (options.solve.relative_tolerance > 0.0) {
+    convergence = std::to_string(converged) + "/" + std::to_string(steps) + " steps converged";
+    if (precision_limited > 0)
+      convergence += " (" + std::to_string(precision_limited) + " to the precision of L)";
+  }
   std::printf("%s: %d/%d frames, %dx%d, %.1f ms/frame, max edge strain %.1f %%, %.2f iterations/step (max %d), "
               "%s, %s; wrote %s\n",
               optimizer->name().c_str(), steps, scene.frames, scene.rows, scene.cols, rollout.mean_step_ms(),

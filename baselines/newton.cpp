@@ -25,6 +25,8 @@ void NewtonParams::validate() const {
   require(max_backtracks > 0, "newton.max_backtracks", "must be positive");
   require(forcing_cap > 0.0 && forcing_cap < 1.0, "newton.forcing_cap", "must lie in (0, 1)");
   require(max_cg_iterations >= 0, "newton.max_cg_iterations", "must not be negative");
+  require(max_shift >= 0.0, "newton.max_shift", "must not be negative");
+  require(shift_growth > 1.0, "newton.shift_growth", "must be greater than 1");
 }
 
 NewtonOptimizer::NewtonOptimizer(NewtonParams params) : params_(params) {
@@ -36,15 +38,18 @@ NewtonOptimizer::NewtonOptimizer(NewtonParams params) : params_(params) {
 std::string NewtonOptimizer::settings() const {
   std::ostringstream out;
   out << "newton: armijo=" << params_.armijo << " backtrack=" << params_.backtrack
-      << " forcing_cap=" << params_.forcing_cap << " max_cg_iterations=" << params_.max_cg_iterations;
+      << " forcing_cap=" << params_.forcing_cap << " max_cg_iterations=" << params_.max_cg_iterations
+      << " max_shift=" << params_.max_shift;
   return out.str();
 }
 
-bool NewtonOptimizer::factorize_and_solve(const Eigen::SparseMatrix<double>& H, const VecX& b) {
-  // The objective keeps one matrix per free set, so the symbolic analysis is done once.
-  if (analysed_pattern_ != static_cast<const void*>(H.outerIndexPtr()) || llt_.rows() != H.rows()) {
+bool NewtonOptimizer::factorize_and_solve(const Eigen::SparseMatrix<double>& H, const VecX& b,
+                                          const void* pattern) {
+  // The objective keeps one matrix per free set (and a shifted copy has its pattern), so the
+  // symbolic analysis is done once per free set.
+  if (analysed_pattern_ != pattern || llt_.rows() != H.rows()) {
     llt_.analyzePattern(H);
-    analysed_pattern_ = H.outerIndexPtr();
+    analysed_pattern_ = pattern;
   }
   ++counters_.factorizations;
   llt_.factorize(H);
@@ -78,6 +83,29 @@ NewtonOptimizer::CgOutcome NewtonOptimizer::preconditioned_cg(const Eigen::Spars
   return CgOutcome::TooManyIterations;
 }
 
+bool NewtonOptimizer::shifted_solve(StepProblem& problem, const Eigen::SparseMatrix<double>& H, const VecX& b) {
+  if (params_.max_shift <= 0.0) return false;
+  const DirichletSet& dirichlet = problem.dirichlet();
+  const BackwardEulerObjective& objective = problem.objective();
+  inertia_diagonal_.resize(H.rows());
+  const double dt2 = objective.dt() * objective.dt();
+  for (int v = 0; v < dirichlet.vertex_count(); ++v) {
+    const int f = dirichlet.free_index()[v];
+    if (f >= 0) inertia_diagonal_.segment<3>(3 * f).setConstant(dt2 * objective.masses()[v]);
+  }
+  // Start just below the last shift that worked: consecutive iterates need similar shifts.
+  double mu = std::max(1e-4, shift_ / (params_.shift_growth * params_.shift_growth));
+  for (; mu <= params_.max_shift; mu *= params_.shift_growth) {
+    shifted_ = H;
+    shifted_.diagonal() += mu * inertia_diagonal_;
+    if (factorize_and_solve(shifted_, b, H.outerIndexPtr()) && b.dot(direction_) > 0.0) {
+      shift_ = mu;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool NewtonOptimizer::newton_direction(StepProblem& problem, const VecX& a, double tolerance) {
   const auto& free_index = problem.dirichlet().free_index();
   for (bool project : {false, true}) {
@@ -85,12 +113,15 @@ bool NewtonOptimizer::newton_direction(StepProblem& problem, const VecX& a, doub
     counters_.projected_iterations += project;
     if (have_factor_ && params_.max_cg_iterations > 0) {
       const CgOutcome outcome = preconditioned_cg(H, rhs_, tolerance);
-      if (outcome == CgOutcome::NegativeCurvature) continue;
       if (outcome == CgOutcome::Converged && rhs_.dot(direction_) > 0.0) return true;
     }
-    // CG was slow, or there is no factor yet: refactorize. An indefinite H fails here and the
-    // loop moves on to the projected Hessian.
-    if (factorize_and_solve(H, rhs_) && rhs_.dot(direction_) > 0.0) return true;
+    // CG was slow, met negative curvature, or there is no factor yet: refactorize. An
+    // indefinite H fails here; then the shifted exact Hessian, and last the projected one.
+    if (factorize_and_solve(H, rhs_, H.outerIndexPtr()) && rhs_.dot(direction_) > 0.0) return true;
+    if (!project && shifted_solve(problem, H, rhs_)) {
+      ++counters_.shifted_iterations;
+      return true;
+    }
     counters_.projected_iterations -= project;
   }
   return false;
@@ -115,7 +146,9 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
   // Backtracking on L(a + alpha d). Armijo's test must also see a strict decrease, so that a
   // step too small to change L is never taken as progress. Close to the minimum L changes by
   // less than its rounding error; there a step that lowers ||g|| is accepted instead.
-  const double rounding = 1e-13 * (std::abs(value) + std::abs(start_value_));
+  // L sums terms larger than itself (inertia, gravity, elastic), so its rounding error is a few
+  // hundred ulps of |L| (10^4 stencils): 1e-13 relative still rejected Newton steps at 4e-9 ||g0||.
+  const double rounding = 1e-12 * (std::abs(value) + std::abs(start_value_));
   double alpha = 1.0;
   for (int trial = 0; trial < params_.max_backtracks; ++trial, alpha *= params_.backtrack) {
     trial_ = a;
@@ -133,7 +166,9 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
       return std::nullopt;
     }
   }
-  return SolveStatus::LineSearchFailed;
+  // No trial lowered L or ||g||. If the step could not lower L by more than L's rounding error
+  // anyway, the iterate is a minimiser to the precision of L: say so rather than "failed".
+  return -slope <= rounding ? SolveStatus::PrecisionLimit : SolveStatus::LineSearchFailed;
 }
 
 }  // namespace fnopt
