@@ -26,7 +26,7 @@ namespace fnopt {
 // stiffer and softer cases of `fnopt stability`.
 struct TrainingRanges {
   double stretch_min = 40.0, stretch_max = 8000.0;
-  double shear_min = 0.5, shear_max = 200.0;
+  double shear_min = 0.5, shear_max = 600.0;
   double bend_min = 0.005, bend_max = 20.0;
   double gravity_min = 0.03, gravity_max = 0.6;
   double damping_min = 0.005, damping_max = 0.3;
