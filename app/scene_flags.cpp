@@ -28,6 +28,8 @@ const FlagSpec kFlags[] = {
     {"frames", "number of time steps"},
     {"dt", "time step [s] (default 1/60)"},
     {"gravity", "gravity vector 'x,y,z' [m/s^2]"},
+    {"repulsion-stiffness", "self-repulsion barrier stiffness lambda [N/m] (default 10)"},
+    {"repulsion-range", "self-repulsion range delta in cell widths h (default 1)"},
 };
 
 }  // namespace
@@ -40,7 +42,11 @@ void SceneFlags::add_to(CLI::App& command, bool with_resolution) {
     if (!with_resolution && (key == "res" || key == "rows" || key == "cols")) continue;
     options_[key] = command.add_option("--" + key, values_[key], flag.help);
   }
-  repulsion_flag_ = command.add_flag("--repulsion", repulsion_, "enable self-repulsion");
+  repulsion_flag_ = command.add_flag(
+      "--repulsion", repulsion_,
+      "enable self-repulsion (default: auto, on for the folding presets corner-center and single-mid-edge)");
+  no_repulsion_flag_ = command.add_flag("--no-repulsion", no_repulsion_, "disable self-repulsion");
+  repulsion_flag_->excludes(no_repulsion_flag_);
 }
 
 Scene SceneFlags::scene() const {
@@ -51,6 +57,8 @@ Scene SceneFlags::scene() const {
       apply_scene_setting(scene, flag.key, values_.at(flag.key));
   }
   if (repulsion_flag_ && repulsion_flag_->count() > 0) apply_scene_setting(scene, "repulsion", "true");
+  if (no_repulsion_flag_ && no_repulsion_flag_->count() > 0) apply_scene_setting(scene, "repulsion", "false");
+  resolve_repulsion(scene);
   scene.validate();
   return scene;
 }

@@ -13,7 +13,8 @@ class SceneFlags {
  public:
   // Adds --scene, --res, --rows, --cols, --size, --handles, --handle-vertices, --motion,
   // --trajectory, --speed, --frames, --dt, --material, --stretch, --shear, --bend, --density,
-  // --damping, --gravity, --repulsion. `with_resolution` false leaves out --res/--rows/--cols
+  // --damping, --gravity, --repulsion-stiffness, --repulsion-range, --repulsion / --no-repulsion
+  // (self-repulsion on / off; neither: auto, see repulsion_enabled). `with_resolution` false leaves out --res/--rows/--cols
   // (for commands that take a list of resolutions).
   void add_to(CLI::App& command, bool with_resolution = true);
   // The scene: defaults, then the --scene file, then every flag given (in a fixed order:
@@ -26,6 +27,8 @@ class SceneFlags {
   std::map<std::string, CLI::Option*> options_;
   bool repulsion_ = false;
   CLI::Option* repulsion_flag_ = nullptr;
+  bool no_repulsion_ = false;
+  CLI::Option* no_repulsion_flag_ = nullptr;
 };
 
 }  // namespace fnopt::app

@@ -43,10 +43,9 @@ std::string NewtonOptimizer::settings() const {
   return out.str();
 }
 
-bool NewtonOptimizer::factorize_and_solve(const Eigen::SparseMatrix<double>& H, const VecX& b,
-                                          const void* pattern) {
-  // The objective keeps one matrix per free set (and a shifted copy has its pattern), so the
-  // symbolic analysis is done once per free set.
+bool NewtonOptimizer::factorize_and_solve(const Eigen::SparseMatrix<double>& H, const VecX& b, long pattern) {
+  // The symbolic analysis is redone only when the objective's pattern changes (a new free set,
+  // or self-repulsion pairs that the pattern lacked); a shifted copy of H shares H's pattern.
   if (analysed_pattern_ != pattern || llt_.rows() != H.rows()) {
     llt_.analyzePattern(H);
     analysed_pattern_ = pattern;
@@ -98,7 +97,7 @@ bool NewtonOptimizer::shifted_solve(StepProblem& problem, const Eigen::SparseMat
   for (; mu <= params_.max_shift; mu *= params_.shift_growth) {
     shifted_ = H;
     shifted_.diagonal() += mu * inertia_diagonal_;
-    if (factorize_and_solve(shifted_, b, H.outerIndexPtr()) && b.dot(direction_) > 0.0) {
+    if (factorize_and_solve(shifted_, b, problem.objective().hessian_pattern_id()) && b.dot(direction_) > 0.0) {
       shift_ = mu;
       return true;
     }
@@ -117,7 +116,8 @@ bool NewtonOptimizer::newton_direction(StepProblem& problem, const VecX& a, doub
     }
     // CG was slow, met negative curvature, or there is no factor yet: refactorize. An
     // indefinite H fails here; then the shifted exact Hessian, and last the projected one.
-    if (factorize_and_solve(H, rhs_, H.outerIndexPtr()) && rhs_.dot(direction_) > 0.0) return true;
+    if (factorize_and_solve(H, rhs_, problem.objective().hessian_pattern_id()) && rhs_.dot(direction_) > 0.0)
+      return true;
     if (!project && shifted_solve(problem, H, rhs_)) {
       ++counters_.shifted_iterations;
       return true;
@@ -145,7 +145,7 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
 
   // Backtracking on L(a + alpha d). Armijo's test must also see a strict decrease, so that a
   // step too small to change L is never taken as progress. Close to the minimum L changes by
-  // less than its rounding error; there a step that lowers ||g|| is accepted instead.
+  // less than its rounding error; there a step that halves ||g|| is accepted instead.
   // L sums terms larger than itself (inertia, gravity, elastic), so its rounding error is a few
   // hundred ulps of |L| (10^4 stencils): 1e-13 relative still rejected Newton steps at 4e-9 ||g0||.
   const double rounding = 1e-12 * (std::abs(value) + std::abs(start_value_));
@@ -157,8 +157,10 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
     const double trial_value = problem.value_gradient(trial_, trial_gradient_);
     if (!std::isfinite(trial_value)) continue;
     const bool armijo = trial_value < value && trial_value <= value + params_.armijo * alpha * slope;
+    // In the flat regime only a real gain counts: at the gradient's own rounding floor, noise
+    // lowers ||g|| by a hair at every step and the solve would wander until its budget.
     const bool flat = !armijo && std::abs(trial_value - value) <= rounding &&
-                      trial_gradient_.norm() < gradient_norm;
+                      trial_gradient_.norm() < 0.5 * gradient_norm;
     if (armijo || flat) {
       a.swap(trial_);
       gradient.swap(trial_gradient_);

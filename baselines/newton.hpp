@@ -70,8 +70,8 @@ class NewtonOptimizer final : public InnerOptimizer {
   // Preconditioned CG on H d = b with the current factor; d starts at 0.
   CgOutcome preconditioned_cg(const Eigen::SparseMatrix<double>& H, const VecX& b, double tolerance);
   // Factorizes H (false if it is not positive definite) and solves H d = b directly. `pattern`
-  // identifies H's sparsity pattern: the symbolic analysis is redone only when it changes.
-  bool factorize_and_solve(const Eigen::SparseMatrix<double>& H, const VecX& b, const void* pattern);
+  // is the objective's hessian_pattern_id(): the symbolic analysis is redone when it changes.
+  bool factorize_and_solve(const Eigen::SparseMatrix<double>& H, const VecX& b, long pattern);
   // Factorizes H + mu dt^2 M for growing mu until Cholesky succeeds (false above max_shift).
   bool shifted_solve(StepProblem& problem, const Eigen::SparseMatrix<double>& H, const VecX& b);
   // Computes direction_ for the Hessian at a; returns false if no PD Hessian could be factorized.
@@ -79,7 +79,7 @@ class NewtonOptimizer final : public InnerOptimizer {
 
   NewtonParams params_;
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt_;
-  const void* analysed_pattern_ = nullptr;
+  long analysed_pattern_ = -1;
   bool have_factor_ = false;
   NewtonCounters counters_;
   double initial_gradient_norm_ = 0.0;

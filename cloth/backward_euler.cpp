@@ -1,9 +1,11 @@
 #include "cloth/backward_euler.hpp"
 
+#include <atomic>
 #include <cmath>
 
 #include "cloth/cloth_terms.hpp"
 #include "cloth/lumped_mass.hpp"
+#include "cloth/repulsion_term.hpp"
 #include "util/error.hpp"
 
 namespace fnopt {
@@ -20,6 +22,8 @@ BackwardEulerObjective::BackwardEulerObjective(const Grid& grid, const Material&
       grad_x_(grid.dof_count()) {
   require(std::isfinite(dt) && dt > 0.0, "dt", "must be a positive time step in seconds");
   material.validate();
+  for (const auto& term : terms_)
+    if (auto* r = dynamic_cast<RepulsionTerm*>(term.get())) repulsion_ = r;
   begin_step(grid.rest_positions(), VecX::Zero(grid.dof_count()));
 }
 
@@ -27,6 +31,7 @@ void BackwardEulerObjective::begin_step(const VecX& x, const VecX& v) {
   x_start_ = x;
   v_start_ = v;
   x_inertial_ = x + dt_ * v;
+  if (repulsion_) repulsion_->begin_step(x_start_, x_inertial_);
 }
 
 double BackwardEulerObjective::value(const VecX& a) const {
@@ -64,11 +69,18 @@ double BackwardEulerObjective::value_gradient(const VecX& a, VecX& grad) const {
   return total;
 }
 
+namespace {
+std::atomic<long> next_pattern_id{0};  // hessian_pattern_id() of the next pattern built
+}  // namespace
+
 const Eigen::SparseMatrix<double>& BackwardEulerObjective::hessian(const VecX& a,
                                                                     const std::vector<int>& free_index,
                                                                     bool project) {
-  if (!assembly_ || free_index != hessian_free_index_) {
+  const long generation = repulsion_ ? repulsion_->pattern_generation() : 0;
+  if (!assembly_ || free_index != hessian_free_index_ || generation != assembled_generation_) {
     hessian_free_index_ = free_index;
+    assembled_generation_ = generation;
+    pattern_id_ = next_pattern_id.fetch_add(1) + 1;
     assembly_ = std::make_unique<HessianAssembly>(free_index);
     term_handles_.clear();
     for (const auto& term : terms_) term_handles_.push_back(term->register_hessian(*assembly_));

@@ -8,6 +8,10 @@
 // x^. Dropping the constant -sum_i m_i g.x^ changes no minimiser, gradient or difference of
 // values, but keeps L small: otherwise the gravity potential (~1 J) would dominate L and hide
 // decreases below ~1e-16 J from the line search.
+// Self-repulsion (material.repulsion) freezes its pairs at begin_step (repulsion_term.hpp); when
+// that changes its Hessian pattern, the next hessian() builds a new sparse matrix with a new
+// hessian_pattern_id(), unique across all objectives of the process, so a cache keyed on it,
+// like NewtonOptimizer's symbolic analysis, sees every pattern change.
 // Not thread-safe: evaluation reuses internal buffers (no allocation per call).
 #include <memory>
 #include <vector>
@@ -19,6 +23,8 @@
 
 namespace fnopt {
 
+class RepulsionTerm;
+
 class BackwardEulerObjective {
  public:
   BackwardEulerObjective(const Grid& grid, const Material& material, double dt, const Vec3& gravity);
@@ -27,8 +33,12 @@ class BackwardEulerObjective {
   double dt() const { return dt_; }
   const VecX& masses() const { return masses_; }  // per vertex
   const std::vector<std::unique_ptr<EnergyTerm>>& terms() const { return terms_; }
+  // The self-repulsion term, or null when the material does not enable it.
+  const RepulsionTerm* repulsion() const { return repulsion_; }
+  // Changes whenever hessian() builds a new sparsity pattern; unique across objectives.
+  long hessian_pattern_id() const { return pattern_id_; }
 
-  // Starts a step from positions x_t and velocities v_t.
+  // Starts a step from positions x_t and velocities v_t (and freezes the repulsion pairs).
   void begin_step(const VecX& x, const VecX& v);
   const VecX& start_positions() const { return x_start_; }
   const VecX& start_velocities() const { return v_start_; }
@@ -60,6 +70,9 @@ class BackwardEulerObjective {
   std::vector<int> hessian_free_index_;
   std::unique_ptr<HessianAssembly> assembly_;
   std::vector<int> term_handles_;
+  RepulsionTerm* repulsion_ = nullptr;  // one of terms_
+  long assembled_generation_ = -1;      // repulsion pattern generation of assembly_
+  long pattern_id_ = 0;
 };
 
 }  // namespace fnopt

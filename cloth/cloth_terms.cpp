@@ -1,6 +1,7 @@
 #include "cloth/cloth_terms.hpp"
 
 #include "cloth/angle_kernel.hpp"
+#include "cloth/repulsion_term.hpp"
 #include "cloth/stencil_term.hpp"
 #include "cloth/stretch_kernel.hpp"
 
@@ -50,6 +51,12 @@ std::vector<std::unique_ptr<EnergyTerm>> make_cloth_terms(const Grid& grid, cons
   if (material.bend > 0.0)
     terms.push_back(std::make_unique<StencilTerm<AngleKernel>>(
         "bend", AngleKernel::bend(material.bend), grid_bend_hinges(grid)));
+  if (material.repulsion) {
+    RepulsionParams params;
+    params.stiffness = material.repulsion_stiffness;
+    params.range = material.repulsion_range * grid.spacing;
+    terms.push_back(std::make_unique<RepulsionTerm>(grid, params));
+  }
   return terms;
 }
 

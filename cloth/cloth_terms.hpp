@@ -18,7 +18,8 @@ std::vector<std::array<int, 3>> grid_shear_corners(const Grid& grid);
 // Every pair of consecutive collinear edges (hinge) along rows and columns: (p, q, r).
 std::vector<std::array<int, 3>> grid_bend_hinges(const Grid& grid);
 
-// The elastic terms with a non-zero coefficient: stretch, shear, bend. (Gravity and inertia are
+// The elastic terms with a non-zero coefficient: stretch, shear, bend; and self-repulsion
+// (repulsion_term.hpp) when material.repulsion is set. (Gravity and inertia are
 // per-vertex terms of the objective itself, see backward_euler.hpp.)
 std::vector<std::unique_ptr<EnergyTerm>> make_cloth_terms(const Grid& grid, const Material& material);
 

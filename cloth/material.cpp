@@ -19,7 +19,8 @@ void require_non_negative(double value, const char* field) {
           "must be a non-negative finite number");
 }
 
-// A material file: "key = value" lines (stretch, shear, bend, density, damping), '#' comments.
+// A material file: "key = value" lines (stretch, shear, bend, density, damping,
+// repulsion_stiffness, repulsion_range), '#' comments.
 Material load_material_file(const std::string& path) {
   std::ifstream in(path);
   require(static_cast<bool>(in), "material", "unknown preset or unreadable file '" + path + "'");
@@ -44,6 +45,8 @@ Material load_material_file(const std::string& path) {
     else if (key == "bend") m.bend = value;
     else if (key == "density") m.density = value;
     else if (key == "damping") m.damping = value;
+    else if (key == "repulsion_stiffness") m.repulsion_stiffness = value;
+    else if (key == "repulsion_range") m.repulsion_range = value;
     else throw Error(where + ": unknown material key '" + key + "'");
   }
   m.validate();
@@ -58,6 +61,8 @@ void Material::validate() const {
   require_non_negative(bend, "bend");
   require_positive(density, "density");
   require_non_negative(damping, "damping");
+  require_positive(repulsion_stiffness, "repulsion_stiffness");
+  require_positive(repulsion_range, "repulsion_range");
 }
 
 Material material_preset(const std::string& name) {

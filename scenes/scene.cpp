@@ -40,6 +40,27 @@ void Scene::validate() const {
   if (trajectory.empty()) make_motion(motion, std::vector<Vec3>(handle_set.vertices.size()), speed);
 }
 
+bool repulsion_enabled(const Scene& scene) {
+  switch (scene.repulsion) {
+    case RepulsionMode::On: return true;
+    case RepulsionMode::Off: return false;
+    case RepulsionMode::Auto: break;
+  }
+  return scene.handle_vertices.empty() &&
+         (scene.handles == "corner-center" || scene.handles == "single-mid-edge");
+}
+
+std::string repulsion_mode_name(RepulsionMode mode) {
+  switch (mode) {
+    case RepulsionMode::On: return "true";
+    case RepulsionMode::Off: return "false";
+    case RepulsionMode::Auto: break;
+  }
+  return "auto";
+}
+
+void resolve_repulsion(Scene& scene) { scene.material.repulsion = repulsion_enabled(scene); }
+
 SceneSetup resolve(const Scene& scene) {
   scene.validate();
   SceneSetup setup{Grid::make(scene.rows, scene.cols, scene.size), {}, nullptr};

@@ -14,6 +14,9 @@
 
 namespace fnopt {
 
+// Self-repulsion: on, off, or decided by the handles (see repulsion_enabled).
+enum class RepulsionMode { Auto, On, Off };
+
 struct Scene {
   int rows = 32;
   int cols = 32;
@@ -28,7 +31,7 @@ struct Scene {
   double dt = 1.0 / 60.0;              // [s]
   int frames = 390;
   Vec3 gravity{0.0, 0.0, -9.81};       // [m/s^2]
-  bool repulsion = false;
+  RepulsionMode repulsion = RepulsionMode::Auto;
 
   // Checks every field; throws Error("<field>: <problem>") for the first bad one (rows < 3,
   // size, dt, frames <= 0, speed <= 0, non-finite gravity, material.*, unknown handle preset or
@@ -41,7 +44,8 @@ struct Scene {
 // after a blank starts a comment (so "trajectory = motions.csv#xy_v2" keeps its '#'). Keys are
 // the `fnopt simulate` flag names: res (rows = cols = N), rows, cols, size, material, stretch,
 // shear, bend, density, damping, handles, handle-vertices, motion, trajectory, speed,
-// dt (a number or a fraction "1/60"), frames, gravity ("x,y,z"), repulsion (true/false).
+// dt (a number or a fraction "1/60"), frames, gravity ("x,y,z"), repulsion (auto, true or
+// false; also 1/0, on/off), repulsion-stiffness (lambda [N/m]), repulsion-range (delta / h).
 // Settings apply in order on top of `base`, later ones winning: `material = NAME` resets all
 // material values to material_preset(NAME) and later stretch/shear/bend/density/damping lines
 // override single values; `handles` clears an earlier handle-vertices and `motion` an earlier
@@ -54,6 +58,17 @@ Scene load_scene_file(const std::string& path, Scene base = {});
 // Applies one "key = value" setting (the same keys and checks as the file format, paths taken
 // as given). Throws Error("<key>: ...").
 void apply_scene_setting(Scene& scene, const std::string& key, const std::string& value);
+// The one rule for self-repulsion: On and Off as given; Auto is on exactly for the handle presets
+// whose cloth folds onto itself, `corner-center` and `single-mid-edge` (and off for an explicit
+// handle-vertices list).
+bool repulsion_enabled(const Scene& scene);
+// "auto", "true" or "false".
+std::string repulsion_mode_name(RepulsionMode mode);
+// Writes repulsion_enabled(scene) into scene.material.repulsion, which is what the objective
+// reads. apply_scene_setting (so scene files and flags) does this after every setting; code
+// that changes scene.repulsion, handles or handle_vertices directly calls it before a rollout.
+void resolve_repulsion(Scene& scene);
+
 // The scene as "key = value" lines, readable again by load_scene_file into an identical scene
 // (numbers are written exactly; trajectory and material-file paths are made absolute).
 std::string to_scene_text(const Scene& scene);

@@ -47,10 +47,11 @@ Vec3 vector_value(const std::string& key, const std::string& value) {
   return parsed;
 }
 
-bool bool_value(const std::string& key, const std::string& value) {
-  if (value == "true" || value == "1") return true;
-  if (value == "false" || value == "0") return false;
-  throw Error(key + ": expected true or false, got '" + value + "'");
+RepulsionMode repulsion_mode_value(const std::string& key, const std::string& value) {
+  if (value == "auto") return RepulsionMode::Auto;
+  if (value == "true" || value == "1" || value == "on") return RepulsionMode::On;
+  if (value == "false" || value == "0" || value == "off") return RepulsionMode::Off;
+  throw Error(key + ": expected auto, true or false, got '" + value + "'");
 }
 
 // Each key parses its value, stores it, and checks the field it set.
@@ -136,8 +137,10 @@ const std::map<std::string, Setter>& setters() {
        }},
       {"repulsion",
        [](Scene& s, const std::string& key, const std::string& value) {
-         s.repulsion = bool_value(key, value);
+         s.repulsion = repulsion_mode_value(key, value);
        }},
+      {"repulsion-stiffness", material_field(&Material::repulsion_stiffness)},
+      {"repulsion-range", material_field(&Material::repulsion_range)},
   };
   return table;
 }
@@ -189,6 +192,7 @@ void apply_scene_setting(Scene& scene, const std::string& key, const std::string
   require(!text.empty() || key == "handle-vertices" || key == "trajectory", key,
           "expected a value after '='");
   setter->second(scene, key, text);
+  resolve_repulsion(scene);  // handles, handle-vertices, repulsion and material all bear on it
 }
 
 Scene load_scene_file(const std::string& path, Scene base) {
@@ -247,7 +251,10 @@ std::string to_scene_text(const Scene& scene) {
       << "frames = " << scene.frames << "\n"
       << "gravity = " << exact(scene.gravity.x()) << "," << exact(scene.gravity.y()) << ","
       << exact(scene.gravity.z()) << "\n"
-      << "repulsion = " << (scene.repulsion ? "true" : "false") << "\n";
+      << "repulsion = " << repulsion_mode_name(scene.repulsion) << "  # resolved: "
+      << (repulsion_enabled(scene) ? "on" : "off") << "\n"
+      << "repulsion-stiffness = " << exact(scene.material.repulsion_stiffness) << "\n"
+      << "repulsion-range = " << exact(scene.material.repulsion_range) << "\n";
   return out.str();
 }
 

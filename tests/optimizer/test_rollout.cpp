@@ -23,7 +23,7 @@ TEST(Rollout, NewtonConvergesEveryStepAndHandlesFollowTheirTargets) {
   ASSERT_FALSE(r.diverged) << r.divergence;
   ASSERT_EQ(r.steps.size(), 40u);
   ASSERT_EQ(r.positions.size(), 41u);
-  for (const auto& s : r.steps) EXPECT_EQ(s.status, SolveStatus::Converged);
+  for (const auto& s : r.steps) EXPECT_TRUE(is_converged(s.status)) << to_string(s.status);
   for (std::size_t t = 0; t < r.positions.size(); ++t)
     for (std::size_t h = 0; h < r.handle_vertices.size(); ++h)
       EXPECT_LT((r.positions[t].segment<3>(3 * r.handle_vertices[h]).cast<double>() - r.handle_targets[t][h]).norm(), 1e-5);

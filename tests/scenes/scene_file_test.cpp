@@ -32,6 +32,9 @@ void expect_same_scene(const Scene& a, const Scene& b) {
   EXPECT_EQ(a.frames, b.frames);
   EXPECT_EQ(a.gravity, b.gravity);
   EXPECT_EQ(a.repulsion, b.repulsion);
+  EXPECT_EQ(a.material.repulsion, b.material.repulsion);
+  EXPECT_EQ(a.material.repulsion_stiffness, b.material.repulsion_stiffness);
+  EXPECT_EQ(a.material.repulsion_range, b.material.repulsion_range);
 }
 
 TEST(SceneFile, ReadsEveryKeyWithCommentsAndBlankLines) {
@@ -55,7 +58,9 @@ TEST(SceneFile, ReadsEveryKeyWithCommentsAndBlankLines) {
                               "dt = 1/120\n"
                               "frames = 10\n"
                               "gravity = 0, 0, -1.62\n"
-                              "repulsion = true\n");
+                              "repulsion = true\n"
+                              "repulsion-stiffness = 2.5\n"
+                              "repulsion-range = 0.75\n");
   const Scene scene = load_scene_file(path);
   EXPECT_EQ(scene.rows, 40);
   EXPECT_EQ(scene.cols, 24);
@@ -73,7 +78,10 @@ TEST(SceneFile, ReadsEveryKeyWithCommentsAndBlankLines) {
   EXPECT_EQ(scene.dt, 1.0 / 120);
   EXPECT_EQ(scene.frames, 10);
   EXPECT_EQ(scene.gravity, Vec3(0, 0, -1.62));
-  EXPECT_TRUE(scene.repulsion);
+  EXPECT_EQ(scene.repulsion, RepulsionMode::On);
+  EXPECT_TRUE(scene.material.repulsion);
+  EXPECT_EQ(scene.material.repulsion_stiffness, 2.5);
+  EXPECT_EQ(scene.material.repulsion_range, 0.75);
   EXPECT_NO_THROW(resolve(scene));
 }
 
@@ -150,7 +158,10 @@ TEST(SceneFile, RoundTripsThroughToSceneText) {
   scene.dt = 1.0 / 60;
   scene.frames = 123;
   scene.gravity = Vec3(0.1, -0.2, -9.80665);
-  scene.repulsion = true;
+  scene.repulsion = RepulsionMode::On;
+  scene.material.repulsion_stiffness = 1.0 / 7;
+  scene.material.repulsion_range = 0.8;
+  resolve_repulsion(scene);
   const Scene loaded = load_scene_file(dir.write("round.txt", to_scene_text(scene)));
   expect_same_scene(loaded, scene);
   expect_same_scene(load_scene_file(dir.write("default.txt", to_scene_text(Scene()))), Scene());
@@ -163,6 +174,36 @@ TEST(SceneFile, RoundTripsAMaterialFile) {
   scene.material = material_preset(scene.material_name);
   scene.material.bend = 7e-6;  // an override on top of the file
   expect_same_scene(load_scene_file(dir.write("s.txt", to_scene_text(scene))), scene);
+}
+
+TEST(SceneFile, RepulsionModeRoundTripsForEveryPresetAndMode) {
+  TempDir dir;
+  for (const char* preset : {"corner", "diagonal", "mid-edge", "corner-center", "single-mid-edge", "single-center"})
+    for (RepulsionMode mode : {RepulsionMode::Auto, RepulsionMode::On, RepulsionMode::Off}) {
+      Scene scene;
+      scene.handles = preset;
+      scene.repulsion = mode;
+      resolve_repulsion(scene);
+      const std::string text = to_scene_text(scene);
+      EXPECT_NE(text.find("repulsion = " + repulsion_mode_name(mode) + "  # resolved: " +
+                          (repulsion_enabled(scene) ? "on" : "off")),
+                std::string::npos)
+          << text;
+      const Scene loaded = load_scene_file(dir.write("r.txt", text));
+      expect_same_scene(loaded, scene);
+    }
+}
+
+TEST(SceneFile, RepulsionIsResolvedAfterEverySettingInAnyOrder) {
+  TempDir dir;
+  // auto, then a folding preset: on; then an explicit list: off again.
+  EXPECT_TRUE(load_scene_file(dir.write("a.txt", "handles = single-mid-edge\n")).material.repulsion);
+  EXPECT_FALSE(load_scene_file(dir.write("b.txt", "handles = corner-center\nhandle-vertices = 0,0\n"))
+                   .material.repulsion);
+  // A material line resets the material but not the decision.
+  EXPECT_TRUE(load_scene_file(dir.write("c.txt", "repulsion = true\nmaterial = default\n")).material.repulsion);
+  EXPECT_FALSE(load_scene_file(dir.write("d.txt", "handles = corner-center\nrepulsion = off\n")).material.repulsion);
+  EXPECT_EQ(load_scene_file(dir.write("e.txt", "repulsion = on\nrepulsion = auto\n")).repulsion, RepulsionMode::Auto);
 }
 
 // A scene file whose line `line` is bad fails with "<path>:<line>: <expected>".
@@ -191,7 +232,9 @@ TEST(SceneFile, LineNumberedErrorsNameTheKey) {
   expect_line_error("speed = 0\n", 1, "speed: ");
   expect_line_error("gravity = 0,-9.81\n", 1, "gravity: expected three numbers");
   expect_line_error("gravity = 0,0,nan\n", 1, "gravity: must be three finite numbers");
-  expect_line_error("repulsion = maybe\n", 1, "repulsion: expected true or false");
+  expect_line_error("repulsion = maybe\n", 1, "repulsion: expected auto, true or false");
+  expect_line_error("repulsion-stiffness = 0\n", 1, "material.repulsion_stiffness: ");
+  expect_line_error("repulsion-range = -1\n", 1, "material.repulsion_range: ");
   expect_line_error("handles = corners\n", 1, "handles: unknown preset 'corners'");
   expect_line_error("handle-vertices = 1;2\n", 1, "handle-vertices: ");
   expect_line_error("motion = spin\n", 1, "motion: unknown motion 'spin'");

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 #include "scenes/scene.hpp"
 #include "tests/boundary/error_message.hpp"
@@ -91,6 +92,42 @@ TEST(SceneResolve, RejectsACsvForAnotherHandleCount) {
   scene.handles = "corner";
   scene.trajectory = dir.write("one.csv", "t_s,h0_x,h0_y,h0_z\n0,0,0,0\n");
   EXPECT_TRUE(throws_error([&] { resolve(scene); }, "missing column 'h1_x'"));
+}
+
+TEST(SceneResolve, RepulsionAutoIsOnExactlyForTheFoldingPresets) {
+  const std::map<std::string, bool> folds = {{"corner", false},       {"diagonal", false},
+                                             {"mid-edge", false},     {"corner-center", true},
+                                             {"single-mid-edge", true}, {"single-center", false}};
+  for (const auto& [preset, auto_on] : folds) {
+    Scene scene;
+    scene.handles = preset;
+    EXPECT_EQ(scene.repulsion, RepulsionMode::Auto);  // the default
+    EXPECT_EQ(repulsion_enabled(scene), auto_on) << preset;
+    scene.repulsion = RepulsionMode::On;
+    EXPECT_TRUE(repulsion_enabled(scene)) << preset;
+    scene.repulsion = RepulsionMode::Off;
+    EXPECT_FALSE(repulsion_enabled(scene)) << preset;
+    // Settings resolve it into the material the objective reads.
+    Scene set;
+    apply_scene_setting(set, "handles", preset);
+    EXPECT_EQ(set.material.repulsion, auto_on) << preset;
+    apply_scene_setting(set, "repulsion", "true");
+    EXPECT_TRUE(set.material.repulsion);
+    apply_scene_setting(set, "repulsion", "false");
+    EXPECT_FALSE(set.material.repulsion);
+    apply_scene_setting(set, "repulsion", "auto");
+    EXPECT_EQ(set.material.repulsion, auto_on) << preset;
+  }
+  // An explicit vertex list is not a preset: auto leaves repulsion off.
+  Scene listed;
+  listed.handles = "corner-center";
+  listed.handle_vertices = "0,0;16,16";
+  EXPECT_FALSE(repulsion_enabled(listed));
+  Scene scene;
+  scene.handles = "single-mid-edge";
+  EXPECT_FALSE(scene.material.repulsion);  // set directly: not resolved until asked
+  resolve_repulsion(scene);
+  EXPECT_TRUE(scene.material.repulsion);
 }
 
 }  // namespace
