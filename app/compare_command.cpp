@@ -85,15 +85,6 @@ std::vector<double> number_list(const std::string& flag, const std::string& text
   return values;
 }
 
-std::vector<std::string> name_list(const std::string& flag, const std::string& text) {
-  std::vector<std::string> names;
-  for (auto piece : split(text, ',')) {
-    const std::string name(trim(piece));
-    require(!name.empty(), flag, "empty name in '" + text + "'");
-    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
-  }
-  return names;
-}
 
 std::string hex_hash(const std::string& text) {
   std::uint64_t hash = 1469598103934665603ULL;  // FNV-1a, 64 bit
@@ -166,24 +157,7 @@ std::string motion_text(const Scene& scene) {
   return scene.trajectory.empty() ? scene.motion : fs::path(scene.trajectory).filename().string();
 }
 
-TrajectoryFrames frames_of(const RolloutResult& rollout) {
-  TrajectoryFrames frames;
-  frames.rows = rollout.grid.rows;
-  frames.cols = rollout.grid.cols;
-  frames.times = rollout.times;
-  frames.positions = rollout.positions;
-  return frames;
-}
 
-// Mean wall time of a step after the first ones (plan caches, first-touch memory, the GD
-// curvature estimate): skips min(10, steps/5) steps.
-double ms_per_frame(const RolloutResult& rollout) {
-  const int n = static_cast<int>(rollout.steps.size());
-  const int warmup = std::min(10, n / 5);
-  double total = 0.0;
-  for (int k = warmup; k < n; ++k) total += rollout.steps[k].wall_ms;
-  return n > warmup ? total / (n - warmup) : std::nan("");
-}
 
 double iterations_per_frame(const RolloutResult& rollout) {
   return rollout.steps.empty() ? std::nan("") : static_cast<double>(rollout.total_iterations()) / rollout.steps.size();
@@ -280,12 +254,6 @@ RunResult result_of_row(const RunSpec& spec, const std::vector<std::string>& row
   return r;
 }
 
-// "1/60" for the usual time steps, the number otherwise.
-std::string dt_text(double dt) {
-  const double steps = 1.0 / dt;
-  return std::abs(steps - std::round(steps)) < 1e-9 * steps ? "1/" + std::to_string(std::lround(steps))
-                                                            : number_text(dt);
-}
 
 void run_compare(const CompareFlags& flags) {
   require(!flags.out.empty(), "out", "an output directory is required");

@@ -59,15 +59,6 @@ std::string sci(double value) {
   return text;
 }
 
-std::vector<std::string> name_list(const std::string& text) {
-  std::vector<std::string> names;
-  for (auto part : split(text, ',')) {
-    const std::string name(trim(part));
-    require(!name.empty(), "optimizers", "expected a comma-separated list of names, got '" + text + "'");
-    names.push_back(name);
-  }
-  return names;
-}
 
 const std::vector<std::string>& csv_columns() {
   static const std::vector<std::string> columns = {
@@ -184,7 +175,7 @@ void run_study(const StudyFlags& flags) {
   require(!flags.out.empty(), "out", "an output directory is required");
   require(flags.frames >= 1, "frames", "must be at least 1");
   require(flags.res >= 3, "res", "the grid needs at least 3 vertices along each side");
-  const std::vector<std::string> optimizers = name_list(flags.optimizers);
+  const std::vector<std::string> optimizers = name_list("optimizers", flags.optimizers);
   std::vector<OptimizerChoice> choices;
   for (const auto& name : optimizers) {  // fail on a bad name before any work
     OptimizerChoice choice;

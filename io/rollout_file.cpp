@@ -86,6 +86,15 @@ TrajectoryFrames read_trajectory_frames(const std::string& path) {
   return frames;
 }
 
+TrajectoryFrames frames_of(const RolloutResult& rollout) {
+  TrajectoryFrames frames;
+  frames.rows = rollout.grid.rows;
+  frames.cols = rollout.grid.cols;
+  frames.times = rollout.times;
+  frames.positions = rollout.positions;
+  return frames;
+}
+
 Scene read_rollout_scene(const std::string& path) {
   const Hdf5File file(path, Hdf5File::Mode::Read);
   require(file.has_attribute("scene"), path, "no 'scene' attribute: not an fnopt rollout");

@@ -33,6 +33,8 @@ struct TrajectoryFrames {
 
 // Throws Error naming the file for anything missing or inconsistent.
 TrajectoryFrames read_trajectory_frames(const std::string& path);
+// A rollout's kept frames (frame 0 = the initial state), as a file would give them back.
+TrajectoryFrames frames_of(const RolloutResult& rollout);
 
 // The scene stored with an fnopt rollout (its `scene` attribute). Throws Error naming the file if
 // it has none (an ARCSim file, say) or the text is not a valid scene.

@@ -1,6 +1,7 @@
 #include "optimizer/rollout.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <sstream>
 
@@ -26,6 +27,14 @@ int RolloutResult::total_iterations() const {
   int n = 0;
   for (const auto& s : steps) n += s.iterations;
   return n;
+}
+
+double ms_per_frame(const RolloutResult& rollout) {
+  const int n = static_cast<int>(rollout.steps.size());
+  const int warmup = std::min(10, n / 5);
+  double total = 0.0;
+  for (int k = warmup; k < n; ++k) total += rollout.steps[k].wall_ms;
+  return n > warmup ? total / (n - warmup) : std::nan("");
 }
 
 RolloutResult run_rollout(const Scene& scene, InnerOptimizer& optimizer, const RolloutOptions& options,

@@ -45,6 +45,11 @@ struct RolloutResult {
   int total_iterations() const;
 };
 
+// Mean wall time of a step after warm-up (plan caches, first-touch memory, the GD curvature
+// estimate): skips the first min(10, steps/5) steps; NaN without steps. The ms/frame of every
+// comparison table.
+double ms_per_frame(const RolloutResult& rollout);
+
 // Called after every step with (steps done, steps in all, the step's record).
 using StepCallback = std::function<void(int, int, const StepRecord&)>;
 

@@ -16,14 +16,6 @@
 namespace fnopt {
 namespace {
 
-TrajectoryFrames frames_of(const RolloutResult& rollout) {
-  TrajectoryFrames frames;
-  frames.rows = rollout.grid.rows;
-  frames.cols = rollout.grid.cols;
-  frames.times = rollout.times;
-  frames.positions = rollout.positions;
-  return frames;
-}
 
 double rollout_error(const FitReference& reference, const Material& material, const MaterialFitParams& params) {
   Scene scene = reference.scene;

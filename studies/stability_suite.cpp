@@ -165,22 +165,7 @@ const char* to_string(StabilityOutcome outcome) {
   return "error";
 }
 
-double ms_per_frame(const RolloutResult& rollout) {
-  const int n = static_cast<int>(rollout.steps.size());
-  const int warmup = std::min(10, n / 5);
-  double total = 0.0;
-  for (int k = warmup; k < n; ++k) total += rollout.steps[k].wall_ms;
-  return n > warmup ? total / (n - warmup) : NAN;
-}
 
-TrajectoryFrames frames_of(const RolloutResult& rollout) {
-  TrajectoryFrames frames;
-  frames.rows = rollout.grid.rows;
-  frames.cols = rollout.grid.cols;
-  frames.times = rollout.times;
-  frames.positions = rollout.positions;
-  return frames;
-}
 
 int count_unconverged_steps(const RolloutResult& rollout, const InnerSolveOptions& solve, std::string& statuses) {
   std::map<SolveStatus, int> counts;
@@ -261,21 +246,7 @@ StabilityRow stability_row(const std::string& case_name, const StabilityMethod& 
   return row;
 }
 
-std::vector<std::string> name_list(const std::string& flag, const std::string& text) {
-  std::vector<std::string> names;
-  for (auto piece : split(text, ',')) {
-    const std::string name(trim(piece));
-    require(!name.empty(), flag, "empty name in '" + text + "'");
-    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
-  }
-  return names;
-}
 
-std::string dt_text(double dt) {
-  const double steps = 1.0 / dt;
-  return std::abs(steps - std::round(steps)) < 1e-9 * steps ? "1/" + std::to_string(std::lround(steps))
-                                                            : number_text(dt);
-}
 
 // ---- Results ---------------------------------------------------------------------------------
 

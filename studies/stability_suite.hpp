@@ -102,12 +102,6 @@ struct StabilityRow {
 StabilityRow stability_row(const std::string& case_name, const StabilityMethod& method, const StabilityRun& run,
                            const StabilityRun* reference);
 
-// Mean wall time of a step after warm-up (plan caches, first-touch memory, the GD curvature
-// estimate): skips the first min(10, steps/5) steps; NaN without steps. (The same measure as
-// `fnopt compare`'s.)
-double ms_per_frame(const RolloutResult& rollout);
-// The rollout's kept frames (frame 0 = the rest state) for metrics/trajectory_error.hpp.
-TrajectoryFrames frames_of(const RolloutResult& rollout);
 // Steps that stopped for a reason other than convergence. With a tolerance (Newton) every step
 // short of it counts; with a fixed budget (tolerance 0) using the whole budget is the normal end,
 // so only other reasons count (line-search-failed, non-finite, ...). Fills `statuses` with
@@ -116,13 +110,6 @@ int count_unconverged_steps(const RolloutResult& rollout, const InnerSolveOption
 // (max E - E_min) / (max E_ref - E_min) as above; NaN if undefined.
 double energy_growth(const StabilityRun& run, const StabilityRun& reference);
 
-// Small helpers that `fnopt compare` has too (app/compare_command.cpp, in its anonymous
-// namespace): written once here until they move to a shared header.
-// The names of a comma-separated list, trimmed, duplicates dropped, in order; throws
-// Error("<flag>: empty name in '...'").
-std::vector<std::string> name_list(const std::string& flag, const std::string& text);
-// "1/60" for the usual time steps, the number otherwise.
-std::string dt_text(double dt);
 
 // ---- Results ---------------------------------------------------------------------------------
 

@@ -3,11 +3,14 @@
 // A value parses only if the whole field (after trimming blanks) is one number, so "1.5x",
 // "1 2" and "" are rejected rather than read as a prefix.
 #include <charconv>
+#include <cmath>
 #include <sstream>
 #include <string>
 #include <string_view>
 #include <system_error>
 #include <vector>
+
+#include "util/error.hpp"
 
 namespace fnopt {
 
@@ -68,6 +71,27 @@ inline std::string number_text(double value) {
   std::ostringstream out;
   out << value;
   return out.str();
+}
+
+// The names of a comma-separated list, trimmed, duplicates dropped, in order; throws
+// Error("<flag>: empty name in '...'").
+inline std::vector<std::string> name_list(const std::string& flag, const std::string& text) {
+  std::vector<std::string> names;
+  for (auto piece : split(text, ',')) {
+    const std::string name(trim(piece));
+    require(!name.empty(), flag, "empty name in '" + text + "'");
+    bool seen = false;
+    for (const auto& n : names) seen = seen || n == name;
+    if (!seen) names.push_back(name);
+  }
+  return names;
+}
+
+// "1/60" for the usual time steps (a whole number of steps per second), the number otherwise.
+inline std::string dt_text(double dt) {
+  const double steps = 1.0 / dt;
+  return std::abs(steps - std::round(steps)) < 1e-9 * steps ? "1/" + std::to_string(std::lround(steps))
+                                                            : number_text(dt);
 }
 
 }  // namespace fnopt

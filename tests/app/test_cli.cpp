@@ -1,6 +1,8 @@
 // The fnopt command as a user runs it: bad input gives one line naming the problem and exit
 // status 2; a small simulation writes a rollout file.
 #include <gtest/gtest.h>
+
+#include "tests/app/run_fnopt.hpp"
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -12,23 +14,10 @@
 
 namespace {
 
-struct CommandResult {
-  int status;
-  std::string output;
-};
 
-CommandResult run(const std::string& arguments) {
-  const std::string command = std::string(FNOPT_BINARY) + " " + arguments + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-  std::string output;
-  std::array<char, 256> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe.get())) output += buffer.data();
-  const int raw = pclose(pipe.release());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, output};
-}
 
 void expect_rejected(const std::string& arguments, const std::string& message) {
-  const CommandResult r = run(arguments);
+  const CommandResult r = run_fnopt(arguments);
   EXPECT_NE(r.status, 0) << arguments;
   EXPECT_NE(r.output.find(message), std::string::npos) << arguments << "\n" << r.output;
 }
@@ -44,7 +33,7 @@ TEST(Cli, RejectsBadInputWithOneLineNamingTheProblem) {
   expect_rejected("simulate --handle-vertices 0,99 --res 8 --frames 1", "handle-vertices");
   expect_rejected("simulate --trajectory /nonexistent.csv --frames 1", "trajectory");
   expect_rejected("simulate --optimizer magic --frames 1", "optimizer");
-  const CommandResult r = run("simulate --res 2 --frames 1");
+  const CommandResult r = run_fnopt("simulate --res 2 --frames 1");
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
 }
@@ -54,7 +43,7 @@ TEST(Cli, SimulateWritesARolloutAndSaysSo) {
   std::filesystem::create_directories(dir);
   const auto out = (dir / "r.h5").string();
   const CommandResult r =
-      run("simulate --optimizer newton --res 8 --frames 5 --out " + out + " --obj-dir " + (dir / "obj").string());
+      run_fnopt("simulate --optimizer newton --res 8 --frames 5 --out " + out + " --obj-dir " + (dir / "obj").string());
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(std::filesystem::exists(out));
   EXPECT_TRUE(std::filesystem::exists(dir / "obj" / "frame_0005.obj"));
@@ -65,7 +54,7 @@ TEST(Cli, SimulateWritesARolloutAndSaysSo) {
 
 TEST(Cli, SimulateRunsTheShippedLearnedOptimizerByDefault) {
   const auto out = (std::filesystem::temp_directory_path() / "fnopt_test_cli_default.h5").string();
-  const CommandResult r = run("simulate --res 16 --frames 10 --out " + out);
+  const CommandResult r = run_fnopt("simulate --res 16 --frames 10 --out " + out);
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("fnopt: 10/10 frames"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("finite"), std::string::npos) << r.output;
@@ -74,7 +63,7 @@ TEST(Cli, SimulateRunsTheShippedLearnedOptimizerByDefault) {
 
 TEST(Cli, EverySubcommandHasHelp) {
   for (const char* command : {"simulate", "train", "bench", "compare", "evaluate"}) {
-    const CommandResult r = run(std::string(command) + " --help");
+    const CommandResult r = run_fnopt(std::string(command) + " --help");
     EXPECT_EQ(r.status, 0) << command;
     EXPECT_NE(r.output.find("Usage"), std::string::npos) << command;
   }

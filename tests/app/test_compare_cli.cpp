@@ -1,6 +1,8 @@
 // fnopt compare as a user runs it: a small non-square comparison writes its CSV, plot and
 // report; a malformed resolution is one clear error line and a non-zero exit.
 #include <gtest/gtest.h>
+
+#include "tests/app/run_fnopt.hpp"
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -13,27 +15,8 @@
 
 namespace {
 
-struct CommandResult {
-  int status;
-  std::string output;
-};
 
-CommandResult run_fnopt(const std::string& arguments) {
-  const std::string command = "OMP_WAIT_POLICY=PASSIVE " + std::string(FNOPT_BINARY) + " " + arguments + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-  std::string output;
-  std::array<char, 256> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe.get())) output += buffer.data();
-  const int raw = pclose(pipe.release());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, output};
-}
 
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
 
 TEST(CompareCli, ANonSquareComparisonWritesCsvPlotAndReport) {
   const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_compare_cli";

@@ -1,6 +1,8 @@
 // fnopt repulsion-study as a user runs it: help, a tiny study that writes its CSV and report,
 // and the self-repulsion line of fnopt simulate.
 #include <gtest/gtest.h>
+
+#include "tests/app/run_fnopt.hpp"
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -13,30 +15,11 @@
 
 namespace {
 
-struct Result {
-  int status;
-  std::string output;
-};
 
-Result run_fnopt(const std::string& arguments) {
-  const std::string command = std::string(FNOPT_BINARY) + " " + arguments + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-  std::string output;
-  std::array<char, 256> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe.get())) output += buffer.data();
-  const int raw = pclose(pipe.release());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, output};
-}
 
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 TEST(RepulsionStudy, HasHelp) {
-  const Result r = run_fnopt("repulsion-study --help");
+  const CommandResult r = run_fnopt("repulsion-study --help");
   EXPECT_EQ(r.status, 0);
   EXPECT_NE(r.output.find("Usage"), std::string::npos);
   EXPECT_NE(r.output.find("--optimizers"), std::string::npos);
@@ -45,7 +28,7 @@ TEST(RepulsionStudy, HasHelp) {
 TEST(RepulsionStudy, ATinyRunWritesTheCsvReportAndPlot) {
   const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_repulsion_study";
   std::filesystem::remove_all(dir);
-  const Result r = run_fnopt("repulsion-study --out " + dir.string() +
+  const CommandResult r = run_fnopt("repulsion-study --out " + dir.string() +
                              " --frames 5 --res 10 --optimizers newton,fnopt --threads 1");
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string csv = read_text(dir / "repulsion.csv");
@@ -63,7 +46,7 @@ TEST(RepulsionStudy, ATinyRunWritesTheCsvReportAndPlot) {
 }
 
 TEST(RepulsionStudy, RejectsAnUnknownOptimizer) {
-  const Result r = run_fnopt("repulsion-study --out /tmp/fnopt_never --optimizers magic");
+  const CommandResult r = run_fnopt("repulsion-study --out /tmp/fnopt_never --optimizers magic");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.output.find("optimizer"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists("/tmp/fnopt_never"));
@@ -71,7 +54,7 @@ TEST(RepulsionStudy, RejectsAnUnknownOptimizer) {
 
 TEST(Simulate, PrintsTheResolvedRepulsion) {
   const auto out = (std::filesystem::temp_directory_path() / "fnopt_test_repulsion_sim.h5").string();
-  Result r = run_fnopt("simulate --optimizer newton --res 8 --frames 2 --handles corner-center --out " + out);
+  CommandResult r = run_fnopt("simulate --optimizer newton --res 8 --frames 2 --handles corner-center --out " + out);
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("self-repulsion: on (repulsion = auto)"), std::string::npos) << r.output;
   r = run_fnopt("simulate --optimizer newton --res 8 --frames 2 --handles corner-center --no-repulsion --out " + out);

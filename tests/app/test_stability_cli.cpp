@@ -1,6 +1,8 @@
 // `fnopt stability` as a user runs it: help, the case list, a tiny run that writes the CSV, the
 // plot and the report, and an unknown case rejected in one line.
 #include <gtest/gtest.h>
+
+#include "tests/app/run_fnopt.hpp"
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -13,27 +15,8 @@
 
 namespace {
 
-struct CommandResult {
-  int status;
-  std::string output;
-};
 
-CommandResult run_fnopt(const std::string& arguments) {
-  const std::string command = "OMP_WAIT_POLICY=PASSIVE " + std::string(FNOPT_BINARY) + " " + arguments + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-  std::string output;
-  std::array<char, 256> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe.get())) output += buffer.data();
-  const int raw = pclose(pipe.release());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, output};
-}
 
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 TEST(StabilityCli, HelpAndCaseList) {
   const CommandResult help = run_fnopt("stability --help");
