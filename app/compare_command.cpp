@@ -29,7 +29,6 @@
 #include "io/svg_plot.hpp"
 #include "metrics/step_error.hpp"
 #include "metrics/trajectory_error.hpp"
-#include "optimizer/interpolated_optimizer.hpp"
 #include "util/error.hpp"
 #include "util/parse_text.hpp"
 #include "util/progress_bar.hpp"
@@ -543,9 +542,6 @@ void run_compare(const CompareFlags& flags) {
           r.e_cd_arcsim = compare_trajectories(*arcsim, frames, -1.0, o).chamfer;
         }
         const auto fresh = choice.make();  // a fresh optimizer: no state from the rollout
-        // The step-error bench's problems do not carry the scene's physics; interpolation needs it.
-        if (auto* interp = dynamic_cast<InterpolatedOptimizer*>(fresh.get()))
-          interp->set_physics(scene.material, scene.gravity);
         const StepErrorSummary steps = bench->evaluate(*fresh, choice.solve_options());
         r.step_mean = steps.mean;
         r.step_median = steps.median;

@@ -13,6 +13,7 @@ namespace fnopt {
 BackwardEulerObjective::BackwardEulerObjective(const Grid& grid, const Material& material, double dt,
                                                const Vec3& gravity)
     : grid_(grid),
+      material_(material),
       dt_(dt),
       damping_(material.damping),
       gravity_(gravity),

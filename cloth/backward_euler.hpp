@@ -30,6 +30,9 @@ class BackwardEulerObjective {
   BackwardEulerObjective(const Grid& grid, const Material& material, double dt, const Vec3& gravity);
 
   const Grid& grid() const { return grid_; }
+  // What the objective was built from (an optimizer may build the same step on another grid).
+  const Material& material() const { return material_; }
+  const Vec3& gravity() const { return gravity_; }
   double dt() const { return dt_; }
   const VecX& masses() const { return masses_; }  // per vertex
   const std::vector<std::unique_ptr<EnergyTerm>>& terms() const { return terms_; }
@@ -60,6 +63,7 @@ class BackwardEulerObjective {
 
  private:
   Grid grid_;
+  Material material_;
   double dt_;
   double damping_;
   Vec3 gravity_;

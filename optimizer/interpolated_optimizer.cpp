@@ -17,12 +17,14 @@ void InterpolatedParams::validate() const {
   require(coarse_solve.max_iterations >= 1, "interp coarse", "the coarse iteration budget must be positive");
 }
 
-// Everything that depends on the fine grid, its handles and the physics: rebuilt when they change.
+// Everything that depends on the fine grid, its handles and its objective's material, gravity
+// and dt: rebuilt when they change.
 struct InterpolatedOptimizer::Coarse {
   // The key.
   Grid fine;
   std::vector<int> fine_handles;
-  StepPhysics physics;
+  Material material;
+  Vec3 gravity = Vec3::Zero();
   double dt = 0.0;
 
   Grid grid;
@@ -35,11 +37,13 @@ struct InterpolatedOptimizer::Coarse {
   std::vector<std::pair<int, std::vector<int>>> handles;
   VecX x, v, a, fine_a;
 
-  bool matches(const Grid& g, const std::vector<int>& h, const StepPhysics& p, double step) const {
-    const Material &m = physics.material, &n = p.material;
+  bool matches(const Grid& g, const std::vector<int>& h, const BackwardEulerObjective& o) const {
+    const Material &m = material, &n = o.material();
     return g.rows == fine.rows && g.cols == fine.cols && g.spacing == fine.spacing && h == fine_handles &&
            m.stretch == n.stretch && m.shear == n.shear && m.bend == n.bend && m.density == n.density &&
-           m.damping == n.damping && physics.gravity == p.gravity && dt == step;
+           m.damping == n.damping && m.repulsion == n.repulsion &&
+           m.repulsion_stiffness == n.repulsion_stiffness && m.repulsion_range == n.repulsion_range &&
+           gravity == o.gravity() && dt == o.dt();
   }
 };
 
@@ -73,25 +77,23 @@ std::string InterpolatedOptimizer::settings() const {
          "; coarse " + coarse_settings_;
 }
 
-void InterpolatedOptimizer::set_physics(const Material& material, const Vec3& gravity) {
-  fallback_physics_ = StepPhysics{material, gravity};
-}
-
-void InterpolatedOptimizer::prepare(const StepProblem& problem, const StepPhysics& physics) {
+void InterpolatedOptimizer::prepare(const StepProblem& problem) {
   const Grid& fine = problem.grid();
   const std::vector<int>& fine_handles = problem.dirichlet().fixed_vertices();
-  const double dt = problem.objective().dt();
-  if (coarse_ && coarse_->matches(fine, fine_handles, physics, dt)) return;
+  const BackwardEulerObjective& objective = problem.objective();
+  const double dt = objective.dt();
+  if (coarse_ && coarse_->matches(fine, fine_handles, objective)) return;
 
   auto c = std::make_unique<Coarse>();
   c->fine = fine;
   c->fine_handles = fine_handles;
-  c->physics = physics;
+  c->material = objective.material();
+  c->gravity = objective.gravity();
   c->dt = dt;
   c->grid = params_.coarse_rows > 0
                 ? Grid::make(params_.coarse_rows, params_.coarse_cols, fine.spacing * (std::max(fine.rows, fine.cols) - 1))
                 : grid_with_longer_edge(fine, params_.coarse_size);
-  c->objective = std::make_unique<BackwardEulerObjective>(c->grid, physics.material, dt, physics.gravity);
+  c->objective = std::make_unique<BackwardEulerObjective>(c->grid, c->material, dt, c->gravity);
   std::map<int, std::vector<int>> landed;
   for (int h : fine_handles) landed[nearest_vertex(c->grid, fine, h)].push_back(h);
   std::vector<int> coarse_handles;
@@ -101,7 +103,6 @@ void InterpolatedOptimizer::prepare(const StepProblem& problem, const StepPhysic
   }
   c->dirichlet = DirichletSet(c->grid.vertex_count(), coarse_handles);
   c->problem = std::make_unique<StepProblem>(*c->objective, c->dirichlet);
-  c->problem->set_physics(physics.material, physics.gravity);
   c->optimizer = factory_();
   c->to_coarse = std::make_unique<GridResampler>(fine, c->grid);
   c->to_fine = std::make_unique<GridResampler>(c->grid, fine);
@@ -110,11 +111,7 @@ void InterpolatedOptimizer::prepare(const StepProblem& problem, const StepPhysic
 }
 
 void InterpolatedOptimizer::begin_step(StepProblem& problem, const VecX& a, double, const VecX&) {
-  const StepPhysics* physics = problem.physics() ? problem.physics() : (fallback_physics_ ? &*fallback_physics_ : nullptr);
-  require(physics != nullptr, name(),
-          "the step problem does not carry the scene's material and gravity (StepProblem::set_physics or "
-          "InterpolatedOptimizer::set_physics)");
-  prepare(problem, *physics);
+  prepare(problem);
   Coarse& c = *coarse_;
   const BackwardEulerObjective& fine = problem.objective();
 

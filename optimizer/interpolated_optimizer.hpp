@@ -15,8 +15,7 @@
 // a fine budget of 1 (OptimizerChoice::solve_options does). No safeguard: the fine energy of
 // the answer is whatever interpolation gives (that is the ablation).
 //
-// The coarse objective needs the scene's material and gravity: from StepProblem::physics()
-// (run_rollout sets them), else from set_physics(); begin_step throws Error without either.
+// The coarse objective is built from the fine objective's material, gravity and dt.
 #include <functional>
 #include <memory>
 
@@ -40,7 +39,8 @@ using InnerOptimizerFactory = std::function<std::unique_ptr<InnerOptimizer>()>;
 class InterpolatedOptimizer final : public InnerOptimizer {
  public:
   // Calls `coarse_factory` once here (for the name) and again whenever the coarse problem is
-  // rebuilt (another fine grid, handle set or physics), so no coarse state leaks across scenes.
+  // rebuilt (another fine grid, handle set, material, gravity or dt), so no coarse state leaks
+  // across scenes.
   explicit InterpolatedOptimizer(InnerOptimizerFactory coarse_factory, InterpolatedParams params = {});
   ~InterpolatedOptimizer() override;
 
@@ -50,9 +50,6 @@ class InterpolatedOptimizer final : public InnerOptimizer {
   void begin_step(StepProblem& problem, const VecX& a, double value, const VecX& gradient) override;
   std::optional<SolveStatus> iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) override;
 
-  // Material and gravity for problems that do not carry them (StepProblem::physics()).
-  void set_physics(const Material& material, const Vec3& gravity);
-
   // The coarse grid and the last coarse solve (for tests and diagnostics); the grid is
   // valid after the first begin_step.
   const Grid& coarse_grid() const { return coarse_grid_; }
@@ -60,12 +57,11 @@ class InterpolatedOptimizer final : public InnerOptimizer {
 
  private:
   struct Coarse;
-  void prepare(const StepProblem& problem, const StepPhysics& physics);
+  void prepare(const StepProblem& problem);
 
   InnerOptimizerFactory factory_;
   InterpolatedParams params_;
   std::string coarse_name_, coarse_settings_;
-  std::optional<StepPhysics> fallback_physics_;
   std::unique_ptr<Coarse> coarse_;
   Grid coarse_grid_;
   InnerSolveResult last_coarse_;

@@ -44,7 +44,6 @@ RolloutResult run_rollout(const Scene& scene, InnerOptimizer& optimizer, const R
   BackwardEulerObjective objective(grid, scene.material, scene.dt, scene.gravity);
   const DirichletSet dirichlet(grid.vertex_count(), setup.handles.vertices);
   StepProblem problem(objective, dirichlet);
-  problem.set_physics(scene.material, scene.gravity);
 
   RolloutResult result;
   result.grid = grid;

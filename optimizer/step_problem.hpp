@@ -2,20 +2,10 @@
 // What an inner optimizer sees of one time step: the backward-Euler objective with the handle
 // vertices eliminated. Gradients are masked (zero on fixed dofs), so any update built from them
 // leaves the prescribed handle accelerations untouched.
-#include <optional>
-
 #include "boundary/dirichlet.hpp"
 #include "cloth/backward_euler.hpp"
-#include "cloth/material.hpp"
 
 namespace fnopt {
-
-// The scene's material and gravity, which the objective consumes but does not keep: what an
-// optimizer needs to build the same step on another grid (optimizer/interpolated_optimizer.hpp).
-struct StepPhysics {
-  Material material;
-  Vec3 gravity = Vec3::Zero();
-};
 
 class StepProblem {
  public:
@@ -25,11 +15,6 @@ class StepProblem {
   BackwardEulerObjective& objective() const { return *objective_; }
   const DirichletSet& dirichlet() const { return *dirichlet_; }
   const Grid& grid() const { return objective_->grid(); }
-
-  // The material and gravity the objective was built with, where its owner said so
-  // (run_rollout does); nullptr otherwise.
-  void set_physics(const Material& material, const Vec3& gravity) { physics_ = StepPhysics{material, gravity}; }
-  const StepPhysics* physics() const { return physics_ ? &*physics_ : nullptr; }
 
   double value(const VecX& a) {
     ++evaluations_;
@@ -48,7 +33,6 @@ class StepProblem {
  private:
   BackwardEulerObjective* objective_;
   const DirichletSet* dirichlet_;
-  std::optional<StepPhysics> physics_;
   long evaluations_ = 0;
 };
 

@@ -1,6 +1,6 @@
 // The interpolation ablation (optimizer/interpolated_optimizer.hpp): with Newton on a coarse
 // grid equal to the fine one it is the Newton step; handles never move; on a smooth state of a
-// finer grid its answer lowers the step energy from a = 0; without the scene's physics it says so.
+// finer grid its answer lowers the step energy from a = 0.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -32,7 +32,6 @@ struct Step {
         objective(grid, material, kDt, kGravity),
         handles(grid.vertex_count(), {grid.index(0, 0), grid.index(0, grid.cols - 1)}),
         problem(objective, handles) {
-    problem.set_physics(material, kGravity);
     VecX x = grid.rest_positions(), v = VecX::Zero(grid.dof_count());
     for (int i = 0; i < grid.rows; ++i)
       for (int j = 0; j < grid.cols; ++j) {
@@ -95,24 +94,6 @@ TEST(InterpolatedOptimizer, OnAFinerGridItsAnswerLowersTheStepEnergy) {
     EXPECT_LT(r.value, r.initial_value) << rows << "x" << cols << " from " << coarse;
     EXPECT_EQ(std::max(interp.coarse_grid().rows, interp.coarse_grid().cols), coarse);
   }
-}
-
-TEST(InterpolatedOptimizer, NeedsTheScenePhysicsFromTheProblemOrItself) {
-  Step step(12, 12);
-  BackwardEulerObjective objective(step.grid, step.material, kDt, kGravity);
-  objective.begin_step(step.grid.rest_positions(), VecX::Zero(step.grid.dof_count()));
-  StepProblem bare(objective, step.handles);  // no set_physics
-  InterpolatedOptimizer interp = interpolated_newton(6);
-  VecX a = VecX::Zero(step.grid.dof_count());
-  try {
-    solve_step(interp, bare, a, {1, 0.0});
-    FAIL() << "no error without physics";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("material and gravity"), std::string::npos) << e.what();
-  }
-  interp.set_physics(step.material, kGravity);
-  const InnerSolveResult r = solve_step(interp, bare, a, {1, 0.0});
-  EXPECT_LT(r.value, r.initial_value);  // hanging at rest: gravity pulls it down
 }
 
 TEST(InterpolatedOptimizer, RunsARolloutLikeAnyOtherMethod) {
