@@ -94,9 +94,11 @@ bool NewtonOptimizer::shifted_solve(StepProblem& problem, const Eigen::SparseMat
   }
   // Start just below the last shift that worked: consecutive iterates need similar shifts.
   double mu = std::max(1e-4, shift_ / (params_.shift_growth * params_.shift_growth));
+  shifted_ = H;  // one copy; each trial only raises the diagonal to the next mu
+  double applied = 0.0;
   for (; mu <= params_.max_shift; mu *= params_.shift_growth) {
-    shifted_ = H;
-    shifted_.diagonal() += mu * inertia_diagonal_;
+    shifted_.diagonal() += (mu - applied) * inertia_diagonal_;
+    applied = mu;
     if (factorize_and_solve(shifted_, b, problem.objective().hessian_pattern_id()) && b.dot(direction_) > 0.0) {
       shift_ = mu;
       return true;

@@ -1,10 +1,5 @@
 #include "io/rollout_file.hpp"
 
-#include <unistd.h>
-
-#include <filesystem>
-#include <fstream>
-
 #include "io/hdf5_file.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
@@ -98,21 +93,7 @@ TrajectoryFrames frames_of(const RolloutResult& rollout) {
 Scene read_rollout_scene(const std::string& path) {
   const Hdf5File file(path, Hdf5File::Mode::Read);
   require(file.has_attribute("scene"), path, "no 'scene' attribute: not an fnopt rollout");
-  const std::string text = file.string_attribute("scene");
-  // The scene-file reader resolves relative paths against the file's folder; the stored text has
-  // absolute paths only, so a temporary file anywhere reads back the same scene.
-  const auto temporary = std::filesystem::temp_directory_path() /
-                         ("fnopt-scene-" + std::to_string(::getpid()) + ".txt");
-  std::ofstream(temporary) << text;
-  try {
-    Scene scene = load_scene_file(temporary.string());
-    std::filesystem::remove(temporary);
-    return scene;
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
-  }
+  return load_scene_text(file.string_attribute("scene"), path + " (scene attribute)");
 }
 
 }  // namespace fnopt

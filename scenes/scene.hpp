@@ -55,6 +55,9 @@ struct Scene {
 // (the checks of Scene::validate that need no other field), and Error("scene: ...") for an
 // unreadable file.
 Scene load_scene_file(const std::string& path, Scene base = {});
+// The same format from memory (e.g. the scene a rollout file stores): `name` starts every error
+// message ("<name>:<line>: <key>: ..."); relative paths are taken as given.
+Scene load_scene_text(const std::string& text, const std::string& name, Scene base = {});
 // Applies one "key = value" setting (the same keys and checks as the file format, paths taken
 // as given). Throws Error("<key>: ...").
 void apply_scene_setting(Scene& scene, const std::string& key, const std::string& value);

@@ -195,16 +195,16 @@ void apply_scene_setting(Scene& scene, const std::string& key, const std::string
   resolve_repulsion(scene);  // handles, handle-vertices, repulsion and material all bear on it
 }
 
-Scene load_scene_file(const std::string& path, Scene base) {
-  std::error_code ignored;
-  std::ifstream in(path);
-  require(in && !fs::is_directory(path, ignored), "scene", "cannot open '" + path + "'");
-  const fs::path directory = fs::path(path).parent_path();
+namespace {
+
+// The settings of a scene file's lines, on top of `base`; `name` starts every error message and
+// relative paths are taken relative to `directory` (none if it is empty).
+Scene read_scene_lines(std::istream& in, const std::string& name, const fs::path& directory, Scene base) {
   std::string line;
   int number = 0;
   while (std::getline(in, line)) {
     ++number;
-    const std::string where = path + ":" + std::to_string(number) + ": ";
+    const std::string where = name + ":" + std::to_string(number) + ": ";
     const auto content = trim(without_comment(line));
     if (content.empty()) continue;
     const auto equals = content.find('=');
@@ -221,8 +221,23 @@ Scene load_scene_file(const std::string& path, Scene base) {
       throw Error(where + e.what());
     }
   }
+  return base;
+}
+
+}  // namespace
+
+Scene load_scene_file(const std::string& path, Scene base) {
+  std::error_code ignored;
+  std::ifstream in(path);
+  require(in && !fs::is_directory(path, ignored), "scene", "cannot open '" + path + "'");
+  base = read_scene_lines(in, path, fs::path(path).parent_path(), std::move(base));
   require(!in.bad(), "scene", "cannot read '" + path + "'");
   return base;
+}
+
+Scene load_scene_text(const std::string& text, const std::string& name, Scene base) {
+  std::istringstream in(text);
+  return read_scene_lines(in, name, {}, std::move(base));
 }
 
 std::string to_scene_text(const Scene& scene) {

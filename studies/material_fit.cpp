@@ -53,6 +53,10 @@ std::string coefficient_name(MaterialCoefficient coefficient) {
   return "";
 }
 
+double coefficient_of(const Material& material, MaterialCoefficient coefficient) {
+  return coefficient_of(const_cast<Material&>(material), coefficient);
+}
+
 double& coefficient_of(Material& material, MaterialCoefficient coefficient) {
   switch (coefficient) {
     case MaterialCoefficient::Stretch: return material.stretch;
@@ -147,16 +151,11 @@ MaterialFitResult fit_material(const std::vector<FitReference>& references, cons
   const std::size_t n = coefficients.size();
 
   // The search point: ln of each chosen coefficient, clamped to its range.
-  const Material defaults;
   std::vector<double> point(n);
   for (std::size_t i = 0; i < n; ++i) {
-    Material copy = start;
-    double value = coefficient_of(copy, coefficients[i]);
-    if (!(value > 0.0)) {
-      Material fallback = defaults;
-      value = coefficient_of(fallback, coefficients[i]);
-      if (!(value > 0.0)) value = 1.0;
-    }
+    double value = coefficient_of(start, coefficients[i]);
+    if (!(value > 0.0)) value = coefficient_of(Material{}, coefficients[i]);
+    if (!(value > 0.0)) value = 1.0;
     const auto& range = params.range(coefficients[i]);
     point[i] = std::log(std::clamp(value, range.low, range.high));
   }

@@ -25,6 +25,7 @@ enum class MaterialCoefficient { Stretch, Shear, Bend, Damping };
 MaterialCoefficient material_coefficient(const std::string& name);
 std::string coefficient_name(MaterialCoefficient coefficient);
 double& coefficient_of(Material& material, MaterialCoefficient coefficient);
+double coefficient_of(const Material& material, MaterialCoefficient coefficient);
 
 // The interval a coefficient is searched in (physical units).
 struct CoefficientRange {
