@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "util/error.hpp"
+#include "util/serial_openmp_scope.hpp"
 
 namespace fnopt {
 namespace {
@@ -51,6 +52,7 @@ bool NewtonOptimizer::factorize_and_solve(const Eigen::SparseMatrix<double>& H, 
     analysed_pattern_ = pattern;
   }
   ++counters_.factorizations;
+  SerialOpenMpScope serial;  // CHOLMOD and its BLAS calls: see util/serial_openmp_scope.hpp
   llt_.factorize(H);
   have_factor_ = llt_.info() == Eigen::Success;
   if (have_factor_) direction_ = llt_.solve(b);
@@ -59,6 +61,7 @@ bool NewtonOptimizer::factorize_and_solve(const Eigen::SparseMatrix<double>& H, 
 
 NewtonOptimizer::CgOutcome NewtonOptimizer::preconditioned_cg(const Eigen::SparseMatrix<double>& H,
                                                               const VecX& b, double tolerance) {
+  SerialOpenMpScope serial;  // the factor's triangular solves run in CHOLMOD and BLAS
   direction_.setZero(b.size());
   residual_ = b;
   preconditioned_ = llt_.solve(residual_);
@@ -82,7 +85,8 @@ NewtonOptimizer::CgOutcome NewtonOptimizer::preconditioned_cg(const Eigen::Spars
   return CgOutcome::TooManyIterations;
 }
 
-bool NewtonOptimizer::shifted_solve(StepProblem& problem, const Eigen::SparseMatrix<double>& H, const VecX& b) {
+bool NewtonOptimizer::shifted_solve(StepProblem& problem, const Eigen::SparseMatrix<double>& H, const VecX& b,
+                                     double start) {
   if (params_.max_shift <= 0.0) return false;
   const DirichletSet& dirichlet = problem.dirichlet();
   const BackwardEulerObjective& objective = problem.objective();
@@ -92,8 +96,7 @@ bool NewtonOptimizer::shifted_solve(StepProblem& problem, const Eigen::SparseMat
     const int f = dirichlet.free_index()[v];
     if (f >= 0) inertia_diagonal_.segment<3>(3 * f).setConstant(dt2 * objective.masses()[v]);
   }
-  // Start just below the last shift that worked: consecutive iterates need similar shifts.
-  double mu = std::max(1e-4, shift_ / (params_.shift_growth * params_.shift_growth));
+  double mu = start;
   shifted_ = H;  // one copy; each trial only raises the diagonal to the next mu
   double applied = 0.0;
   for (; mu <= params_.max_shift; mu *= params_.shift_growth) {
@@ -109,22 +112,33 @@ bool NewtonOptimizer::shifted_solve(StepProblem& problem, const Eigen::SparseMat
 
 bool NewtonOptimizer::newton_direction(StepProblem& problem, const VecX& a, double tolerance) {
   const auto& free_index = problem.dirichlet().free_index();
-  for (bool project : {false, true}) {
-    const Eigen::SparseMatrix<double>& H = problem.objective().hessian(a, free_index, project);
-    counters_.projected_iterations += project;
+  const long pattern = problem.objective().hessian_pattern_id();
+  const double growth = params_.shift_growth;
+  const Eigen::SparseMatrix<double>& H = problem.objective().hessian(a, free_index, false);
+  // After a shifted iteration the exact Hessian is almost surely still indefinite: go straight
+  // to the shift search, one level below the last shift, so that the shift decays as the
+  // iterate leaves the saddle (each skipped Cholesky of H saves a factorization).
+  const bool exact_first = !last_shifted_ || shift_ / growth < kMinShift;
+  if (exact_first) {
+    last_shifted_ = false;
     if (have_factor_ && params_.max_cg_iterations > 0) {
       const CgOutcome outcome = preconditioned_cg(H, rhs_, tolerance);
       if (outcome == CgOutcome::Converged && rhs_.dot(direction_) > 0.0) return true;
     }
     // CG was slow, met negative curvature, or there is no factor yet: refactorize. An
     // indefinite H fails here; then the shifted exact Hessian, and last the projected one.
-    if (factorize_and_solve(H, rhs_, problem.objective().hessian_pattern_id()) && rhs_.dot(direction_) > 0.0)
-      return true;
-    if (!project && shifted_solve(problem, H, rhs_)) {
-      ++counters_.shifted_iterations;
-      return true;
-    }
-    counters_.projected_iterations -= project;
+    if (factorize_and_solve(H, rhs_, pattern) && rhs_.dot(direction_) > 0.0) return true;
+  }
+  const double start = exact_first ? std::max(kMinShift, shift_ / (growth * growth)) : shift_ / growth;
+  last_shifted_ = shifted_solve(problem, H, rhs_, start);
+  if (last_shifted_) {
+    ++counters_.shifted_iterations;
+    return true;
+  }
+  const Eigen::SparseMatrix<double>& projected = problem.objective().hessian(a, free_index, true);
+  if (factorize_and_solve(projected, rhs_, pattern) && rhs_.dot(direction_) > 0.0) {
+    ++counters_.projected_iterations;
+    return true;
   }
   return false;
 }
