@@ -163,7 +163,7 @@ std::vector<int> budgets_of(const std::vector<RunResult>& results, const std::st
 
 // The super-resolution comparison: "fnopt" at each budget against every interpolation method,
 // at the same (coarse) budget where it ran that one, else at its first budget (newton-interp32
-// runs to its tolerance, N = 300 at most).
+// runs to its tolerance, N = 1000 at most).
 struct SuperresColumns {
   std::vector<std::string> methods;  // fnopt first, then the interpolation methods
   std::vector<int> budgets;          // one per method

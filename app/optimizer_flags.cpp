@@ -112,7 +112,7 @@ InnerSolveOptions OptimizerChoice::solve_options() const {
 void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice) {
   command.add_option("--optimizer", choice.name, "inner optimizer: " + optimizer_names())->capture_default_str();
   command.add_option("--iters", choice.iterations,
-                     "iterations per time step (default 10; newton: at most this many, default 300 to "
+                     "iterations per time step (default 10; newton: at most this many, default 1000 to "
                      "||g|| <= 1e-9 ||g0||)");
   command.add_option("--lr", choice.learning_rate,
                      "learning rate: gd in units of 1/lambda_max of the mass-scaled Hessian (default 1), adam in "

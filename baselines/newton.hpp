@@ -56,10 +56,10 @@ class NewtonOptimizer final : public InnerOptimizer {
  public:
   explicit NewtonOptimizer(NewtonParams params = {});
 
-  // The reference: converged to ||g|| <= 1e-9 ||g_0||. Most steps take 3-10 iterations; near
-  // a saddle of compressed, buckling cloth it takes longer (on the 32^2 benchmark at most 157),
-  // hence the generous cap.
-  static InnerSolveOptions reference_solve_options() { return {300, 1e-9}; }
+  // The reference: converged to ||g|| <= 1e-9 ||g_0||. Most steps take 3-10 iterations; where
+  // compressed cloth starts to buckle it takes longer (benchmark scene: at most 27 at 32^2 and 74
+  // at 64^2; at 100^2 one step slides along a nearly neutral mode for 626), hence the generous cap.
+  static InnerSolveOptions reference_solve_options() { return {1000, 1e-9}; }
 
   std::string name() const override { return "newton"; }
   std::string settings() const override;

@@ -289,7 +289,7 @@ StabilityRow stability_row_from_csv(const std::vector<std::string>& cells) {
   StabilityRow r;
   r.case_name = cells[0];
   r.method = cells[1];
-  // "N": "100" or "tol 1e-09 (max 300)"
+  // "N": "100" or "tol 1e-09 (max 1000)"
   if (cells[2].rfind("tol ", 0) == 0) {
     const auto open = cells[2].find("(max ");
     r.solve.relative_tolerance = number_or_nan(cells[2].substr(4, open == std::string::npos ? std::string::npos : open - 5));

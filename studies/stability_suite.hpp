@@ -118,7 +118,7 @@ const std::vector<std::string>& stability_columns();
 std::vector<std::string> stability_csv_row(const StabilityRow& row);
 // A row of an earlier stability.csv back into a result (--resume). Throws Error on a wrong width.
 StabilityRow stability_row_from_csv(const std::vector<std::string>& cells);
-// "N=100", "tol 1e-09 (max 300)"
+// "N=100", "tol 1e-09 (max 1000)"
 std::string budget_text(const InnerSolveOptions& solve);
 
 // The table for a terminal: aligned columns, strain in %, e_3D x 10^2.
