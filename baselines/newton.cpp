@@ -96,10 +96,9 @@ bool NewtonOptimizer::shifted_solve(StepProblem& problem, const Eigen::SparseMat
     const int f = dirichlet.free_index()[v];
     if (f >= 0) inertia_diagonal_.segment<3>(3 * f).setConstant(dt2 * objective.masses()[v]);
   }
-  double mu = start;
   shifted_ = H;  // one copy; each trial only raises the diagonal to the next mu
   double applied = 0.0;
-  for (; mu <= params_.max_shift; mu *= params_.shift_growth) {
+  for (double mu = start; mu <= params_.max_shift; mu *= params_.shift_growth) {
     shifted_.diagonal() += (mu - applied) * inertia_diagonal_;
     applied = mu;
     if (factorize_and_solve(shifted_, b, problem.objective().hessian_pattern_id()) && b.dot(direction_) > 0.0) {
