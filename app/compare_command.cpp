@@ -595,10 +595,9 @@ const RegisterCommand kRegister([](CLI::App& app) {
               " --iters " + kSuperres.iters + " --iters-for " + kSuperres.iters_for + " --motions " +
               kSuperres.motions + " --frames " + std::to_string(kSuperres.frames) + " --step-samples " +
               std::to_string(kSuperres.step_samples) + " (the first " + number_text(kSuperres.frames / 60.0) +
-              " s of the motion at dt = 1/60, the handles' first swing: the Newton references cost ~20 s of CPU "
-              "per frame at 128^2 and ~10 s at 100^2, so this is what fits in about 45 min at 1 thread on an idle "
-              "core here; for more frames give --frames and a new --out: --resume keeps rows by method, N, resolution "
-              "and motion only); the "
+              " s of the motion at dt = 1/60, the handles' first swing; the fine-grid Newton references dominate the "
+              "cost, ~1 s of CPU per frame at 100^2; for more frames give --frames and a new --out: --resume keeps "
+              "rows by method, N, resolution and motion only); the "
               "fine grid runs fnopt (the shipped 32^2 model) against fnopt-interp32 (solve at 32 "
               "vertices along the longer edge, interpolate) and newton-interp32 (exact coarse step, interpolate); "
               "also writes superres.svg and a super-resolution table in report.md")
