@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "app/commands.hpp"
@@ -130,6 +131,12 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--seed", o.seed, "random seed")->capture_default_str();
   command->add_option("--newton-weight", o.newton_weight, "weight of the auxiliary loss toward the Newton step")
       ->capture_default_str();
+  command->add_option("--loss-normalisation", o.loss_normalisation,
+                      "per-environment: the mean of each environment's remaining-error ratio; batch: one ratio "
+                      "for the batch (FNOpt's mean energy, rescaled)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, LossNormalisation>{
+          {"per-environment", LossNormalisation::PerEnvironment}, {"batch", LossNormalisation::Batch}}))
+      ->option_text("{per-environment,batch}=per-environment");
   command->add_option("--width", flags->width, "FNO width")->capture_default_str();
   command->add_option("--layers", flags->layers, "Fourier layers")->capture_default_str();
   command->add_option("--modes", flags->modes, "Fourier modes per axis")->capture_default_str();

@@ -1,6 +1,8 @@
 #include "optimizer/learned/energy_loss.hpp"
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "cloth/grid_units.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
@@ -8,43 +10,76 @@
 
 namespace fnopt {
 
+namespace {
+
+// The smooth overshoot penalty of a ratio r: r up to 1, then 1 + log r. Returns the loss and
+// d loss / d r; below -1 (rounding, or a Newton reference that stopped early) it is -1 with
+// no gradient.
+std::pair<double, double> penalised(double r) {
+  if (r < -1.0) return {-1.0, 0.0};
+  return r <= 1.0 ? std::make_pair(r, 1.0) : std::make_pair(1.0 + std::log(r), 1.0 / r);
+}
+
+}  // namespace
+
 torch::Tensor EnergyLoss::forward(torch::autograd::AutogradContext* ctx, torch::Tensor delta, EnergyLossBatch* batch) {
   const int count = static_cast<int>(batch->envs.size());
+  const int k = batch->samples_per_environment;
   auto gradient = torch::zeros_like(delta);
   batch->ratio.assign(count, 0.0);
-  double total = 0.0;
-  VecX trial, g;
+  std::vector<double> excess(count, 0.0), denominator(count, 0.0);
+  std::vector<VecX> energy_gradient(count);  // dL_e/d delta_e in grid units; empty if not finite
+  VecX trial;
   for (int e = 0; e < count; ++e) {
     TrainingEnv& env = *batch->envs[e];
     const Grid& grid = env.grid();
     const double to_acceleration = acceleration_per_grid_unit(grid, env.dt());
     trial = env.acceleration();
-    const int k = batch->samples_per_environment;
     add_coordinate_samples(to_coordinate_layout(delta.narrow(0, k * e, k)), grid, to_acceleration, trial);
+    VecX& g = energy_gradient[e];
     const double value = env.objective().value_gradient(trial, g);
     env.dirichlet().zero_fixed(g);
+    g *= to_acceleration;
     const double reference = env.reference_loss();
     // The floor on the denominator is L's rounding error: an environment at rest has
     // L(a_0) = L*, and there a difference of rounding noise is no progress to score.
     const double rounding = 1e-13 * (std::abs(reference) + std::abs(env.initial_loss()) + 1e-30);
-    const double denominator =
-        std::max({batch->current_loss[e] - reference, 1e-9 * (env.initial_loss() - reference), rounding});
-    const double r = (value - reference) / denominator;
+    denominator[e] = std::max({batch->current_loss[e] - reference, 1e-9 * (env.initial_loss() - reference), rounding});
+    excess[e] = value - reference;
+    const double r = excess[e] / denominator[e];
     const bool finite = std::isfinite(r) && g.allFinite();
     batch->ratio[e] = finite ? r : INFINITY;
-    if (!finite) continue;  // contributes nothing; the environment is renewed when it advances
-    // Below L* by more than the whole remaining error is rounding or a Newton reference that
-    // stopped early: scored -1, with no gradient.
-    if (r < -1.0) {
-      total -= 1.0;
-      continue;
+    if (!finite) g.resize(0);  // contributes nothing; the environment is renewed when it advances
+  }
+
+  auto add_gradient = [&](int e, double d_loss_d_value) {
+    const Grid& grid = batch->envs[e]->grid();
+    gradient.narrow(0, k * e, k).copy_(to_model_layout(to_coordinate_samples(energy_gradient[e], grid, d_loss_d_value), k));
+  };
+  double loss = 0.0;
+  if (batch->normalisation == LossNormalisation::PerEnvironment) {
+    for (int e = 0; e < count; ++e) {
+      if (energy_gradient[e].size() == 0) continue;
+      const auto [value, slope] = penalised(batch->ratio[e]);
+      loss += value / count;
+      if (slope != 0.0) add_gradient(e, slope / denominator[e] / count);
     }
-    total += r <= 1.0 ? r : 1.0 + std::log(r);
-    const double d_loss_d_value = (r <= 1.0 ? 1.0 : 1.0 / r) / denominator / count;
-    gradient.narrow(0, k * e, k).copy_(to_model_layout(to_coordinate_samples(g, grid, d_loss_d_value * to_acceleration), k));
+  } else {
+    double excess_sum = 0.0, denominator_sum = 0.0;
+    for (int e = 0; e < count; ++e) {
+      if (energy_gradient[e].size() == 0) continue;
+      excess_sum += excess[e];
+      denominator_sum += denominator[e];
+    }
+    if (denominator_sum > 0.0) {
+      const auto [value, slope] = penalised(excess_sum / denominator_sum);
+      loss = value;
+      for (int e = 0; e < count; ++e)
+        if (energy_gradient[e].size() != 0 && slope != 0.0) add_gradient(e, slope / denominator_sum);
+    }
   }
   ctx->save_for_backward({gradient});
-  return torch::tensor(total / count, delta.options());
+  return torch::tensor(loss, delta.options());
 }
 
 torch::autograd::tensor_list EnergyLoss::backward(torch::autograd::AutogradContext* ctx,

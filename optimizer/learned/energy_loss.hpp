@@ -9,6 +9,12 @@
 // batch mean of r_e for r_e <= 1 and 1 + log r_e above (an overshoot is penalised, smoothly,
 // without letting one exploding step dominate the batch); r below -1 (rounding, or a Newton
 // reference that stopped early) counts as -1 with no gradient.
+//
+// Without the per-environment normalisation (LossNormalisation::Batch, measured against it,
+// README "The learned optimizer"), the batch is scored as one ratio,
+//   r = sum_e (L_e(a_e + delta_e) - L*_e) / sum_e max(L_e(a_e) - L*_e, ...),
+// whose gradient is FNOpt's plain mean energy up to one detached factor per batch: the
+// environments with the most energy left weigh the most.
 #include <torch/torch.h>
 
 #include <vector>
@@ -17,11 +23,17 @@
 
 namespace fnopt {
 
+enum class LossNormalisation {
+  PerEnvironment,  // mean over environments of r_e (PGSfT's division by the detached loss)
+  Batch            // one ratio for the whole batch (FNOpt's mean energy, rescaled)
+};
+
 struct EnergyLossBatch {
   std::vector<TrainingEnv*> envs;
   std::vector<double> current_loss;  // L_e(a_e), the iterate before the update
   std::vector<double> ratio;         // r_e, filled by the forward pass
   int samples_per_environment = 3;   // the model's layout (learned_update.hpp)
+  LossNormalisation normalisation = LossNormalisation::PerEnvironment;
 };
 
 class EnergyLoss : public torch::autograd::Function<EnergyLoss> {

@@ -34,6 +34,7 @@ std::string TrainOptions::signature() const {
     << " layers=" << model.fourier_layers() << " modes=" << model.modes_x() << "x" << model.modes_y()
     << " lifting=" << model.lifting_channels() << " projection=" << model.projection_channels()
     << " batch=" << batch << " lr=" << learning_rate << " newton_weight=" << newton_weight << " seed=" << seed;
+  if (loss_normalisation == LossNormalisation::Batch) s << " loss=batch";
   return s.str();
 }
 
@@ -71,6 +72,7 @@ TrainStepStats MetaTrainer::step() {
   auto scale_to_model = [k](const torch::Tensor& scale) { return k == 3 ? scale : scale.narrow(0, 0, 1); };
   EnergyLossBatch batch;
   batch.samples_per_environment = k;
+  batch.normalisation = options_.loss_normalisation;
   std::vector<torch::Tensor> gradients, previous_gradients, previous_deltas, scales, masks, newton_deltas;
   VecX g;
   for (int i = 0; i < options_.batch; ++i) {

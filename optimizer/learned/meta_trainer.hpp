@@ -10,6 +10,7 @@
 #include <string>
 
 #include "fno/fno2d.hpp"
+#include "optimizer/learned/energy_loss.hpp"
 #include "optimizer/learned/training_env.hpp"
 
 namespace fnopt {
@@ -28,6 +29,8 @@ struct TrainOptions {
   // energy's own exact minimiser (no data); it gives every vertex a target where the energy
   // loss gives one scalar, which speeds up CPU training. 0 turns it off.
   double newton_weight = 1.0;
+  // How the energy loss weighs the environments of a batch (energy_loss.hpp).
+  LossNormalisation loss_normalisation = LossNormalisation::PerEnvironment;
   std::uint64_t seed = 1;
 
   void validate() const;
