@@ -28,6 +28,12 @@ const std::vector<OptimizerEntry>& optimizer_table() {
        [](const OptimizerChoice& c) {
          return std::make_unique<LearnedOptimizer>(c.model.empty() ? shipped_model_path() : c.model);
        }},
+      {"fnopt-ls",
+       [](const OptimizerChoice& c) {
+         LearnedParams params;
+         params.line_search = true;
+         return std::make_unique<LearnedOptimizer>(c.model.empty() ? shipped_model_path() : c.model, params);
+       }},
       {"gd",
        [](const OptimizerChoice& c) {
          GradientDescentParams params;

@@ -1,21 +1,31 @@
 #include "optimizer/learned/learned_optimizer.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "cloth/grid_units.hpp"
 #include "fno/fno_io.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
+#include "util/error.hpp"
 
 namespace fnopt {
 
-LearnedOptimizer::LearnedOptimizer(const std::string& model_path, bool safeguard)
+void LearnedParams::validate() const {
+  require(min_rescale >= 0.0, "fnopt.min_rescale", "must not be negative");
+  require(max_rescale >= 1.0, "fnopt.max_rescale", "must be at least 1");
+}
+
+LearnedOptimizer::LearnedOptimizer(const std::string& model_path, LearnedParams params)
     : LearnedOptimizer(
           [&] {
             check_learned_model(load_fno_options(model_path), model_path);
             return load_fno(model_path);
           }(),
-          model_path, safeguard) {}
+          model_path, params) {}
 
-LearnedOptimizer::LearnedOptimizer(FNO2d model, std::string model_name, bool safeguard)
-    : model_(std::move(model)), model_name_(std::move(model_name)), safeguard_(safeguard) {
+LearnedOptimizer::LearnedOptimizer(FNO2d model, std::string model_name, LearnedParams params)
+    : model_(std::move(model)), model_name_(std::move(model_name)), params_(params) {
+  params_.validate();
   check_learned_model(model_->options, model_name_);
   model_->eval();
 }
@@ -25,7 +35,7 @@ std::string LearnedOptimizer::settings() const {
   return "fnopt: model=" + model_name_ + " width=" + std::to_string(o.width()) + " layers=" +
          std::to_string(o.fourier_layers()) + " modes=" + std::to_string(o.modes_x()) + "x" +
          std::to_string(o.modes_y()) + (o.in_channels() == 9 ? " combined" : "") +
-         " safeguard=" + (safeguard_ ? "on" : "off");
+         " safeguard=" + (params_.safeguard ? "on" : "off") + " line_search=" + (params_.line_search ? "on" : "off");
 }
 
 void LearnedOptimizer::begin_step(StepProblem& problem, const VecX&, double, const VecX&) {
@@ -40,21 +50,40 @@ void LearnedOptimizer::begin_step(StepProblem& problem, const VecX&, double, con
   state_.delta = torch::Tensor();
 }
 
+double LearnedOptimizer::rescale_update(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
+  direction_ = a - previous_a_;
+  const double slope_before = previous_gradient_.dot(direction_), slope_after = gradient.dot(direction_);
+  // A descent direction along which L curves upward: the secant step is defined.
+  if (!(slope_before < 0.0 && slope_after > slope_before && std::isfinite(value))) return 1.0;
+  const double alpha = std::clamp(slope_before / (slope_before - slope_after), 1.0 / params_.max_rescale,
+                                  params_.max_rescale);
+  if (std::abs(alpha - 1.0) <= params_.min_rescale) return 1.0;
+  trial_ = previous_a_ + alpha * direction_;
+  const double trial_value = problem.value_gradient(trial_, trial_gradient_);
+  if (!(trial_value < value)) return 1.0;
+  a.swap(trial_);
+  gradient.swap(trial_gradient_);
+  value = trial_value;
+  return alpha;
+}
+
 std::optional<SolveStatus> LearnedOptimizer::iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
   torch::NoGradGuard no_grad;
   const Grid& grid = problem.grid();
   const double dt = problem.objective().dt();
   const torch::Tensor g = to_model_layout(to_coordinate_samples(gradient, grid), samples_per_environment(model_->options));
   const LearnedStep step = learned_step(model_, g, state_, mask_);
-  if (safeguard_) {
+  if (params_.safeguard || params_.line_search) {
     previous_a_ = a;
     previous_gradient_ = gradient;
   }
   add_coordinate_samples(to_coordinate_layout(step.delta), grid, acceleration_per_grid_unit(grid, dt), a);
-  state_ = {g, step.delta, step.scale};
   const double previous_value = value;
   value = problem.value_gradient(a, gradient);
-  if (safeguard_ && !(value <= previous_value)) {
+  const double alpha = params_.line_search ? rescale_update(problem, a, value, gradient) : 1.0;
+  state_ = {g, alpha == 1.0 ? step.delta : step.delta * alpha,
+            alpha == 1.0 ? step.scale : (step.scale * alpha).clamp(1e-6, 10.0)};
+  if (params_.safeguard && !(value <= previous_value)) {
     a.swap(previous_a_);
     gradient.swap(previous_gradient_);
     value = previous_value;

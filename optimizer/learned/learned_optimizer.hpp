@@ -9,6 +9,13 @@
 // wrong at some resolution slows down instead of blowing up. It costs nothing for an accepted
 // update (L comes with the gradient needed next anyway). Measured: without it the 32^2-trained
 // model diverged within 4 steps at 64^2 and 100^2.
+//
+// Step length along the learned direction (fnopt's addition, optional: "fnopt-ls"). The FNO
+// proposes p = delta; with L's gradient at both ends, the secant of the directional
+// derivative, alpha = g(a).p / (g(a).p - g(a+p).p), is the exact minimiser along p for a
+// quadratic L. When alpha is far from 1 the iterate moves to a + alpha p (one more gradient),
+// kept only if it lowers L further; the recurrent state then sees the update alpha p and s
+// scales by alpha, so the next proposal starts from the length that worked.
 #include <memory>
 #include <string>
 
@@ -18,23 +25,40 @@
 
 namespace fnopt {
 
+struct LearnedParams {
+  bool safeguard = true;     // undo updates that raise L (or are not finite), shrink s by 4
+  bool line_search = false;  // rescale each update by the secant step along it
+  // The secant step is taken only when |alpha - 1| exceeds this: near 1 the extra gradient
+  // buys little.
+  double min_rescale = 0.2;
+  // alpha is clamped to [1 / max_rescale, max_rescale]: the secant of a far-from-quadratic
+  // L can point anywhere.
+  double max_rescale = 10.0;
+
+  void validate() const;  // Error("fnopt: ...") for values out of range
+};
+
 class LearnedOptimizer final : public InnerOptimizer {
  public:
   // Loads the model file (Error naming the file if it is missing or not a learned optimizer).
-  explicit LearnedOptimizer(const std::string& model_path, bool safeguard = true);
-  LearnedOptimizer(FNO2d model, std::string model_name, bool safeguard = true);
+  explicit LearnedOptimizer(const std::string& model_path, LearnedParams params = {});
+  LearnedOptimizer(FNO2d model, std::string model_name, LearnedParams params = {});
 
-  std::string name() const override { return "fnopt"; }
+  std::string name() const override { return params_.line_search ? "fnopt-ls" : "fnopt"; }
   std::string settings() const override;
   void begin_step(StepProblem& problem, const VecX& a, double value, const VecX& gradient) override;
   std::optional<SolveStatus> iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) override;
 
  private:
+  // Moves a (with value and gradient) to previous_a_ + alpha (a - previous_a_) if that lowers
+  // L; returns the alpha applied (1 if none).
+  double rescale_update(StepProblem& problem, VecX& a, double& value, VecX& gradient);
+
   FNO2d model_;
   std::string model_name_;
-  bool safeguard_;
+  LearnedParams params_;
   LearnedState state_;
-  VecX previous_a_, previous_gradient_;
+  VecX previous_a_, previous_gradient_, direction_, trial_, trial_gradient_;
   torch::Tensor mask_;
   const DirichletSet* mask_owner_ = nullptr;
 };

@@ -39,12 +39,18 @@ struct Step {
   }
 };
 
+LearnedParams with_safeguard(bool on) {
+  LearnedParams params;
+  params.safeguard = on;
+  return params;
+}
+
 TEST(LearnedOptimizer, TinyRandomModelRunsOnOddAndNonSquareGridsAndNeverMovesHandles) {
   for (auto [rows, cols, combined] : {std::tuple{17, 23, false}, std::tuple{40, 40, false}, std::tuple{17, 23, true}}) {
     Step step(rows, cols);
     // Without the safeguard every update of the untrained model is applied: the free
     // vertices move, the handles must not.
-    LearnedOptimizer optimizer(tiny_model(combined), "tiny", /*safeguard=*/false);
+    LearnedOptimizer optimizer(tiny_model(combined), "tiny", with_safeguard(false));
     const VecX before = step.a;
     const InnerSolveResult result = solve_step(optimizer, step.problem, step.a, {10, 0.0});
     EXPECT_EQ(result.status, SolveStatus::IterationBudget);
@@ -56,7 +62,8 @@ TEST(LearnedOptimizer, TinyRandomModelRunsOnOddAndNonSquareGridsAndNeverMovesHan
   }
 }
 
-// Records L after every iteration of the wrapped optimizer.
+// Records L after every iteration of the wrapped optimizer, and the slope of L along each
+// update d = a_after - a_before at its end relative to its start, g(a_after).d / g(a_before).d.
 class EnergyLog final : public InnerOptimizer {
  public:
   explicit EnergyLog(InnerOptimizer& inner) : inner_(inner) {}
@@ -67,11 +74,15 @@ class EnergyLog final : public InnerOptimizer {
     inner_.begin_step(p, a, value, g);
   }
   std::optional<SolveStatus> iterate(StepProblem& p, VecX& a, double& value, VecX& g) override {
+    const VecX a_before = a, g_before = g;
     const auto status = inner_.iterate(p, a, value, g);
     values.push_back(value);
+    const VecX d = a - a_before;
+    if (d.norm() > 0.0) slope_ratios.push_back(g.dot(d) / g_before.dot(d));
     return status;
   }
   std::vector<double> values;
+  std::vector<double> slope_ratios;  // of the iterations that moved a
 
  private:
   InnerOptimizer& inner_;
@@ -82,7 +93,7 @@ TEST(LearnedOptimizer, SafeguardNeverLetsTheEnergyRise) {
   // it, it does.
   for (bool safeguard : {true, false}) {
     Step step(20, 20);
-    LearnedOptimizer learned(tiny_model(), "tiny", safeguard);
+    LearnedOptimizer learned(tiny_model(), "tiny", with_safeguard(safeguard));
     EnergyLog log(learned);
     solve_step(log, step.problem, step.a, {30, 0.0});
     int rises = 0;
@@ -90,6 +101,29 @@ TEST(LearnedOptimizer, SafeguardNeverLetsTheEnergyRise) {
     if (safeguard) EXPECT_EQ(rises, 0);
     else EXPECT_GT(rises, 0) << "the test model must make bad updates for this test to mean anything";
   }
+}
+
+TEST(LearnedOptimizer, LineSearchEndsEachUpdateNearTheMinimumAlongIt) {
+  // With the secant step, the slope along an accepted update is near 0 at its end (exactly 0
+  // for a quadratic L; a rescale is skipped for |alpha - 1| <= 0.2, which leaves at most
+  // 1 - 1/1.2 of it); the energy still never rises.
+  const std::string path = std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt";
+  double worst[2] = {0.0, 0.0};
+  for (bool line_search : {false, true}) {
+    Step step(32, 32);
+    LearnedParams params;
+    params.line_search = line_search;
+    LearnedOptimizer learned(path, params);
+    EXPECT_EQ(learned.name(), line_search ? "fnopt-ls" : "fnopt");
+    EnergyLog log(learned);
+    solve_step(log, step.problem, step.a, {10, 0.0});
+    for (std::size_t k = 1; k < log.values.size(); ++k) EXPECT_LE(log.values[k], log.values[k - 1]);
+    ASSERT_GE(log.slope_ratios.size(), 5u);
+    for (double r : log.slope_ratios) worst[line_search] = std::max(worst[line_search], std::abs(r));
+  }
+  std::printf("largest |slope after / slope before|: %.3f without, %.3f with the line search\n", worst[0], worst[1]);
+  EXPECT_LT(worst[1], 0.3);
+  EXPECT_GT(worst[0], worst[1]) << "the test step must have updates that the line search rescales";
 }
 
 TEST(LearnedOptimizer, RejectsMissingAndIncompatibleModelFiles) {
