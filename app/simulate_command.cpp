@@ -38,6 +38,7 @@ void run_simulate(const SimulateFlags& flags) {
                scene.handle_vertices.empty() ? scene.handles.c_str() : "explicit",
                scene.trajectory.empty() ? ("motion " + scene.motion).c_str() : scene.trajectory.c_str(),
                scene.frames, optimizer->name().c_str(), threads, threads == 1 ? "" : "s");
+  std::fprintf(stderr, "%s\n", optimizer->settings().c_str());
   const GridUnitStiffness k =
       grid_unit_stiffness(Grid::make(scene.rows, scene.cols, scene.size), scene.material, scene.dt, scene.gravity.norm());
   std::fprintf(stderr, "grid units: stretch %.4g, shear %.4g, bend %.4g, gravity %.4g (DESIGN.md §2)\n", k.stretch,

@@ -32,7 +32,7 @@ LearnedOptimizer::LearnedOptimizer(FNO2d model, std::string model_name, LearnedP
 
 std::string LearnedOptimizer::settings() const {
   const auto& o = model_->options;
-  return "fnopt: model=" + model_name_ + " width=" + std::to_string(o.width()) + " layers=" +
+  return name() + ": model=" + model_name_ + " width=" + std::to_string(o.width()) + " layers=" +
          std::to_string(o.fourier_layers()) + " modes=" + std::to_string(o.modes_x()) + "x" +
          std::to_string(o.modes_y()) + (o.in_channels() == 9 ? " combined" : "") +
          " safeguard=" + (params_.safeguard ? "on" : "off") + " line_search=" + (params_.line_search ? "on" : "off");
