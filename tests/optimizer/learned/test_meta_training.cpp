@@ -29,50 +29,33 @@ TrainOptions tiny_training() {
   return o;
 }
 
-TEST(EnergyLoss, GradientMatchesFiniteDifferences) {
-  TrainingEnv env(small_pool(), 7, 0);
-  EnergyLossBatch batch;
-  batch.envs = {&env};
-  batch.current_loss = {env.objective().value(env.acceleration())};
-  torch::manual_seed(0);
-  auto delta = (0.01 * torch::randn({3, 1, 8, 8}, torch::kFloat32)) * free_mask(env.dirichlet(), env.grid());
-  delta.requires_grad_(true);
-  const auto loss = EnergyLoss::apply(delta, &batch);
-  loss.backward();
-  const auto analytic = delta.grad().clone();
-  ASSERT_GT(analytic.abs().max().item<double>(), 0.0);
-  // Central differences in double precision through the same forward pass.
-  const float eps = 1e-3f;
-  for (int index : {5, 70, 130, 190}) {
-    auto plus = delta.detach().clone(), minus = delta.detach().clone();
-    plus.view({-1})[index] += eps;
-    minus.view({-1})[index] -= eps;
-    const double fd = (EnergyLoss::apply(plus, &batch).item<double>() - EnergyLoss::apply(minus, &batch).item<double>()) / (2 * eps);
-    EXPECT_NEAR(analytic.view({-1})[index].item<double>(), fd, 1e-2 * std::abs(fd) + 1e-6) << "entry " << index;
-  }
-}
-
-TEST(EnergyLoss, BatchNormalisedGradientMatchesFiniteDifferences) {
-  TrainingEnv a(small_pool(), 7, 0), b(small_pool(), 7, 1);
-  EnergyLossBatch batch;
-  batch.envs = {&a, &b};
-  batch.normalisation = LossNormalisation::Batch;
-  for (TrainingEnv* env : batch.envs) batch.current_loss.push_back(env->objective().value(env->acceleration()));
-  torch::manual_seed(1);
-  auto delta = (0.01 * torch::randn({6, 1, 8, 8}, torch::kFloat32)) *
-               torch::cat({free_mask(a.dirichlet(), a.grid()).expand({3, 1, 8, 8}),
-                           free_mask(b.dirichlet(), b.grid()).expand({3, 1, 8, 8})});
-  delta.requires_grad_(true);
-  EnergyLoss::apply(delta, &batch).backward();
-  const auto analytic = delta.grad().clone();
-  ASSERT_GT(analytic.abs().max().item<double>(), 0.0);
-  const float eps = 1e-3f;
-  for (int index : {5, 130, 200, 300}) {  // entries of both environments
-    auto plus = delta.detach().clone(), minus = delta.detach().clone();
-    plus.view({-1})[index] += eps;
-    minus.view({-1})[index] -= eps;
-    const double fd = (EnergyLoss::apply(plus, &batch).item<double>() - EnergyLoss::apply(minus, &batch).item<double>()) / (2 * eps);
-    EXPECT_NEAR(analytic.view({-1})[index].item<double>(), fd, 1e-2 * std::abs(fd) + 1e-6) << "entry " << index;
+TEST(EnergyLoss, GradientMatchesFiniteDifferencesForBothNormalisations) {
+  for (LossNormalisation normalisation : {LossNormalisation::PerEnvironment, LossNormalisation::Batch}) {
+    TrainingEnv a(small_pool(), 7, 0), b(small_pool(), 7, 1);
+    EnergyLossBatch batch;
+    batch.envs = {&a, &b};
+    batch.normalisation = normalisation;
+    for (TrainingEnv* env : batch.envs) batch.current_loss.push_back(env->objective().value(env->acceleration()));
+    torch::manual_seed(1);
+    auto delta = (0.01 * torch::randn({6, 1, 8, 8}, torch::kFloat32)) *
+                 torch::cat({free_mask(a.dirichlet(), a.grid()).expand({3, 1, 8, 8}),
+                             free_mask(b.dirichlet(), b.grid()).expand({3, 1, 8, 8})});
+    delta.requires_grad_(true);
+    EnergyLoss::apply(delta, &batch).backward();
+    const auto analytic = delta.grad().clone();
+    ASSERT_GT(analytic.abs().max().item<double>(), 0.0);
+    // Central differences in double precision through the same forward pass, at entries of
+    // both environments.
+    const float eps = 1e-3f;
+    for (int index : {5, 70, 130, 200, 300}) {
+      auto plus = delta.detach().clone(), minus = delta.detach().clone();
+      plus.view({-1})[index] += eps;
+      minus.view({-1})[index] -= eps;
+      const double fd =
+          (EnergyLoss::apply(plus, &batch).item<double>() - EnergyLoss::apply(minus, &batch).item<double>()) / (2 * eps);
+      EXPECT_NEAR(analytic.view({-1})[index].item<double>(), fd, 1e-2 * std::abs(fd) + 1e-6)
+          << "entry " << index << (normalisation == LossNormalisation::Batch ? ", batch" : ", per environment");
+    }
   }
 }
 
