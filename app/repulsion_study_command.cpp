@@ -27,7 +27,7 @@ const char* const kPresets[] = {"corner-center", "single-mid-edge", "corner"};
 
 struct StudyFlags {
   std::string out;
-  std::string optimizers = "newton,fnopt";
+  std::string optimizers = "newton,fnopt-ls";
   int frames = 390;
   int res = 32;
   std::string motion = "xy_v2";
@@ -233,7 +233,7 @@ void run_study(const StudyFlags& flags) {
           run.frames.push_back(measure_self_contact(run.rollout.grid, x, hash));
         }
         run.summary = summarize_self_contact(run.frames);
-        for (const auto& s : run.rollout.steps) run.converged += s.status == SolveStatus::Converged;
+        for (const auto& s : run.rollout.steps) run.converged += is_converged(s.status);
         csv.add_row(csv_row(run, flags));
         csv.write(csv_path);  // finished rows survive an interrupted study
         runs.push_back(std::move(run));

@@ -15,9 +15,6 @@
 
 namespace {
 
-
-
-
 TEST(RepulsionStudy, HasHelp) {
   const CommandResult r = run_fnopt("repulsion-study --help");
   EXPECT_EQ(r.status, 0);
