@@ -632,7 +632,13 @@ const RegisterCommand kRegister([](CLI::App& app) {
       if (motions->count() == 0) flags->motions = p.motions;
       if (optimizers->count() == 0) flags->optimizers = p.optimizers;
       if (iters->count() == 0) flags->iters = p.iters;
-      if (iters_for->count() == 0 && optimizers->count() == 0 && *p.iters_for) flags->iters_for = {p.iters_for};
+      // The preset's budget of a method stays unless --iters-for names that method (later
+      // entries win in run_compare).
+      const std::string preset_entry = p.iters_for;
+      const auto chosen = name_list("optimizers", flags->optimizers);
+      if (!preset_entry.empty() && std::find(chosen.begin(), chosen.end(),
+                                             preset_entry.substr(0, preset_entry.find('='))) != chosen.end())
+        flags->iters_for.insert(flags->iters_for.begin(), preset_entry);
       if (frames->count() == 0) flags->preset_frames = p.frames;
       if (step_samples->count() == 0) flags->step_samples = p.step_samples;
     }

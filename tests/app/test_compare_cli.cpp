@@ -15,9 +15,6 @@
 
 namespace {
 
-
-
-
 TEST(CompareCli, ANonSquareComparisonWritesCsvPlotAndReport) {
   const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_compare_cli";
   std::filesystem::remove_all(dir);
@@ -46,6 +43,20 @@ TEST(CompareCli, AMalformedResolutionIsOneClearErrorLine) {
     EXPECT_NE(r.output.find("fnopt: error: res: expected resolutions N (N x N) or RxC"), std::string::npos) << r.output;
   }
   EXPECT_FALSE(std::filesystem::exists("/tmp/fnopt_never_written"));
+}
+
+TEST(CompareCli, ThePresetKeepsItsBudgetsForMethodsThatFlagsDoNotName) {
+  // --iters-for for one method must not drop the preset's exact coarse Newton (300).
+  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_compare_preset";
+  std::filesystem::remove_all(dir);
+  const CommandResult r = run_fnopt("compare --preset superres --res 40 --frames 2 --optimizers newton-interp32,fnopt "
+                                    "--iters-for fnopt=3 --threads 1 --step-samples 1 --cd-samples 100 --out " +
+                                    dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string csv = read_text(dir / "compare.csv");
+  EXPECT_NE(csv.find("newton-interp32,300,,,40,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("fnopt,3,,,40,"), std::string::npos) << csv;
+  std::filesystem::remove_all(dir);
 }
 
 TEST(CompareCli, AnUnknownPresetIsRejected) {
