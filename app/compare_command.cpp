@@ -354,6 +354,13 @@ void run_compare(const CompareFlags& flags) {
     for (const auto& row : earlier.rows()) resumed[run_key(row[0], row[1], row[4], row[5])] = row;
     std::fprintf(stderr, "resuming: %zu finished runs in %s\n", resumed.size(), csv_path.c_str());
   }
+  // Rows of the earlier CSV that this run does not redo (other methods, budgets, resolutions
+  // or motions) stay in it: resuming with a subset never drops finished work.
+  std::set<std::string> planned;
+  for (const Scene& scene : scenes)
+    for (const auto& run : runs) planned.insert(run_key(run.method, budget_text(run), resolution_text(scene), motion_text(scene)));
+  for (const auto& [key, row] : resumed)
+    if (!planned.count(key)) table.add_row(row);
   const std::string svg_path = (fs::path(flags.out) / "compare.svg").string();
   std::vector<RunResult> results;
   std::map<std::pair<std::string, int>, LearningRate> chosen_lr;

@@ -295,6 +295,13 @@ void run_stability(const StabilityFlags& flags) {
                base.frames, dt_text(base.dt).c_str(), threads, threads == 1 ? "" : "s", flags.out.c_str());
 
   CsvTable table(stability_columns());
+  // Rows of the earlier CSV that this run does not redo (other cases, methods or budgets) stay
+  // in it: resuming with a subset never drops finished work.
+  std::set<std::string> planned;
+  for (const StabilityCase& c : cases)
+    for (const StabilityMethod& m : methods) planned.insert(row_key(c.name, m.method, budget_text(m.solve)));
+  for (const auto& [key, row] : resumed)
+    if (!planned.count(key)) table.add_row(row);
   std::vector<StabilityRow> rows;
   auto run_with_progress = [&](const Scene& scene, const StabilityMethod& m, const std::string& label) {
     const double start = done_cost, weight = frame_cost(m, scene);

@@ -32,6 +32,14 @@ TEST(CompareCli, ANonSquareComparisonWritesCsvPlotAndReport) {
   EXPECT_NE(report.find("12x16 (192 vertices)"), std::string::npos) << report;          // a table per resolution
   EXPECT_NE(report.find("| lbfgs | 5 |"), std::string::npos) << report;
   EXPECT_NE(report.find("compare.svg"), std::string::npos) << report;
+
+  // Resuming with a subset of the optimizers keeps the other rows in the CSV.
+  const CommandResult subset = run_fnopt("compare --res 12x16 --frames 4 --optimizers newton --iters 5 --threads 1 "
+                                         "--step-samples 2 --cd-samples 500 --resume --out " + dir.string());
+  ASSERT_EQ(subset.status, 0) << subset.output;
+  const std::string after = read_text(dir / "compare.csv");
+  EXPECT_EQ(std::count(after.begin(), after.end(), '\n'), 3) << after;
+  EXPECT_NE(after.find("lbfgs,5,,,12x16,"), std::string::npos) << after;
   std::filesystem::remove_all(dir);
 }
 

@@ -62,6 +62,15 @@ TEST(StabilityCli, TinyRunWritesTableplotAndReport) {
   ASSERT_EQ(again.status, 0) << again.output;
   EXPECT_NE(again.output.find("resuming: 4 finished rows"), std::string::npos) << again.output;
   EXPECT_EQ(read_text(dir / "stability.csv"), csv);
+
+  // Resuming a subset (one case) keeps the other case's rows in the CSV.
+  const CommandResult subset = run_fnopt("stability --out " + dir.string() +
+                                         " --cases baseline --frames 5 --res 8 --optimizers newton,gd "
+                                         "--iters-for gd=20 --threads 1 --resume");
+  ASSERT_EQ(subset.status, 0) << subset.output;
+  const std::string after = read_text(dir / "stability.csv");
+  EXPECT_EQ(std::count(after.begin(), after.end(), '\n'), 5) << after;
+  EXPECT_NE(after.find("bend-x100,gd,20,"), std::string::npos) << after;
   std::filesystem::remove_all(dir);
 }
 
