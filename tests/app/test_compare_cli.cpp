@@ -33,12 +33,13 @@ TEST(CompareCli, ANonSquareComparisonWritesCsvPlotAndReport) {
   EXPECT_NE(report.find("| lbfgs | 5 |"), std::string::npos) << report;
   EXPECT_NE(report.find("compare.svg"), std::string::npos) << report;
 
-  // Resuming with a subset of the optimizers keeps the other rows in the CSV.
-  const CommandResult subset = run_fnopt("compare --res 12x16 --frames 4 --optimizers newton --iters 5 --threads 1 "
-                                         "--step-samples 2 --cd-samples 500 --resume --out " + dir.string());
+  // Resuming with other optimizers (newton resumed, gd new) keeps lbfgs's row in the CSV.
+  const CommandResult subset = run_fnopt("compare --res 12x16 --frames 4 --optimizers newton,gd --iters 5 --lr-gd 1 "
+                                         "--threads 1 --step-samples 2 --cd-samples 500 --resume --out " + dir.string());
   ASSERT_EQ(subset.status, 0) << subset.output;
   const std::string after = read_text(dir / "compare.csv");
-  EXPECT_EQ(std::count(after.begin(), after.end(), '\n'), 3) << after;
+  EXPECT_EQ(std::count(after.begin(), after.end(), '\n'), 4) << after;
+  EXPECT_NE(after.find("gd,5,"), std::string::npos) << after;
   EXPECT_NE(after.find("lbfgs,5,,,12x16,"), std::string::npos) << after;
   std::filesystem::remove_all(dir);
 }
