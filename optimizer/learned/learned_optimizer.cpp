@@ -82,7 +82,7 @@ std::optional<SolveStatus> LearnedOptimizer::iterate(StepProblem& problem, VecX&
   value = problem.value_gradient(a, gradient);
   const double alpha = params_.line_search ? rescale_update(problem, a, value, gradient) : 1.0;
   state_ = {g, alpha == 1.0 ? step.delta : step.delta * alpha,
-            alpha == 1.0 ? step.scale : (step.scale * alpha).clamp(1e-6, 10.0)};
+            alpha == 1.0 ? step.scale : (step.scale * alpha).clamp(kMinStepScale, kMaxStepScale)};
   if (params_.safeguard && !(value <= previous_value)) {
     a.swap(previous_a_);
     gradient.swap(previous_gradient_);

@@ -41,7 +41,7 @@ LearnedStep learned_step(FNO2d& model, const torch::Tensor& gradient, const Lear
                                   : torch::full({gradient.size(0), 1, 1, 1}, kInitialStepScale, gradient.options());
   const auto d = out.scale.view({-1, 1, 1, 1});
   LearnedStep step;
-  step.scale = (previous_scale.detach() * torch::exp(2.0 * torch::tanh(0.5 * d))).clamp(1e-6, 10.0);
+  step.scale = (previous_scale.detach() * torch::exp(2.0 * torch::tanh(0.5 * d))).clamp(kMinStepScale, kMaxStepScale);
   step.delta = torch::tanh(out.field) * step.scale * free_mask;
   return step;
 }
