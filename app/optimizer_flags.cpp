@@ -21,19 +21,19 @@ struct OptimizerEntry {
   std::function<std::unique_ptr<InnerOptimizer>(const OptimizerChoice&)> make;
 };
 
+// The learned optimizer on --model (default: the shipped model), with or without the step
+// length along its updates.
+std::unique_ptr<InnerOptimizer> make_learned(const OptimizerChoice& c, bool line_search) {
+  LearnedParams params;
+  params.line_search = line_search;
+  return std::make_unique<LearnedOptimizer>(c.model.empty() ? shipped_model_path() : c.model, params);
+}
+
 const std::vector<OptimizerEntry>& optimizer_table() {
   static const std::vector<OptimizerEntry> table = {
       {"newton", [](const OptimizerChoice&) { return std::make_unique<NewtonOptimizer>(); }},
-      {"fnopt",
-       [](const OptimizerChoice& c) {
-         return std::make_unique<LearnedOptimizer>(c.model.empty() ? shipped_model_path() : c.model);
-       }},
-      {"fnopt-ls",
-       [](const OptimizerChoice& c) {
-         LearnedParams params;
-         params.line_search = true;
-         return std::make_unique<LearnedOptimizer>(c.model.empty() ? shipped_model_path() : c.model, params);
-       }},
+      {"fnopt", [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false); }},
+      {"fnopt-ls", [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/true); }},
       {"gd",
        [](const OptimizerChoice& c) {
          GradientDescentParams params;
