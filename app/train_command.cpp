@@ -1,18 +1,24 @@
 // fnopt train: meta-train a learned optimizer (DESIGN.md §5) with progress, a CSV log,
-// checkpoints and --resume.
+// checkpoints, --resume and, optionally, a validation rollout on a larger grid that keeps the
+// best model (rollout_validation.hpp).
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
+#include <limits>
 #include <map>
+#include <memory>
 #include <sstream>
 
 #include "app/commands.hpp"
 #include "app/threads.hpp"
 #include "fno/fno_io.hpp"
 #include "optimizer/learned/meta_trainer.hpp"
+#include "optimizer/learned/rollout_validation.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
+#include "util/parse_text.hpp"
 #include "util/progress_bar.hpp"
 
 namespace fnopt::app {
@@ -27,67 +33,132 @@ struct TrainFlags {
   bool resume = false;
   int64_t width = 32, layers = 4, modes = 8, lifting = 64, projection = 32;
   bool combined = false;
+  ValidationOptions validation;
+  bool validate = false;  // --validate-res given
+  int validate_every = 500;
 };
 
 constexpr const char* kLogHeader =
     "step,seconds,loss,newton_loss,mean_ratio,gradient_norm,learning_rate,renewed,skipped";
 
-// Keeps the log's rows up to `step` (those the checkpoint had seen) and returns the seconds
-// already spent, so a resumed run's log reads as one run.
-double trim_log(const std::string& path, int step) {
+constexpr const char* kValidationHeader = "step,seconds,resolution,motion,frames,iterations,e3d_x1e2,max_strain,diverged";
+
+// Keeps a CSV log's rows up to `step` (those the checkpoint had seen), so a resumed run's log
+// reads as one run; returns the kept rows, split into fields.
+std::vector<std::vector<std::string>> trim_log(const std::string& path, const std::string& header, int step) {
   std::ifstream in(path);
   std::ostringstream kept;
-  kept << kLogHeader << '\n';
+  kept << header << '\n';
+  std::vector<std::vector<std::string>> rows;
   std::string line;
-  double seconds = 0.0;
   std::getline(in, line);
   while (std::getline(in, line)) {
-    std::istringstream fields(line);
-    std::string row_step, row_seconds;
-    std::getline(fields, row_step, ',');
-    std::getline(fields, row_seconds, ',');
-    if (row_step.empty() || std::stoi(row_step) > step) break;
-    seconds = std::stod(row_seconds);
+    std::vector<std::string> fields;
+    for (std::string_view field : split(line, ',')) fields.emplace_back(field);
+    if (fields.size() < 2 || fields[0].empty() || std::stoi(fields[0]) > step) break;
     kept << line << '\n';
+    rows.push_back(std::move(fields));
   }
   in.close();
   write_text_atomically(path, kept.str());
-  return seconds;
+  return rows;
+}
+
+// The validation log's identity of a validation scene; rows of another scene are not compared.
+std::vector<std::string> validation_key(const ValidationOptions& v) {
+  return {std::to_string(v.resolution), v.motion, std::to_string(v.frames), std::to_string(v.iterations)};
 }
 
 void run_train(TrainFlags& flags) {
   flags.options.model.width(flags.width).fourier_layers(flags.layers).modes_x(flags.modes).modes_y(flags.modes)
       .lifting_channels(flags.lifting).projection_channels(flags.projection)
       .in_channels(flags.combined ? 9 : 3).out_channels(flags.combined ? 3 : 1);
+  require(flags.validate_every > 0, "validate-every", "must be positive");
+  if (flags.validate) flags.validation.validate();
   const int threads = set_thread_count(flags.threads);
-  std::filesystem::create_directories(flags.out);
-  const std::string checkpoint = (std::filesystem::path(flags.out) / "checkpoint.pt").string();
-  const std::string model_path = (std::filesystem::path(flags.out) / "model.pt").string();
-  const std::string log_path = (std::filesystem::path(flags.out) / "train_log.csv").string();
+  const std::filesystem::path out(flags.out);
+  std::filesystem::create_directories(out);
+  const std::string checkpoint = (out / "checkpoint.pt").string();
+  const std::string model_path = (out / "model.pt").string();
+  const std::string log_path = (out / "train_log.csv").string();
+  const std::string validation_log_path = (out / "validation.csv").string();
+  const std::string best_model_path = (out / "model-best.pt").string();
 
   const bool resuming = flags.resume && std::filesystem::exists(checkpoint);
   MetaTrainer trainer(flags.options, resuming ? checkpoint : std::string());
   double seconds_before = 0.0;
+  double best_e3d = std::numeric_limits<double>::infinity();
+  int best_step = -1;
+  bool validated_start = false;  // the validation log has a row for the resumed step
   if (resuming) {
-    seconds_before = trim_log(log_path, trainer.completed_steps());
+    const auto rows = trim_log(log_path, kLogHeader, trainer.completed_steps());
+    if (!rows.empty()) seconds_before = std::stod(rows.back()[1]);
+    // The best so far is the best earlier row of the same validation scene.
+    const auto validation_rows = std::filesystem::exists(validation_log_path)
+                                     ? trim_log(validation_log_path, kValidationHeader, trainer.completed_steps())
+                                     : std::vector<std::vector<std::string>>{};
+    for (const auto& row : validation_rows) {
+      if (row.size() != 9 || std::vector<std::string>(row.begin() + 2, row.begin() + 6) != validation_key(flags.validation))
+        continue;
+      validated_start = validated_start || std::stoi(row[0]) == trainer.completed_steps();
+      if (std::stod(row[6]) < best_e3d) {
+        best_e3d = std::stod(row[6]);
+        best_step = std::stoi(row[0]);
+      }
+    }
+    if (flags.validate && !std::filesystem::exists(validation_log_path))
+      std::ofstream(validation_log_path) << kValidationHeader << '\n';
     std::fprintf(stderr, "fnopt train: resumed %s at step %d\n", checkpoint.c_str(), trainer.completed_steps());
   } else {
     require(!std::filesystem::exists(checkpoint) || flags.resume, "out",
             checkpoint + " exists: pass --resume to continue it, or choose another --out");
     std::ofstream(log_path) << kLogHeader << '\n';
+    if (flags.validate) std::ofstream(validation_log_path) << kValidationHeader << '\n';
   }
   std::fprintf(stderr, "fnopt train: %s, %d thread%s, writing %s\n", flags.options.signature().c_str(), threads,
                threads == 1 ? "" : "s", flags.out.c_str());
+
+  std::unique_ptr<RolloutValidation> validation;
+  if (flags.validate) {
+    const ValidationOptions& v = flags.validation;
+    const std::string reference = (out / ("validation_reference_" + std::to_string(v.resolution) + "_" + v.motion +
+                                          "_" + std::to_string(v.frames) + ".h5")).string();
+    std::fprintf(stderr, "fnopt train: validation every %d steps: fnopt-ls N=%d, %d frames of %s at %dx%d against Newton (%s)\n",
+                 flags.validate_every, v.iterations, v.frames, v.motion.c_str(), v.resolution, v.resolution,
+                 std::filesystem::exists(reference) ? "cached reference" : "solving the reference now");
+    ProgressBar reference_bar("validation reference", v.frames, 0);
+    validation = std::make_unique<RolloutValidation>(
+        v, reference, [&](int done, int, const StepRecord&) { reference_bar.update(done, ""); });
+    if (!validation->reference_was_cached()) reference_bar.finish();
+    if (best_step >= 0) std::fprintf(stderr, "fnopt train: best so far: step %d, e_3D %.4g\n", best_step, best_e3d);
+  }
 
   std::ofstream log(log_path, std::ios::app);
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   ProgressBar bar("train", flags.options.steps, trainer.completed_steps());
   double running_loss = NAN, running_ratio = NAN;
+  // Validates the current model; keeps it as model-best.pt if it is the closest to Newton so far.
+  auto validate = [&](int step) {
+    const ValidationScore score = validation->score(trainer.model());
+    std::ofstream row(validation_log_path, std::ios::app);
+    row << step << ',' << seconds_before + elapsed() << ',';
+    for (const std::string& field : validation_key(flags.validation)) row << field << ',';
+    // e_3D at round-trip precision: a resumed run compares later scores with this text.
+    row << std::setprecision(17) << score.e3d << std::setprecision(6) << ',' << score.max_strain << ',' << (score.diverged ? "yes" : "no") << '\n';
+    if (score.e3d < best_e3d) {
+      best_e3d = score.e3d;
+      best_step = step;
+      save_fno(best_model_path, trainer.model());
+    }
+  };
   auto save = [&] {
     trainer.save_checkpoint(checkpoint);
     save_fno(model_path, trainer.model());
   };
+  // A resumed run that was not validated at its start (validation newly turned on, say)
+  // validates the model it starts from first: model-best.pt is never worse than it.
+  if (validation && resuming && !validated_start) validate(trainer.completed_steps());
   while (trainer.completed_steps() < flags.options.steps) {
     const TrainStepStats s = trainer.step();
     const int step = trainer.completed_steps();
@@ -96,10 +167,16 @@ void run_train(TrainFlags& flags) {
       running_ratio = std::isfinite(running_ratio) ? 0.98 * running_ratio + 0.02 * s.mean_ratio : s.mean_ratio;
     log << step << ',' << seconds_before + elapsed() << ',' << s.loss << ',' << s.newton_loss << ',' << s.mean_ratio << ',' << s.gradient_norm
         << ',' << s.learning_rate << ',' << s.renewed << ',' << s.skipped << '\n';
-    char status[96];
-    std::snprintf(status, sizeof status, "loss %.4f ratio %.4f lr %.1e", running_loss, running_ratio, s.learning_rate);
+    char status[128];
+    const int written = std::snprintf(status, sizeof status, "loss %.4f ratio %.4f lr %.1e", running_loss,
+                                      running_ratio, s.learning_rate);
+    if (best_step >= 0)
+      std::snprintf(status + written, sizeof status - written, " best e_3D %.3g @%d", best_e3d, best_step);
     bar.update(step, status);
     const bool out_of_time = flags.minutes > 0 && elapsed() > 60.0 * flags.minutes;
+    // Validation comes before the checkpoint of the same step: a run killed in between
+    // repeats both (the steps are reproducible), never loses a validation of a saved step.
+    if (validation && (step % flags.validate_every == 0 || step == flags.options.steps)) validate(step);
     if (step % flags.checkpoint_every == 0 || step == flags.options.steps || out_of_time) {
       log.flush();
       save();
@@ -114,6 +191,10 @@ void run_train(TrainFlags& flags) {
   bar.finish();
   std::printf("trained %d steps in %s; model %s, log %s\n", trainer.completed_steps(),
               format_duration(seconds_before + elapsed()).c_str(), model_path.c_str(), log_path.c_str());
+  if (best_step >= 0)
+    std::printf("best validation: step %d, e_3D x 10^2 %.4g at %dx%d (%s); model %s, log %s\n", best_step, best_e3d,
+                flags.validation.resolution, flags.validation.resolution, flags.validation.motion.c_str(),
+                best_model_path.c_str(), validation_log_path.c_str());
 }
 
 const RegisterCommand kRegister([](CLI::App& app) {
@@ -149,6 +230,18 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--minutes", flags->minutes, "stop (with a checkpoint) after this many minutes");
   command->add_option("--threads", flags->threads, "threads (default: all cores)");
   command->add_flag("--resume", flags->resume, "continue from OUT/checkpoint.pt");
+  command->add_option("--validate-res", flags->validation.resolution,
+                      "validate on an N x N grid every --validate-every steps: fnopt-ls rollout of the benchmark scene "
+                      "(default material, corner handles) against its Newton reference (solved once, cached in OUT); "
+                      "the closest model so far (e_3D) is kept as OUT/model-best.pt, each score in OUT/validation.csv")
+      ->each([flags](const std::string&) { flags->validate = true; });
+  command->add_option("--validate-every", flags->validate_every, "steps between validations")->capture_default_str();
+  command->add_option("--validate-frames", flags->validation.frames, "time steps of the validation rollout")
+      ->capture_default_str();
+  command->add_option("--validate-motion", flags->validation.motion, "motion of the validation scene")
+      ->capture_default_str();
+  command->add_option("--validate-iters", flags->validation.iterations, "fnopt-ls iterations per validation step")
+      ->capture_default_str();
   command->callback([flags] { run_train(*flags); });
 });
 

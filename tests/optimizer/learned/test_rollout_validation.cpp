@@ -1,0 +1,100 @@
+// Validation rollouts: the Newton reference is solved once and reused only for its own scene,
+// scores are deterministic and leave the model alone, and a trained model scores better than
+// an untrained one.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "fno/fno_io.hpp"
+#include "optimizer/learned/rollout_validation.hpp"
+#include "util/error.hpp"
+
+namespace fnopt {
+namespace {
+
+ValidationOptions small_validation() {
+  ValidationOptions v;
+  v.resolution = 12;
+  v.frames = 20;
+  return v;
+}
+
+FNO2d tiny_model() {
+  torch::manual_seed(3);
+  return FNO2d(FNO2dOptions().width(4).fourier_layers(2).modes_x(4).modes_y(4).lifting_channels(8).projection_channels(4));
+}
+
+std::filesystem::path fresh_dir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("fnopt_validation_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+TEST(RolloutValidation, SolvesTheReferenceOnceAndOnlyReusesItForItsOwnScene) {
+  const auto dir = fresh_dir("cache");
+  const std::string cache = (dir / "reference.h5").string();
+  int steps_solved = 0;
+  auto count = [&](int, int, const StepRecord&) { ++steps_solved; };
+  RolloutValidation first(small_validation(), cache, count);
+  EXPECT_FALSE(first.reference_was_cached());
+  EXPECT_EQ(steps_solved, 20);
+  RolloutValidation again(small_validation(), cache, count);
+  EXPECT_TRUE(again.reference_was_cached());
+  EXPECT_EQ(steps_solved, 20);
+  // Same file name, another scene: solved anew, not compared against the wrong frames.
+  ValidationOptions other = small_validation();
+  other.motion = "rot_h0";
+  RolloutValidation changed(other, cache, count);
+  EXPECT_FALSE(changed.reference_was_cached());
+  EXPECT_EQ(steps_solved, 40);
+}
+
+TEST(RolloutValidation, ScoreIsDeterministicAndLeavesTheModelAlone) {
+  const auto dir = fresh_dir("score");
+  RolloutValidation validation(small_validation(), (dir / "reference.h5").string());
+  FNO2d model = tiny_model();
+  std::vector<torch::Tensor> before;
+  for (const auto& p : model->parameters()) before.push_back(p.detach().clone());
+  const bool training = model->is_training();
+  const ValidationScore a = validation.score(model);
+  const ValidationScore b = validation.score(model);
+  ASSERT_FALSE(a.diverged) << a.divergence;
+  EXPECT_TRUE(std::isfinite(a.e3d));
+  EXPECT_GT(a.e3d, 0.0);
+  EXPECT_EQ(a.e3d, b.e3d);
+  EXPECT_EQ(model->is_training(), training);
+  const auto after = model->parameters();
+  for (std::size_t i = 0; i < before.size(); ++i) EXPECT_TRUE(torch::equal(before[i], after[i])) << "parameter " << i;
+}
+
+TEST(RolloutValidation, TheShippedModelScoresCloserThanAnUntrainedOne) {
+  const auto dir = fresh_dir("shipped");
+  RolloutValidation validation(small_validation(), (dir / "reference.h5").string());
+  const ValidationScore shipped = validation.score(load_fno(std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt"));
+  FNO2d untrained(load_fno_options(std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt"));
+  const ValidationScore fresh = validation.score(untrained);
+  ASSERT_FALSE(shipped.diverged) << shipped.divergence;
+  EXPECT_LT(shipped.e3d, 0.5 * fresh.e3d) << "shipped " << shipped.e3d << ", untrained " << fresh.e3d;
+}
+
+TEST(RolloutValidation, RejectsBadOptionsNamingTheField) {
+  ValidationOptions v = small_validation();
+  v.motion = "sideways";
+  try {
+    v.validate();
+    FAIL() << "an unknown motion was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("validate.motion: unknown motion 'sideways'", 0), 0u) << e.what();
+  }
+  v = small_validation();
+  v.frames = 0;
+  EXPECT_THROW(v.validate(), Error);
+  v = small_validation();
+  v.resolution = 2;
+  EXPECT_THROW(v.validate(), Error);
+}
+
+}  // namespace
+}  // namespace fnopt
