@@ -69,6 +69,25 @@ std::vector<std::string> validation_key(const ValidationOptions& v) {
   return {std::to_string(v.resolution), v.motion, std::to_string(v.frames), std::to_string(v.iterations)};
 }
 
+struct BestValidation {
+  double e3d = std::numeric_limits<double>::infinity();
+  int step = -1;  // -1: none yet
+};
+
+// The best of the validation log's rows of this validation scene, and whether one of them
+// scored `step`.
+BestValidation best_of(const std::vector<std::vector<std::string>>& rows, const ValidationOptions& v, int step,
+                       bool& has_step) {
+  BestValidation best;
+  has_step = false;
+  for (const auto& row : rows) {
+    if (row.size() != 9 || std::vector<std::string>(row.begin() + 2, row.begin() + 6) != validation_key(v)) continue;
+    has_step = has_step || std::stoi(row[0]) == step;
+    if (std::stod(row[6]) < best.e3d) best = {std::stod(row[6]), std::stoi(row[0])};
+  }
+  return best;
+}
+
 void run_train(TrainFlags& flags) {
   flags.options.model.width(flags.width).fourier_layers(flags.layers).modes_x(flags.modes).modes_y(flags.modes)
       .lifting_channels(flags.lifting).projection_channels(flags.projection)
@@ -87,25 +106,14 @@ void run_train(TrainFlags& flags) {
   const bool resuming = flags.resume && std::filesystem::exists(checkpoint);
   MetaTrainer trainer(flags.options, resuming ? checkpoint : std::string());
   double seconds_before = 0.0;
-  double best_e3d = std::numeric_limits<double>::infinity();
-  int best_step = -1;
+  BestValidation best;
   bool validated_start = false;  // the validation log has a row for the resumed step
   if (resuming) {
     const auto rows = trim_log(log_path, kLogHeader, trainer.completed_steps());
     if (!rows.empty()) seconds_before = std::stod(rows.back()[1]);
-    // The best so far is the best earlier row of the same validation scene.
-    const auto validation_rows = std::filesystem::exists(validation_log_path)
-                                     ? trim_log(validation_log_path, kValidationHeader, trainer.completed_steps())
-                                     : std::vector<std::vector<std::string>>{};
-    for (const auto& row : validation_rows) {
-      if (row.size() != 9 || std::vector<std::string>(row.begin() + 2, row.begin() + 6) != validation_key(flags.validation))
-        continue;
-      validated_start = validated_start || std::stoi(row[0]) == trainer.completed_steps();
-      if (std::stod(row[6]) < best_e3d) {
-        best_e3d = std::stod(row[6]);
-        best_step = std::stoi(row[0]);
-      }
-    }
+    if (std::filesystem::exists(validation_log_path))
+      best = best_of(trim_log(validation_log_path, kValidationHeader, trainer.completed_steps()), flags.validation,
+                     trainer.completed_steps(), validated_start);
     if (flags.validate && !std::filesystem::exists(validation_log_path))
       std::ofstream(validation_log_path) << kValidationHeader << '\n';
     std::fprintf(stderr, "fnopt train: resumed %s at step %d\n", checkpoint.c_str(), trainer.completed_steps());
@@ -123,14 +131,15 @@ void run_train(TrainFlags& flags) {
     const ValidationOptions& v = flags.validation;
     const std::string reference = (out / ("validation_reference_" + std::to_string(v.resolution) + "_" + v.motion +
                                           "_" + std::to_string(v.frames) + ".h5")).string();
-    std::fprintf(stderr, "fnopt train: validation every %d steps: fnopt-ls N=%d, %d frames of %s at %dx%d against Newton (%s)\n",
-                 flags.validate_every, v.iterations, v.frames, v.motion.c_str(), v.resolution, v.resolution,
-                 std::filesystem::exists(reference) ? "cached reference" : "solving the reference now");
+    std::fprintf(stderr, "fnopt train: validation every %d steps: fnopt-ls N=%d, %d frames of %s at %dx%d against Newton\n",
+                 flags.validate_every, v.iterations, v.frames, v.motion.c_str(), v.resolution, v.resolution);
     ProgressBar reference_bar("validation reference", v.frames, 0);
     validation = std::make_unique<RolloutValidation>(
         v, reference, [&](int done, int, const StepRecord&) { reference_bar.update(done, ""); });
     if (!validation->reference_was_cached()) reference_bar.finish();
-    if (best_step >= 0) std::fprintf(stderr, "fnopt train: best so far: step %d, e_3D %.4g\n", best_step, best_e3d);
+    std::fprintf(stderr, "fnopt train: validation reference %s %s\n",
+                 validation->reference_was_cached() ? "cached in" : "solved, written to", reference.c_str());
+    if (best.step >= 0) std::fprintf(stderr, "fnopt train: best so far: step %d, e_3D %.4g\n", best.step, best.e3d);
   }
 
   std::ofstream log(log_path, std::ios::app);
@@ -146,9 +155,8 @@ void run_train(TrainFlags& flags) {
     for (const std::string& field : validation_key(flags.validation)) row << field << ',';
     // e_3D at round-trip precision: a resumed run compares later scores with this text.
     row << std::setprecision(17) << score.e3d << std::setprecision(6) << ',' << score.max_strain << ',' << (score.diverged ? "yes" : "no") << '\n';
-    if (score.e3d < best_e3d) {
-      best_e3d = score.e3d;
-      best_step = step;
+    if (score.e3d < best.e3d) {
+      best = {score.e3d, step};
       save_fno(best_model_path, trainer.model());
     }
   };
@@ -170,8 +178,8 @@ void run_train(TrainFlags& flags) {
     char status[128];
     const int written = std::snprintf(status, sizeof status, "loss %.4f ratio %.4f lr %.1e", running_loss,
                                       running_ratio, s.learning_rate);
-    if (best_step >= 0)
-      std::snprintf(status + written, sizeof status - written, " best e_3D %.3g @%d", best_e3d, best_step);
+    if (best.step >= 0)
+      std::snprintf(status + written, sizeof status - written, " best e_3D %.3g @%d", best.e3d, best.step);
     bar.update(step, status);
     const bool out_of_time = flags.minutes > 0 && elapsed() > 60.0 * flags.minutes;
     // Validation comes before the checkpoint of the same step: a run killed in between
@@ -191,8 +199,8 @@ void run_train(TrainFlags& flags) {
   bar.finish();
   std::printf("trained %d steps in %s; model %s, log %s\n", trainer.completed_steps(),
               format_duration(seconds_before + elapsed()).c_str(), model_path.c_str(), log_path.c_str());
-  if (best_step >= 0)
-    std::printf("best validation: step %d, e_3D x 10^2 %.4g at %dx%d (%s); model %s, log %s\n", best_step, best_e3d,
+  if (best.step >= 0)
+    std::printf("best validation: step %d, e_3D x 10^2 %.4g at %dx%d (%s); model %s, log %s\n", best.step, best.e3d,
                 flags.validation.resolution, flags.validation.resolution, flags.validation.motion.c_str(),
                 best_model_path.c_str(), validation_log_path.c_str());
 }

@@ -52,7 +52,7 @@ TEST(TrainCli, AResumedRunValidatesAsTheStraightRun) {
   ASSERT_EQ(run_fnopt("train --out " + resumed.string() + " --steps 20" + kTinyRun).status, 0);
   const CommandResult r = run_fnopt("train --out " + resumed.string() + " --steps 30 --resume" + kTinyRun);
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("cached reference"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("validation reference cached in"), std::string::npos) << r.output;
   EXPECT_EQ(validation_rows(resumed), validation_rows(straight));
   const auto best_line = [](const std::string& output) { return output.substr(output.find("best validation: step ")); };
   const CommandResult s = run_fnopt("train --out " + straight.string() + " --steps 30 --resume" + kTinyRun);
