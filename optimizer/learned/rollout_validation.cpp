@@ -1,5 +1,6 @@
 #include "optimizer/learned/rollout_validation.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -17,8 +18,9 @@ void ValidationOptions::validate() const {
   require(resolution >= 3, "validate.resolution", "must be at least 3");
   require(frames > 0, "validate.frames", "must be positive");
   require(iterations > 0, "validate.iterations", "must be positive");
+  require(!motions.empty(), "validate.motions", "must name at least one motion");
   try {
-    scene_checks::motion_name(motion);
+    for (const std::string& motion : motions) scene_checks::motion_name(motion);
   } catch (const Error& e) {
     throw Error(std::string("validate.") + e.what());
   }
@@ -48,46 +50,73 @@ FNO2d snapshot(const FNO2d& model) {
 
 }  // namespace
 
-RolloutValidation::RolloutValidation(const ValidationOptions& options, const std::string& reference_cache,
+std::string RolloutValidation::reference_file(const ValidationOptions& options, const std::string& motion) {
+  return "validation_reference_" + std::to_string(options.resolution) + "_" + motion + "_" +
+         std::to_string(options.frames) + ".h5";
+}
+
+RolloutValidation::RolloutValidation(const ValidationOptions& options, const std::string& reference_directory,
                                      const StepCallback& on_reference_step)
     : options_(options) {
   options_.validate();
-  scene_.rows = scene_.cols = options_.resolution;
-  scene_.motion = options_.motion;
-  scene_.frames = options_.frames;
-  scene_.validate();
-
-  reference_was_cached_ = holds_scene(reference_cache, scene_);
-  if (!reference_was_cached_) {
-    NewtonOptimizer newton;
-    RolloutOptions rollout_options;
-    rollout_options.solve = NewtonOptimizer::reference_solve_options();
-    const RolloutResult reference = run_rollout(scene_, newton, rollout_options, on_reference_step);
-    require(!reference.diverged, "validate", "the Newton reference diverged: " + reference.divergence);
-    write_rollout_file(reference_cache, reference, to_scene_text(scene_), newton.settings());
+  std::vector<std::string> paths;
+  std::vector<bool> cached;
+  for (const std::string& motion : options_.motions) {
+    Scene scene;
+    scene.rows = scene.cols = options_.resolution;
+    scene.motion = motion;
+    scene.frames = options_.frames;
+    scene.validate();
+    scenes_.push_back(scene);
+    paths.push_back((std::filesystem::path(reference_directory) / reference_file(options_, motion)).string());
+    cached.push_back(holds_scene(paths.back(), scene));
   }
-  reference_ = read_trajectory_frames(reference_cache);
+  const int to_solve = static_cast<int>(std::count(cached.begin(), cached.end(), false));
+  for (std::size_t i = 0; i < scenes_.size(); ++i) {
+    if (!cached[i]) {
+      const int done_before = references_solved_ * options_.frames;
+      auto progress = [&](int done, int, const StepRecord& record) {
+        if (on_reference_step) on_reference_step(done_before + done, to_solve * options_.frames, record);
+      };
+      NewtonOptimizer newton;
+      RolloutOptions rollout_options;
+      rollout_options.solve = NewtonOptimizer::reference_solve_options();
+      const RolloutResult reference = run_rollout(scenes_[i], newton, rollout_options, progress);
+      require(!reference.diverged, "validate",
+              "the Newton reference of " + scenes_[i].motion + " diverged: " + reference.divergence);
+      write_rollout_file(paths[i], reference, to_scene_text(scenes_[i]), newton.settings());
+      ++references_solved_;
+    }
+    references_.push_back(read_trajectory_frames(paths[i]));
+  }
 }
 
 ValidationScore RolloutValidation::score(const FNO2d& model) const {
   LearnedParams params;
   params.line_search = true;
-  LearnedOptimizer optimizer(snapshot(model), "training snapshot", params);
   RolloutOptions rollout_options;
   rollout_options.solve.max_iterations = options_.iterations;
+  TrajectoryComparisonOptions comparison;
+  comparison.chamfer_enabled = false;
 
   const auto start = std::chrono::steady_clock::now();
-  const RolloutResult rollout = run_rollout(scene_, optimizer, rollout_options);
+  const FNO2d weights = snapshot(model);
   ValidationScore s;
-  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  s.max_strain = rollout.max_strain();
-  s.diverged = rollout.diverged;
-  s.divergence = rollout.divergence;
-  if (!s.diverged) {
-    TrajectoryComparisonOptions comparison;
-    comparison.chamfer_enabled = false;
-    s.e3d = 1e2 * compare_trajectories(reference_, frames_of(rollout), -1.0, comparison).e3d;
+  double e3d_sum = 0.0;
+  for (std::size_t i = 0; i < scenes_.size(); ++i) {
+    // One optimizer per rollout: its step scale carries across steps, not across scenes.
+    LearnedOptimizer optimizer(weights, "training snapshot", params);
+    const RolloutResult rollout = run_rollout(scenes_[i], optimizer, rollout_options);
+    s.max_strain = std::max(s.max_strain, rollout.max_strain());
+    if (rollout.diverged) {
+      s.diverged = true;
+      s.divergence += (s.divergence.empty() ? "" : "; ") + scenes_[i].motion + ": " + rollout.divergence;
+    } else {
+      e3d_sum += compare_trajectories(references_[i], frames_of(rollout), -1.0, comparison).e3d;
+    }
   }
+  if (!s.diverged) s.e3d = 1e2 * e3d_sum / static_cast<double>(scenes_.size());
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s;
 }
 

@@ -11,7 +11,7 @@ namespace {
 const std::string kTinyModel =
     " --res 8 --envs 4 --batch 2 --width 4 --layers 2 --modes 4 --lifting 8 --projection 4 --threads 1"
     " --checkpoint-every 10 --lr 0.05";
-const std::string kTinyRun = kTinyModel + " --validate-res 12 --validate-every 10 --validate-frames 12";
+const std::string kTinyRun = kTinyModel + " --validate-res 12 --validate-every 10 --validate-frames 12 --validate-motions xy_v2,rot_h0";
 
 std::filesystem::path fresh_dir(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / ("fnopt_train_cli_" + name);
@@ -33,17 +33,20 @@ std::vector<std::string> validation_rows(const std::filesystem::path& dir) {
 
 TEST(TrainCli, ValidatesEveryIntervalAndKeepsTheBestModel) {
   const auto dir = fresh_dir("validate");
-  const CommandResult r = run_fnopt("train --out " + dir.string() + " --steps 30" + kTinyRun);
+  const CommandResult r = run_fnopt("train --out " + dir.string() + " --steps 30 --keep-validated" + kTinyRun);
   ASSERT_EQ(r.status, 0) << r.output;
+  for (int step : {10, 20, 30})
+    EXPECT_TRUE(std::filesystem::exists(dir / "validated" / ("model-" + std::to_string(step) + ".pt"))) << step;
   const auto rows = validation_rows(dir);
   ASSERT_EQ(rows.size(), 4u) << read_text(dir / "validation.csv");
-  EXPECT_EQ(rows[0], "step,resolution,motion,frames,iterations,e3d_x1e2,max_strain,diverged");
-  EXPECT_EQ(rows[1].rfind("10,12,xy_v2,12,10,", 0), 0u) << rows[1];
+  EXPECT_EQ(rows[0], "step,resolution,motions,frames,iterations,e3d_x1e2,max_strain,diverged");
+  EXPECT_EQ(rows[1].rfind("10,12,xy_v2+rot_h0,12,10,", 0), 0u) << rows[1];
   EXPECT_EQ(rows[3].rfind("30,", 0), 0u) << rows[3];
   EXPECT_TRUE(std::filesystem::exists(dir / "model-best.pt"));
   EXPECT_NE(r.output.find("best validation: step "), std::string::npos) << r.output;
   // The reference is cached next to the log.
   EXPECT_TRUE(std::filesystem::exists(dir / "validation_reference_12_xy_v2_12.h5"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "validation_reference_12_rot_h0_12.h5"));
 }
 
 TEST(TrainCli, AResumedRunValidatesAsTheStraightRun) {
@@ -52,7 +55,7 @@ TEST(TrainCli, AResumedRunValidatesAsTheStraightRun) {
   ASSERT_EQ(run_fnopt("train --out " + resumed.string() + " --steps 20" + kTinyRun).status, 0);
   const CommandResult r = run_fnopt("train --out " + resumed.string() + " --steps 30 --resume" + kTinyRun);
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("validation reference cached in"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("validation references: 0 solved, 2 cached"), std::string::npos) << r.output;
   EXPECT_EQ(validation_rows(resumed), validation_rows(straight));
   const auto best_line = [](const std::string& output) { return output.substr(output.find("best validation: step ")); };
   const CommandResult s = run_fnopt("train --out " + straight.string() + " --steps 30 --resume" + kTinyRun);
@@ -62,7 +65,7 @@ TEST(TrainCli, AResumedRunValidatesAsTheStraightRun) {
 TEST(TrainCli, BadValidationFlagsAreOneLineErrors) {
   const auto dir = fresh_dir("bad");
   for (const std::string flags :
-       {" --validate-res 12 --validate-motion sideways", " --validate-res 12 --validate-frames 0",
+       {" --validate-res 12 --validate-motions xy_v2,sideways", " --validate-res 12 --validate-frames 0",
         " --validate-res 2", " --validate-res 12 --validate-every 0"}) {
     const CommandResult r = run_fnopt("train --out " + dir.string() + " --steps 5" + kTinyModel + flags);
     EXPECT_NE(r.status, 0) << flags;

@@ -17,6 +17,7 @@ ValidationOptions small_validation() {
   ValidationOptions v;
   v.resolution = 12;
   v.frames = 20;
+  v.motions = {"xy_v2"};
   return v;
 }
 
@@ -32,28 +33,39 @@ std::filesystem::path fresh_dir(const std::string& name) {
   return dir;
 }
 
-TEST(RolloutValidation, SolvesTheReferenceOnceAndOnlyReusesItForItsOwnScene) {
+TEST(RolloutValidation, SolvesEachReferenceOnceAndOnlyReusesItForItsOwnScene) {
   const auto dir = fresh_dir("cache");
-  const std::string cache = (dir / "reference.h5").string();
-  int steps_solved = 0;
-  auto count = [&](int, int, const StepRecord&) { ++steps_solved; };
-  RolloutValidation first(small_validation(), cache, count);
-  EXPECT_FALSE(first.reference_was_cached());
-  EXPECT_EQ(steps_solved, 20);
-  RolloutValidation again(small_validation(), cache, count);
-  EXPECT_TRUE(again.reference_was_cached());
-  EXPECT_EQ(steps_solved, 20);
-  // Same file name, another scene: solved anew, not compared against the wrong frames.
-  ValidationOptions other = small_validation();
-  other.motion = "rot_h0";
-  RolloutValidation changed(other, cache, count);
-  EXPECT_FALSE(changed.reference_was_cached());
-  EXPECT_EQ(steps_solved, 40);
+  int steps_reported = 0, last_total = 0;
+  auto count = [&](int done, int total, const StepRecord&) {
+    ++steps_reported;
+    EXPECT_EQ(done, steps_reported);
+    last_total = total;
+  };
+  ValidationOptions two = small_validation();
+  two.motions = {"xy_v2", "rot_h0"};
+  RolloutValidation first(two, dir.string(), count);
+  EXPECT_EQ(first.references_solved(), 2);
+  EXPECT_EQ(steps_reported, 40);
+  EXPECT_EQ(last_total, 40);
+  ASSERT_EQ(first.scenes().size(), 2u);
+  EXPECT_EQ(first.scenes()[1].motion, "rot_h0");
+  steps_reported = 0;
+  RolloutValidation again(two, dir.string(), count);
+  EXPECT_EQ(again.references_solved(), 0);
+  EXPECT_EQ(steps_reported, 0);
+  // A file of the same name holding another scene (here: a Newton rollout of another motion
+  // copied over it) is solved anew, not compared against the wrong frames.
+  std::filesystem::copy_file(dir / RolloutValidation::reference_file(two, "rot_h0"),
+                             dir / RolloutValidation::reference_file(two, "xy_v2"),
+                             std::filesystem::copy_options::overwrite_existing);
+  RolloutValidation changed(two, dir.string(), count);
+  EXPECT_EQ(changed.references_solved(), 1);
+  EXPECT_EQ(steps_reported, 20);
 }
 
 TEST(RolloutValidation, ScoreIsDeterministicAndLeavesTheModelAlone) {
   const auto dir = fresh_dir("score");
-  RolloutValidation validation(small_validation(), (dir / "reference.h5").string());
+  RolloutValidation validation(small_validation(), dir.string());
   FNO2d model = tiny_model();
   std::vector<torch::Tensor> before;
   for (const auto& p : model->parameters()) before.push_back(p.detach().clone());
@@ -71,7 +83,7 @@ TEST(RolloutValidation, ScoreIsDeterministicAndLeavesTheModelAlone) {
 
 TEST(RolloutValidation, TheShippedModelScoresCloserThanAnUntrainedOne) {
   const auto dir = fresh_dir("shipped");
-  RolloutValidation validation(small_validation(), (dir / "reference.h5").string());
+  RolloutValidation validation(small_validation(), dir.string());
   const ValidationScore shipped = validation.score(load_fno(std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt"));
   FNO2d untrained(load_fno_options(std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt"));
   const ValidationScore fresh = validation.score(untrained);
@@ -81,13 +93,16 @@ TEST(RolloutValidation, TheShippedModelScoresCloserThanAnUntrainedOne) {
 
 TEST(RolloutValidation, RejectsBadOptionsNamingTheField) {
   ValidationOptions v = small_validation();
-  v.motion = "sideways";
+  v.motions = {"xy_v2", "sideways"};
   try {
     v.validate();
     FAIL() << "an unknown motion was accepted";
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()).rfind("validate.motion: unknown motion 'sideways'", 0), 0u) << e.what();
   }
+  v = small_validation();
+  v.motions.clear();
+  EXPECT_THROW(v.validate(), Error);
   v = small_validation();
   v.frames = 0;
   EXPECT_THROW(v.validate(), Error);
