@@ -1,7 +1,11 @@
 // fnopt: the command line. Each subcommand lives in its own source (app/*_command.cpp) and
 // registers itself here; an Error from anywhere becomes one line on stderr and exit code 2.
+// So does any other exception (a filesystem error for an --out that is a file, say): its first
+// line only, since some libraries append a backtrace.
 #include <CLI/CLI.hpp>
+#include <exception>
 #include <iostream>
+#include <string>
 
 #include "app/commands.hpp"
 #include "util/error.hpp"
@@ -17,6 +21,10 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const fnopt::Error& e) {
     std::cerr << "fnopt: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    std::cerr << "fnopt: error: " << what.substr(0, what.find('\n')) << "\n";
     return 2;
   }
   return 0;

@@ -247,22 +247,28 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--minutes", flags->minutes, "stop (with a checkpoint) after this many minutes");
   command->add_option("--threads", flags->threads, "threads (default: all cores)");
   command->add_flag("--resume", flags->resume, "continue from OUT/checkpoint.pt");
-  command->add_option("--validate-res", flags->validation.resolution,
+  CLI::Option* validate_res = command->add_option("--validate-res", flags->validation.resolution,
                       "validate on an N x N grid every --validate-every steps: fnopt-ls rollouts of the benchmark scene "
                       "(default material, corner handles) against their Newton references (solved once, cached in OUT); "
                       "the closest model so far (e_3D) is kept as OUT/model-best.pt, each score in OUT/validation.csv")
       ->each([flags](const std::string&) { flags->validate = true; });
-  command->add_option("--validate-every", flags->validate_every, "steps between validations")->capture_default_str();
+  command->add_option("--validate-every", flags->validate_every, "steps between validations")
+      ->capture_default_str()
+      ->needs(validate_res);
   command->add_option("--validate-frames", flags->validation.frames, "time steps of the validation rollout")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(validate_res);
   command->add_option("--validate-motions", flags->validation.motions,
                       "motions of the validation scenes, comma-separated (default xyz_v3,rot_h0: not xy_v2, the test "
                       "scene of the README's 64^2 and 100^2 tables); the score is their mean e_3D")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->needs(validate_res);
   command->add_flag("--keep-validated", flags->keep_validated,
-                    "also keep every validated model as OUT/validated/model-STEP.pt (to compare them later)");
+                    "also keep every validated model as OUT/validated/model-STEP.pt (to compare them later)")
+      ->needs(validate_res);
   command->add_option("--validate-iters", flags->validation.iterations, "fnopt-ls iterations per validation step")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(validate_res);
   command->callback([flags] { run_train(*flags); });
 });
 

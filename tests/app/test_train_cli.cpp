@@ -75,4 +75,19 @@ TEST(TrainCli, BadValidationFlagsAreOneLineErrors) {
   }
 }
 
+TEST(TrainCli, AnOutThatIsAFileIsAOneLineError) {
+  const auto file = fresh_dir("file");
+  std::ofstream(file) << "not a folder\n";
+  const CommandResult r = run_fnopt("train --out " + file.string() + " --steps 2" + kTinyModel);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << r.output;
+  EXPECT_NE(r.output.find(file.string()), std::string::npos) << r.output;
+}
+
+TEST(TrainCli, ValidationFlagsWithoutValidateResAreRejected) {
+  const CommandResult r = run_fnopt("train --out " + fresh_dir("needs").string() + " --steps 2 --validate-motions rot_h0");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("--validate-motions requires --validate-res"), std::string::npos) << r.output;
+}
+
 }  // namespace
