@@ -1,7 +1,6 @@
 #include "optimizer/learned/rollout_validation.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <exception>
 #include <filesystem>
@@ -99,7 +98,6 @@ ValidationScore RolloutValidation::score(const FNO2d& model) const {
   TrajectoryComparisonOptions comparison;
   comparison.chamfer_enabled = false;
 
-  const auto start = std::chrono::steady_clock::now();
   const FNO2d weights = snapshot(model);
   ValidationScore s;
   double e3d_sum = 0.0;
@@ -116,7 +114,6 @@ ValidationScore RolloutValidation::score(const FNO2d& model) const {
     }
   }
   if (!s.diverged) s.e3d = 1e2 * e3d_sum / static_cast<double>(scenes_.size());
-  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s;
 }
 

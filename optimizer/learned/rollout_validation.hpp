@@ -35,7 +35,6 @@ struct ValidationScore {
   double max_strain = 0.0;  // over all the rollouts
   bool diverged = false;
   std::string divergence;   // "<motion>: why and when", empty if none diverged
-  double seconds = 0.0;     // wall time of the rollouts
 };
 
 class RolloutValidation {
