@@ -12,8 +12,6 @@ template <>
 struct Fftw<float> {
   using Complex = fftwf_complex;
   using Plan = fftwf_plan;
-  // Production precision: FFTW_MEASURE finds faster plans (50–500 ms once per shape).
-  static constexpr unsigned planner_flags = FFTW_MEASURE;
   static void* malloc(size_t bytes) { return fftwf_malloc(bytes); }
   static void free(void* p) { fftwf_free(p); }
   static int alignment_of(float* p) { return fftwf_alignment_of(p); }
@@ -40,8 +38,6 @@ template <>
 struct Fftw<double> {
   using Complex = fftw_complex;
   using Plan = fftw_plan;
-  // Double exists for the tests: FFTW_ESTIMATE plans instantly.
-  static constexpr unsigned planner_flags = FFTW_ESTIMATE;
   static void* malloc(size_t bytes) { return fftw_malloc(bytes); }
   static void free(void* p) { fftw_free(p); }
   static int alignment_of(double* p) { return fftw_alignment_of(p); }

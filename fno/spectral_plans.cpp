@@ -34,15 +34,20 @@ template <typename Real>
 std::unique_ptr<OwnedPlans<Real>> create_plans(int rows, int cols, int kept_cols) {
   using F = Fftw<Real>;
   const int half = cols / 2 + 1;
-  // FFTW_MEASURE overwrites its arrays while planning: plan on scratch arrays of the right
-  // size and alignment, execute later on the caller's arrays.
+  // Plans are made on scratch arrays of the right size and alignment and executed later on
+  // the caller's arrays (FFTW's new-array execute functions).
   Real* field = static_cast<Real*>(F::malloc(sizeof(Real) * rows * cols));
   auto* spectrum = static_cast<typename F::Complex*>(
       F::malloc(sizeof(typename F::Complex) * rows * half));
   auto owned = std::make_unique<OwnedPlans<Real>>();
   SpectralPlans<Real>& p = owned->plans;
   if (field && spectrum) {
-    const unsigned flags = F::planner_flags;
+    // FFTW_ESTIMATE, not FFTW_MEASURE: MEASURE picks plans by timing them, so two runs of the
+    // same rollout could use different plans, round differently in float32 and, over hundreds
+    // of frames of swinging cloth, end apart (two 150-frame fnopt-ls runs at 64^2: e_3D
+    // 0.9e-2; a learned 64^2 table row moved by up to 50 %). fnopt simulate at 100^2, 1 thread:
+    // 314-322 ms/step with either flag; the FFT is a small part of an FNO pass.
+    const unsigned flags = FFTW_ESTIMATE;
     p.rows_forward = F::plan_rows_r2c(cols, rows, field, spectrum, flags);
     p.cols_forward = F::plan_columns(rows, kept_cols, half, spectrum, FFTW_FORWARD, flags);
     p.cols_backward = F::plan_columns(rows, kept_cols, half, spectrum, FFTW_BACKWARD, flags);
