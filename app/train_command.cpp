@@ -118,15 +118,15 @@ void run_train(TrainFlags& flags) {
     if (std::filesystem::exists(validation_log_path))
       best = best_of(trim_log(validation_log_path, kValidationHeader, trainer.completed_steps()), flags.validation,
                      trainer.completed_steps(), validated_start);
-    if (flags.validate && !std::filesystem::exists(validation_log_path))
-      std::ofstream(validation_log_path) << kValidationHeader << '\n';
     std::fprintf(stderr, "fnopt train: resumed %s at step %d\n", checkpoint.c_str(), trainer.completed_steps());
   } else {
     require(!std::filesystem::exists(checkpoint) || flags.resume, "out",
             checkpoint + " exists: pass --resume to continue it, or choose another --out");
     std::ofstream(log_path) << kLogHeader << '\n';
-    if (flags.validate) std::ofstream(validation_log_path) << kValidationHeader << '\n';
   }
+  // A fresh run starts the validation log afresh; a resumed one keeps it if there is one.
+  if (flags.validate && (!resuming || !std::filesystem::exists(validation_log_path)))
+    std::ofstream(validation_log_path) << kValidationHeader << '\n';
   std::fprintf(stderr, "fnopt train: %s, %d thread%s, writing %s\n", flags.options.signature().c_str(), threads,
                threads == 1 ? "" : "s", flags.out.c_str());
 

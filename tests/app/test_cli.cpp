@@ -6,6 +6,7 @@
 
 #include "io/rollout_file.hpp"
 #include "tests/app/run_fnopt.hpp"
+#include "tests/boundary/temp_dir.hpp"
 
 namespace {
 
@@ -60,12 +61,10 @@ TEST(Cli, SimulateRunsTheShippedLearnedOptimizerByDefault) {
 // plans (and so the FNO's float round-off) were chosen by timing: two 150-frame fnopt-ls runs
 // at 64^2 ended e_3D 0.9e-2 apart.
 TEST(Cli, SimulateIsReproducibleAcrossProcesses) {
-  const auto dir = std::filesystem::temp_directory_path() / "fnopt_cli_reproducible";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
+  const fnopt::testing::TempDir tmp;
   std::vector<fnopt::TrajectoryFrames> runs;
   for (const char* name : {"a.h5", "b.h5"}) {
-    const auto path = (dir / name).string();
+    const auto path = (tmp.path() / name).string();
     const CommandResult r = run_fnopt("simulate --res 64 --frames 12 --threads 1 --out " + path);
     ASSERT_EQ(r.status, 0) << r.output;
     runs.push_back(fnopt::read_trajectory_frames(path));

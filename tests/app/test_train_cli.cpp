@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "run_fnopt.hpp"
+#include "tests/boundary/temp_dir.hpp"
 
 namespace {
 
@@ -12,12 +13,6 @@ const std::string kTinyModel =
     " --res 8 --envs 4 --batch 2 --width 4 --layers 2 --modes 4 --lifting 8 --projection 4 --threads 1"
     " --checkpoint-every 10 --lr 0.05";
 const std::string kTinyRun = kTinyModel + " --validate-res 12 --validate-every 10 --validate-frames 12 --validate-motions xy_v2,rot_h0";
-
-std::filesystem::path fresh_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("fnopt_train_cli_" + name);
-  std::filesystem::remove_all(dir);
-  return dir;
-}
 
 // The validation rows without their wall-clock column.
 std::vector<std::string> validation_rows(const std::filesystem::path& dir) {
@@ -32,7 +27,8 @@ std::vector<std::string> validation_rows(const std::filesystem::path& dir) {
 }
 
 TEST(TrainCli, ValidatesEveryIntervalAndKeepsTheBestModel) {
-  const auto dir = fresh_dir("validate");
+  const fnopt::testing::TempDir tmp;
+  const auto dir = tmp.path() / "out";
   const CommandResult r = run_fnopt("train --out " + dir.string() + " --steps 30 --keep-validated" + kTinyRun);
   ASSERT_EQ(r.status, 0) << r.output;
   for (int step : {10, 20, 30})
@@ -50,7 +46,8 @@ TEST(TrainCli, ValidatesEveryIntervalAndKeepsTheBestModel) {
 }
 
 TEST(TrainCli, AResumedRunValidatesAsTheStraightRun) {
-  const auto straight = fresh_dir("straight"), resumed = fresh_dir("resumed");
+  const fnopt::testing::TempDir tmp;
+  const auto straight = tmp.path() / "straight", resumed = tmp.path() / "resumed";
   ASSERT_EQ(run_fnopt("train --out " + straight.string() + " --steps 30" + kTinyRun).status, 0);
   ASSERT_EQ(run_fnopt("train --out " + resumed.string() + " --steps 20" + kTinyRun).status, 0);
   const CommandResult r = run_fnopt("train --out " + resumed.string() + " --steps 30 --resume" + kTinyRun);
@@ -63,7 +60,8 @@ TEST(TrainCli, AResumedRunValidatesAsTheStraightRun) {
 }
 
 TEST(TrainCli, BadValidationFlagsAreOneLineErrors) {
-  const auto dir = fresh_dir("bad");
+  const fnopt::testing::TempDir tmp;
+  const auto dir = tmp.path() / "out";
   for (const std::string flags :
        {" --validate-res 12 --validate-motions xy_v2,sideways", " --validate-res 12 --validate-frames 0",
         " --validate-res 2", " --validate-res 12 --validate-every 0"}) {
@@ -76,16 +74,18 @@ TEST(TrainCli, BadValidationFlagsAreOneLineErrors) {
 }
 
 TEST(TrainCli, AnOutThatIsAFileIsAOneLineError) {
-  const auto file = fresh_dir("file");
-  std::ofstream(file) << "not a folder\n";
-  const CommandResult r = run_fnopt("train --out " + file.string() + " --steps 2" + kTinyModel);
+  const fnopt::testing::TempDir tmp;
+  const std::string file = tmp.write("file", "not a folder\n");
+  const CommandResult r = run_fnopt("train --out " + file + " --steps 2" + kTinyModel);
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << r.output;
-  EXPECT_NE(r.output.find(file.string()), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(file), std::string::npos) << r.output;
 }
 
 TEST(TrainCli, ValidationFlagsWithoutValidateResAreRejected) {
-  const CommandResult r = run_fnopt("train --out " + fresh_dir("needs").string() + " --steps 2 --validate-motions rot_h0");
+  const fnopt::testing::TempDir tmp;
+  const CommandResult r =
+      run_fnopt("train --out " + (tmp.path() / "out").string() + " --steps 2 --validate-motions rot_h0");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("--validate-motions requires --validate-res"), std::string::npos) << r.output;
 }

@@ -8,6 +8,7 @@
 
 #include "fno/fno_io.hpp"
 #include "optimizer/learned/rollout_validation.hpp"
+#include "tests/boundary/temp_dir.hpp"
 #include "util/error.hpp"
 
 namespace fnopt {
@@ -26,15 +27,9 @@ FNO2d tiny_model() {
   return FNO2d(FNO2dOptions().width(4).fourier_layers(2).modes_x(4).modes_y(4).lifting_channels(8).projection_channels(4));
 }
 
-std::filesystem::path fresh_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("fnopt_validation_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
 TEST(RolloutValidation, SolvesEachReferenceOnceAndOnlyReusesItForItsOwnScene) {
-  const auto dir = fresh_dir("cache");
+  const testing::TempDir tmp;
+  const auto& dir = tmp.path();
   int steps_reported = 0, last_total = 0;
   auto count = [&](int done, int total, const StepRecord&) {
     ++steps_reported;
@@ -64,7 +59,8 @@ TEST(RolloutValidation, SolvesEachReferenceOnceAndOnlyReusesItForItsOwnScene) {
 }
 
 TEST(RolloutValidation, ScoreIsDeterministicAndLeavesTheModelAlone) {
-  const auto dir = fresh_dir("score");
+  const testing::TempDir tmp;
+  const auto& dir = tmp.path();
   RolloutValidation validation(small_validation(), dir.string());
   FNO2d model = tiny_model();
   std::vector<torch::Tensor> before;
@@ -82,7 +78,8 @@ TEST(RolloutValidation, ScoreIsDeterministicAndLeavesTheModelAlone) {
 }
 
 TEST(RolloutValidation, TheShippedModelScoresCloserThanAnUntrainedOne) {
-  const auto dir = fresh_dir("shipped");
+  const testing::TempDir tmp;
+  const auto& dir = tmp.path();
   RolloutValidation validation(small_validation(), dir.string());
   const ValidationScore shipped = validation.score(load_fno(std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt"));
   FNO2d untrained(load_fno_options(std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt"));
