@@ -154,7 +154,7 @@ void run_train(TrainFlags& flags) {
   double running_loss = NAN, running_ratio = NAN;
   // Validates the current model; keeps it as model-best.pt if it is the closest to Newton so far.
   auto validate = [&](int step) {
-    const ValidationScore score = validation->score(trainer.model());
+    const ValidationScore score = validation->score(trainer.output_model());
     std::ofstream row(validation_log_path, std::ios::app);
     row << step << ',' << seconds_before + elapsed() << ',';
     for (const std::string& field : validation_key(flags.validation)) row << field << ',';
@@ -162,16 +162,16 @@ void run_train(TrainFlags& flags) {
     row << std::setprecision(17) << score.e3d << std::setprecision(6) << ',' << score.max_strain << ',' << (score.diverged ? "yes" : "no") << '\n';
     if (score.e3d < best.e3d) {
       best = {score.e3d, step};
-      save_fno(best_model_path, trainer.model());
+      save_fno(best_model_path, trainer.output_model());
     }
     if (flags.keep_validated) {
       std::filesystem::create_directories(out / "validated");
-      save_fno((out / "validated" / ("model-" + std::to_string(step) + ".pt")).string(), trainer.model());
+      save_fno((out / "validated" / ("model-" + std::to_string(step) + ".pt")).string(), trainer.output_model());
     }
   };
   auto save = [&] {
     trainer.save_checkpoint(checkpoint);
-    save_fno(model_path, trainer.model());
+    save_fno(model_path, trainer.output_model());
   };
   // A resumed run that was not validated at its start (validation newly turned on, say)
   // validates the model it starts from first: model-best.pt is never worse than it.
@@ -228,6 +228,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--clip", o.clip_norm, "gradient-norm clipping")->capture_default_str();
   command->add_option("--seed", o.seed, "random seed")->capture_default_str();
   command->add_option("--newton-weight", o.newton_weight, "weight of the auxiliary loss toward the Newton step")
+      ->capture_default_str();
+  command->add_option("--average-decay", o.average_decay,
+                      "the model written and validated is the moving average of the trained weights, "
+                      "w_avg <- d w_avg + (1 - d) w after every step; 0: the trained weights themselves")
       ->capture_default_str();
   command->add_option("--loss-normalisation", o.loss_normalisation,
                       "per-environment: the mean of each environment's remaining-error ratio; batch: one ratio "

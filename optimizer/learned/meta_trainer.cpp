@@ -25,6 +25,7 @@ void TrainOptions::validate() const {
   require(decay_every > 0, "train.decay_every", "must be positive");
   require(clip_norm > 0.0, "train.clip_norm", "must be positive");
   require(newton_weight >= 0.0, "train.newton_weight", "must not be negative");
+  require(average_decay >= 0.0 && average_decay < 1.0, "train.average_decay", "must lie in [0, 1)");
 }
 
 std::string TrainOptions::signature() const {
@@ -46,6 +47,7 @@ MetaTrainer::MetaTrainer(const TrainOptions& options, const std::string& checkpo
   adam_ = std::make_unique<torch::optim::AdamW>(
       model_->parameters(),
       torch::optim::AdamWOptions(options_.learning_rate).weight_decay(options_.weight_decay));
+  if (options_.average_decay > 0.0) average_.emplace(model_, options_.average_decay);
   if (!checkpoint.empty()) {
     restore(checkpoint);
     return;
@@ -108,7 +110,10 @@ TrainStepStats MetaTrainer::step() {
   loss.backward();
   stats.gradient_norm = torch::nn::utils::clip_grad_norm_(model_->parameters(), options_.clip_norm);
   stats.skipped = !std::isfinite(stats.loss) || !std::isfinite(stats.gradient_norm);
-  if (!stats.skipped) adam_->step();
+  if (!stats.skipped) {
+    adam_->step();
+    if (average_) average_->update(model_);
+  }
 
   // Write each update back into its environment.
   double ratio_sum = 0.0;
@@ -148,6 +153,11 @@ void MetaTrainer::save_checkpoint(const std::string& path) const {
     adam_->save(adam);
     archive.write("model", model);
     archive.write("adam", adam);
+    if (average_) {
+      torch::serialize::OutputArchive average;
+      average_->model()->save(average);
+      archive.write("average", average);
+    }
     for (std::size_t e = 0; e < pool_.size(); ++e) {
       const auto tensors = pool_[e]->state_tensors();
       for (std::size_t k = 0; k < tensors.size(); ++k)
@@ -180,6 +190,13 @@ void MetaTrainer::restore(const std::string& path) {
   archive.read("adam", adam);
   model_->load(model);
   adam_->load(adam);
+  if (average_) {
+    torch::serialize::InputArchive average;
+    if (archive.try_read("average", average))
+      average_->model()->load(average);
+    else
+      average_->reset_to(model_);
+  }
   for (int e = 0; e < options_.pool.environments; ++e) {
     std::vector<torch::Tensor> tensors(7);
     for (std::size_t k = 0; k < tensors.size(); ++k)

@@ -6,12 +6,14 @@
 // everything that the next steps depend on (model, AdamW moments, pool, random state), so a
 // killed run resumes where its last checkpoint left it and takes the same next steps.
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <string>
 
 #include "fno/fno2d.hpp"
 #include "optimizer/learned/energy_loss.hpp"
 #include "optimizer/learned/training_env.hpp"
+#include "optimizer/learned/weight_average.hpp"
 
 namespace fnopt {
 
@@ -31,6 +33,11 @@ struct TrainOptions {
   double newton_weight = 1.0;
   // How the energy loss weighs the environments of a batch (energy_loss.hpp).
   LossNormalisation loss_normalisation = LossNormalisation::PerEnvironment;
+  // The model a run produces (model.pt, validation) is the moving average of its weights with
+  // this decay (weight_average.hpp); 0 gives the trained weights themselves. Averaging does
+  // not change the training steps, so it is not part of the signature: a run may be resumed
+  // with another decay, and a checkpoint saved without an average starts one at its weights.
+  double average_decay = 0.998;
   std::uint64_t seed = 1;
 
   void validate() const;
@@ -56,7 +63,9 @@ class MetaTrainer {
 
   TrainStepStats step();
   int completed_steps() const { return step_; }
-  FNO2d& model() { return model_; }
+  FNO2d& model() { return model_; }  // the trained weights
+  // What the run produces: the weight average, or the trained weights if average_decay is 0.
+  FNO2d& output_model() { return average_ ? average_->model() : model_; }
 
   // Writes atomically.
   void save_checkpoint(const std::string& path) const;
@@ -67,6 +76,7 @@ class MetaTrainer {
 
   FNO2d model_;
   std::unique_ptr<torch::optim::AdamW> adam_;
+  std::optional<WeightAverage> average_;
   std::vector<std::unique_ptr<TrainingEnv>> pool_;
   std::mt19937_64 rng_;
   int step_ = 0;
