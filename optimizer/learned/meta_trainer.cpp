@@ -47,7 +47,7 @@ MetaTrainer::MetaTrainer(const TrainOptions& options, const std::string& checkpo
   adam_ = std::make_unique<torch::optim::AdamW>(
       model_->parameters(),
       torch::optim::AdamWOptions(options_.learning_rate).weight_decay(options_.weight_decay));
-  if (options_.average_decay > 0.0) average_.emplace(model_, options_.average_decay);
+  if (options_.average_decay > 0.0) average_.emplace(model_);
   if (!checkpoint.empty()) {
     restore(checkpoint);
     return;
@@ -112,7 +112,10 @@ TrainStepStats MetaTrainer::step() {
   stats.skipped = !std::isfinite(stats.loss) || !std::isfinite(stats.gradient_norm);
   if (!stats.skipped) {
     adam_->step();
-    if (average_) average_->update(model_);
+    // The decay ramps up as min(d, (1 + t)/(10 + t)) after t steps (the num_updates rule of
+    // TensorFlow's ExponentialMovingAverage), so a short run from scratch forgets its random start.
+    const double t = step_;
+    if (average_) average_->update(model_, std::min(options_.average_decay, (1.0 + t) / (10.0 + t)));
   }
 
   // Write each update back into its environment.

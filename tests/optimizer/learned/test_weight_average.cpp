@@ -1,6 +1,6 @@
 // The weight average: it is the exponential moving average of what it is fed, it owns its
-// weights, and in meta-training it observes the run without changing it, survives a
-// checkpoint, and starts at the trained weights of a checkpoint saved without one.
+// weights, and in meta-training it observes the run without changing it, ramps its decay up,
+// survives a checkpoint, and starts at the trained weights of a checkpoint saved without one.
 #include <gtest/gtest.h>
 
 #include "optimizer/learned/meta_trainer.hpp"
@@ -40,10 +40,10 @@ double max_difference(const FNO2d& a, const FNO2d& b) {
 
 TEST(WeightAverage, IsTheExponentialMovingAverageOfItsUpdates) {
   const FNO2d a = seeded_model(1), b = seeded_model(2);
-  WeightAverage average(a, 0.9);
+  WeightAverage average(a);
   EXPECT_EQ(max_difference(average.model(), a), 0.0);
-  average.update(b);
-  average.update(b);
+  average.update(b, 0.9);
+  average.update(b, 0.9);
   // After two updates with b: 0.81 a + 0.19 b, parameter by parameter.
   const auto pa = a->parameters(), pb = b->parameters(), pw = average.model()->parameters();
   ASSERT_EQ(pw.size(), pa.size());
@@ -54,7 +54,7 @@ TEST(WeightAverage, IsTheExponentialMovingAverageOfItsUpdates) {
 TEST(WeightAverage, OwnsItsWeights) {
   FNO2d a = seeded_model(1);
   const FNO2d copy = seeded_model(1);
-  WeightAverage average(a, 0.5);
+  WeightAverage average(a);
   torch::NoGradGuard no_grad;
   for (auto& p : a->parameters()) p.add_(1.0);
   EXPECT_EQ(max_difference(average.model(), copy), 0.0);
@@ -64,8 +64,9 @@ TEST(WeightAverage, OwnsItsWeights) {
 
 TEST(WeightAverage, RejectsADecayOutsideZeroToOne) {
   const FNO2d a = seeded_model(1);
-  EXPECT_THROW(WeightAverage(a, 1.0), Error);
-  EXPECT_THROW(WeightAverage(a, -0.1), Error);
+  WeightAverage average(a);
+  EXPECT_THROW(average.update(a, 1.0), Error);
+  EXPECT_THROW(average.update(a, -0.1), Error);
   EXPECT_THROW(tiny_training(1.0).validate(), Error);
 }
 
@@ -75,6 +76,18 @@ TEST(WeightAverage, LeavesTheTrainingStepsUnchanged) {
   EXPECT_EQ(max_difference(plain.model(), averaged.model()), 0.0);
   EXPECT_EQ(plain.output_model().ptr(), plain.model().ptr());
   EXPECT_GT(max_difference(averaged.output_model(), averaged.model()), 0.0);
+}
+
+TEST(WeightAverage, RampsItsDecayUpOverTheFirstSteps) {
+  // After t steps the decay is min(d, (1 + t)/(10 + t)): 0.1 for the first step, so a run
+  // from scratch does not keep its random start in the average.
+  MetaTrainer trainer(tiny_training(0.9));
+  std::vector<torch::Tensor> start;
+  for (const auto& p : trainer.model()->parameters()) start.push_back(p.detach().clone());
+  trainer.step();
+  const auto trained = trainer.model()->parameters(), average = trainer.output_model()->parameters();
+  for (std::size_t i = 0; i < start.size(); ++i)
+    EXPECT_TRUE(torch::allclose(average[i], 0.1 * start[i] + 0.9 * trained[i], 1e-5, 1e-6)) << "parameter " << i;
 }
 
 TEST(WeightAverage, SurvivesACheckpoint) {
