@@ -223,6 +223,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--batch", o.batch, "environments per step")->capture_default_str();
   command->add_option("--envs", o.pool.environments, "environments in the pool")->capture_default_str();
   command->add_option("--res", o.pool.resolution, "training resolution")->capture_default_str();
+  command->add_option("--env-lifetime", o.pool.max_age,
+                      "time steps an environment lives before a new one (material, pose, handles, motion) "
+                      "replaces it")
+      ->capture_default_str();
   command->add_option("--lr", o.learning_rate, "AdamW learning rate")->capture_default_str();
   command->add_option("--decay-every", o.decay_every, "halve the learning rate every N steps")->capture_default_str();
   command->add_option("--clip", o.clip_norm, "gradient-norm clipping")->capture_default_str();
