@@ -35,9 +35,9 @@ struct TrainOptions {
   LossNormalisation loss_normalisation = LossNormalisation::PerEnvironment;
   // The model a run produces (model.pt, validation) is the moving average of its weights with
   // this decay (weight_average.hpp), ramped up over a run's first steps; 0 gives the trained
-  // weights themselves. Averaging does
-  // not change the training steps, so it is not part of the signature: a run may be resumed
-  // with another decay, and a checkpoint saved without an average starts one at its weights.
+  // weights themselves. Averaging does not change the training steps, so it is not part of the
+  // signature: a run may be resumed with another decay, and a checkpoint saved without an
+  // average starts one at its weights.
   double average_decay = 0.998;
   std::uint64_t seed = 1;
 
