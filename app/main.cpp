@@ -9,8 +9,10 @@
 
 #include "app/commands.hpp"
 #include "util/error.hpp"
+#include "util/retained_heap.hpp"
 
 int main(int argc, char** argv) {
+  fnopt::retain_freed_heap_memory();
   CLI::App app{"fnopt: grid cloth with a learned Fourier-neural-operator optimizer"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string(FNOPT_VERSION));
