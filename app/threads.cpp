@@ -3,14 +3,24 @@
 #include <ATen/Parallel.h>
 #include <omp.h>
 
+#include <cstdlib>
+
 namespace fnopt::app {
 
-int set_thread_count(int threads) {
-  if (threads > 0) {
-    omp_set_num_threads(threads);
-    at::set_num_threads(threads);
+int all_cores_thread_count() {
+  // OMP_NUM_THREADS may be a list ("4,2"); its first entry is the outer level's count.
+  if (const char* env = std::getenv("OMP_NUM_THREADS")) {
+    const long count = std::strtol(env, nullptr, 10);
+    if (count > 0) return static_cast<int>(count);
   }
-  return omp_get_max_threads();
+  return omp_get_num_procs();
+}
+
+int set_thread_count(int threads) {
+  const int count = threads > 0 ? threads : all_cores_thread_count();
+  omp_set_num_threads(count);
+  at::set_num_threads(count);
+  return count;
 }
 
 }  // namespace fnopt::app

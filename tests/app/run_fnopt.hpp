@@ -16,8 +16,11 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-inline CommandResult run_fnopt(const std::string& arguments) {
-  const std::string command = "OMP_WAIT_POLICY=PASSIVE " + std::string(FNOPT_BINARY) + " " + arguments + " 2>&1";
+// `environment`: arguments of env(1) before the passive-wait setting, e.g. "OMP_NUM_THREADS=3"
+// or "-u OMP_NUM_THREADS".
+inline CommandResult run_fnopt(const std::string& arguments, const std::string& environment = "") {
+  const std::string command =
+      "env " + environment + " OMP_WAIT_POLICY=PASSIVE " + std::string(FNOPT_BINARY) + " " + arguments + " 2>&1";
   std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
   std::string output;
   std::array<char, 256> buffer{};

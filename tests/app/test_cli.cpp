@@ -1,6 +1,7 @@
 // The fnopt command as a user runs it: bad input gives one line naming the problem and exit
 // status 2; a small simulation writes a rollout file.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <filesystem>
 
@@ -72,6 +73,21 @@ TEST(Cli, SimulateIsReproducibleAcrossProcesses) {
   ASSERT_EQ(runs[0].positions.size(), runs[1].positions.size());
   for (std::size_t f = 0; f < runs[0].positions.size(); ++f)
     EXPECT_TRUE(runs[0].positions[f] == runs[1].positions[f]) << "frame " << f << " differs";
+}
+
+// "--threads (default: all cores)" must mean it. Loading a model initialises LibTorch, which
+// leaves OpenMP at one thread; the learned optimizer (simulate's default) is the case to check.
+TEST(Cli, ThreadsDefaultToAllCoresOrOmpNumThreads) {
+  const fnopt::testing::TempDir tmp;
+  const auto path = (tmp.path() / "t.h5").string();
+  const CommandResult given = run_fnopt("simulate --res 8 --frames 1 --out " + path, "OMP_NUM_THREADS=3");
+  ASSERT_EQ(given.status, 0) << given.output;
+  EXPECT_NE(given.output.find(", 3 threads"), std::string::npos) << given.output;
+  const CommandResult all = run_fnopt("simulate --res 8 --frames 1 --out " + path, "-u OMP_NUM_THREADS");
+  ASSERT_EQ(all.status, 0) << all.output;
+  const int cores = omp_get_num_procs();
+  EXPECT_NE(all.output.find(", " + std::to_string(cores) + (cores == 1 ? " thread\n" : " threads\n")), std::string::npos)
+      << all.output;
 }
 
 TEST(Cli, EverySubcommandHasHelp) {
