@@ -6,7 +6,11 @@
 #include <cstdlib>
 
 namespace fnopt::app {
+namespace {
 
+// Asked for explicitly because LibTorch, once initialised (a model loaded), sets OpenMP's
+// thread count to its own default, which is 1 with Debian's libtorch: leaving the defaults
+// alone ran the learned optimizer on one core.
 int all_cores_thread_count() {
   // OMP_NUM_THREADS may be a list ("4,2"); its first entry is the outer level's count.
   if (const char* env = std::getenv("OMP_NUM_THREADS")) {
@@ -15,6 +19,8 @@ int all_cores_thread_count() {
   }
   return omp_get_num_procs();
 }
+
+}  // namespace
 
 int set_thread_count(int threads) {
   const int count = threads > 0 ? threads : all_cores_thread_count();

@@ -9,8 +9,8 @@
 // Fixing both thresholds keeps those pages mapped and reused.
 namespace fnopt {
 
-// Blocks up to this size come from the heap, not from mmap. It is the largest value glibc
-// allows on 64-bit systems (an FNO activation of 3 samples × 64 channels at 200² is 31 MB).
+// Blocks up to this size come from the heap, not from mmap: the upper limit mallopt(3)
+// documents for 64-bit systems (an FNO activation of 3 samples × 64 channels at 200² is 31 MB).
 constexpr int kHeapBlockLimitBytes = 32 << 20;
 // Free memory at the top of the heap beyond this is returned to the kernel.
 constexpr int kHeapTrimBytes = 1 << 30;
