@@ -40,8 +40,8 @@ void bench_newton(const BenchFlags& flags, int threads) {
   std::printf("Newton reference step (||g|| <= 1e-9 ||g0||), corner handles, motion xy_v2, %d frames, dt = 1/60, "
               "%d thread%s, warm start %s\n",
               flags.frames, threads, threads == 1 ? "" : "s", flags.warm_start ? "on" : "off");
-  std::printf("%6s %10s %10s %9s %9s %9s %10s %9s %10s %9s\n", "res", "ms/frame", "max ms", "iters", "max it",
-              "factor/st", "cg it/st", "shifted", "projected", "converged");
+  std::printf("%6s %10s %10s %9s %9s %9s %10s %9s %10s %7s %9s\n", "res", "ms/frame", "max ms", "iters", "max it",
+              "factor/st", "cg it/st", "shifted", "projected", "stalls", "converged");
   for (int n : parse_resolutions(flags.resolutions)) {
     Scene scene;
     scene.rows = scene.cols = n;
@@ -63,9 +63,10 @@ void bench_newton(const BenchFlags& flags, int threads) {
     const double steps = static_cast<double>(r.steps.size());
     const auto& c = newton.counters();
     const double iterations = std::max(1, r.total_iterations());
-    std::printf("%4d^2 %10.1f %10.1f %9.2f %9d %9.2f %10.2f %8.1f%% %9.1f%% %5d/%d\n", n, r.mean_step_ms(), max_ms,
-                r.total_iterations() / steps, max_iterations, c.factorizations / steps, c.cg_iterations / steps,
-                100.0 * c.shifted_iterations / iterations, 100.0 * c.projected_iterations / iterations, converged,
+    std::printf("%4d^2 %10.1f %10.1f %9.2f %9d %9.2f %10.2f %8.1f%% %9.1f%% %7ld %5d/%d\n", n, r.mean_step_ms(),
+                max_ms, r.total_iterations() / steps, max_iterations, c.factorizations / steps,
+                c.cg_iterations / steps, 100.0 * c.shifted_iterations / iterations,
+                100.0 * c.projected_iterations / iterations, c.stalled_shifts, converged,
                 static_cast<int>(r.steps.size()));
     std::fflush(stdout);
   }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "util/error.hpp"
@@ -28,6 +29,9 @@ void NewtonParams::validate() const {
   require(max_cg_iterations >= 0, "newton.max_cg_iterations", "must not be negative");
   require(max_shift >= 0.0, "newton.max_shift", "must not be negative");
   require(shift_growth > 1.0, "newton.shift_growth", "must be greater than 1");
+  require(max_slow_shifted_iterations >= 0, "newton.max_slow_shifted_iterations", "must not be negative");
+  require(slow_shift_progress > 0.0 && slow_shift_progress < 1.0, "newton.slow_shift_progress",
+          "must lie in (0, 1)");
 }
 
 NewtonOptimizer::NewtonOptimizer(NewtonParams params) : params_(params) {
@@ -40,7 +44,7 @@ std::string NewtonOptimizer::settings() const {
   std::ostringstream out;
   out << "newton: armijo=" << params_.armijo << " backtrack=" << params_.backtrack
       << " forcing_cap=" << params_.forcing_cap << " max_cg_iterations=" << params_.max_cg_iterations
-      << " max_shift=" << params_.max_shift;
+      << " max_shift=" << params_.max_shift << " max_slow_shifted_iterations=" << params_.max_slow_shifted_iterations;
   return out.str();
 }
 
@@ -128,11 +132,19 @@ bool NewtonOptimizer::newton_direction(StepProblem& problem, const VecX& a, doub
     // indefinite H fails here; then the shifted exact Hessian, and last the projected one.
     if (factorize_and_solve(H, rhs_, pattern) && rhs_.dot(direction_) > 0.0) return true;
   }
-  const double start = exact_first ? std::max(kMinShift, shift_ / (growth * growth)) : shift_ / growth;
-  last_shifted_ = shifted_solve(problem, H, rhs_, start);
-  if (last_shifted_) {
-    ++counters_.shifted_iterations;
-    return true;
+  const bool shift_stalled = params_.max_slow_shifted_iterations > 0 &&
+                             slow_shifted_iterations_ >= params_.max_slow_shifted_iterations;
+  if (shift_stalled) {
+    ++counters_.stalled_shifts;
+    slow_shifted_iterations_ = 0;
+    last_shifted_ = false;
+  } else {
+    const double start = exact_first ? std::max(kMinShift, shift_ / (growth * growth)) : shift_ / growth;
+    last_shifted_ = shifted_solve(problem, H, rhs_, start);
+    if (last_shifted_) {
+      ++counters_.shifted_iterations;
+      return true;
+    }
   }
   const Eigen::SparseMatrix<double>& projected = problem.objective().hessian(a, free_index, true);
   if (factorize_and_solve(projected, rhs_, pattern) && rhs_.dot(direction_) > 0.0) {
@@ -145,6 +157,8 @@ bool NewtonOptimizer::newton_direction(StepProblem& problem, const VecX& a, doub
 void NewtonOptimizer::begin_step(StepProblem&, const VecX&, double value, const VecX& gradient) {
   start_value_ = value;
   initial_gradient_norm_ = gradient.norm();
+  slow_shifted_iterations_ = 0;
+  previous_gradient_norm_ = std::numeric_limits<double>::infinity();  // no iteration of this step yet
 }
 
 std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& a, double& value,
@@ -154,6 +168,10 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
   reduce(dirichlet, gradient, rhs_);
   rhs_ = -rhs_;
   const double gradient_norm = rhs_.norm();
+  // The stall guard's count: the last iteration was shifted and gained little.
+  const bool slow = last_shifted_ && gradient_norm > params_.slow_shift_progress * previous_gradient_norm_;
+  slow_shifted_iterations_ = slow ? slow_shifted_iterations_ + 1 : 0;
+  previous_gradient_norm_ = gradient_norm;
   const double forcing = std::min(params_.forcing_cap, gradient_norm / initial_gradient_norm_);
   if (!newton_direction(problem, a, forcing)) return SolveStatus::FactorizationFailed;
   const double slope = -rhs_.dot(direction_);

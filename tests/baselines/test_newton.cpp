@@ -2,11 +2,13 @@
 // that it never moves handles.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 
 #include "baselines/newton.hpp"
 #include "cloth/backward_euler.hpp"
+#include "optimizer/rollout.hpp"
 
 namespace fnopt {
 namespace {
@@ -131,6 +133,43 @@ TEST(NewtonSolver, ShiftedHessianEscapesABucklingSaddle) {
   EXPECT_LT(iterations[0], iterations[1]);
 }
 
+// A real stall: the 64^2 benchmark scene, motion xz_v2, whose step 114 needs the shift mu = 210
+// (the exact Hessian stays indefinite up to mu ~ 105 along the whole solve). The shift alone
+// then gains ~0.5 % of ||g|| per iteration and ends the step at its budget; the stall guard
+// switches to the projected Hessian for an iteration and the step converges. Steps 1-113 take
+// 4-9 iterations either way. About 20 s per rollout.
+TEST(NewtonSolver, StallGuardFinishesAStepWhereTheShiftCrawls) {
+  Scene scene;
+  scene.rows = scene.cols = 64;
+  scene.motion = "xz_v2";
+  scene.frames = 114;
+  RolloutOptions options;
+  options.solve = {150, 1e-9};
+  for (const bool guard : {true, false}) {
+    NewtonParams params;
+    if (!guard) params.max_slow_shifted_iterations = 0;
+    NewtonOptimizer newton(params);
+    const RolloutResult r = run_rollout(scene, newton, options);
+    ASSERT_FALSE(r.diverged) << r.divergence;
+    ASSERT_EQ(r.steps.size(), 114u);
+    int unconverged = 0, max_iterations = 0;
+    for (const auto& s : r.steps) {
+      unconverged += !is_converged(s.status);
+      max_iterations = std::max(max_iterations, s.iterations);
+    }
+    std::printf("guard %s: %d unconverged steps, at most %d iterations, %ld stall switches, last step %d iterations\n",
+                guard ? "on" : "off", unconverged, max_iterations, newton.counters().stalled_shifts,
+                r.steps.back().iterations);
+    if (guard) {
+      EXPECT_EQ(unconverged, 0);
+      EXPECT_GT(newton.counters().stalled_shifts, 0);
+    } else {
+      EXPECT_EQ(r.steps.back().status, SolveStatus::IterationBudget);
+      EXPECT_EQ(newton.counters().stalled_shifts, 0);
+    }
+  }
+}
+
 TEST(NewtonParams, RejectsInvalidValues) {
   NewtonParams p;
   p.armijo = 0.0;
@@ -140,6 +179,12 @@ TEST(NewtonParams, RejectsInvalidValues) {
   EXPECT_ANY_THROW(NewtonOptimizer{p});
   p = NewtonParams{};
   p.shift_growth = 1.0;
+  EXPECT_ANY_THROW(p.validate());
+  p = NewtonParams{};
+  p.max_slow_shifted_iterations = -1;
+  EXPECT_ANY_THROW(p.validate());
+  p = NewtonParams{};
+  p.slow_shift_progress = 1.0;
   EXPECT_ANY_THROW(p.validate());
 }
 
