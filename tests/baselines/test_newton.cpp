@@ -1,5 +1,6 @@
-// The Newton reference: quadratic convergence on a stiff step, the tolerance it promises, and
-// that it never moves handles.
+// The Newton reference: quadratic convergence on a stiff step, the tolerance it promises, that
+// it never moves handles, and its fallbacks where the Hessian is indefinite (the shift on a
+// buckling saddle, the stall guard where the shift crawls).
 #include <gtest/gtest.h>
 
 #include <algorithm>
