@@ -50,7 +50,7 @@ struct NewtonParams {
   // The projection cannot replace the shift everywhere (as the only fallback: 552 iterations on
   // a 64^2 xy_v2 buckling step, against 74), so the guard waits: the longest slow run measured on
   // 64^2 xy_v2 is 28 (step 31), and the references of the other benchmark motions (32^2: all 15,
-  // 64^2: 8) are bit-identical with it. 0 disables the guard.
+  // 64^2: 8, 100^2: 3) are bit-identical with it. 0 disables the guard.
   int max_slow_shifted_iterations = 40;
   double slow_shift_progress = 0.9;
 
