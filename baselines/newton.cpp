@@ -136,8 +136,7 @@ bool NewtonOptimizer::newton_direction(StepProblem& problem, const VecX& a, doub
                              slow_shifted_iterations_ >= params_.max_slow_shifted_iterations;
   if (shift_stalled) {
     ++counters_.stalled_shifts;
-    slow_shifted_iterations_ = 0;
-    last_shifted_ = false;
+    last_shifted_ = false;  // which also restarts the count at the next iteration
   } else {
     const double start = exact_first ? std::max(kMinShift, shift_ / (growth * growth)) : shift_ / growth;
     last_shifted_ = shifted_solve(problem, H, rhs_, start);
