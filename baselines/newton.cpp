@@ -41,10 +41,15 @@ NewtonOptimizer::NewtonOptimizer(NewtonParams params) : params_(params) {
 }
 
 std::string NewtonOptimizer::settings() const {
+  // Every parameter: the string is part of compare's reference cache key, so two settings that
+  // can give different references must not print the same.
   std::ostringstream out;
   out << "newton: armijo=" << params_.armijo << " backtrack=" << params_.backtrack
-      << " forcing_cap=" << params_.forcing_cap << " max_cg_iterations=" << params_.max_cg_iterations
-      << " max_shift=" << params_.max_shift << " max_slow_shifted_iterations=" << params_.max_slow_shifted_iterations;
+      << " max_backtracks=" << params_.max_backtracks << " forcing_cap=" << params_.forcing_cap
+      << " max_cg_iterations=" << params_.max_cg_iterations << " max_shift=" << params_.max_shift
+      << " shift_growth=" << params_.shift_growth
+      << " max_slow_shifted_iterations=" << params_.max_slow_shifted_iterations
+      << " slow_shift_progress=" << params_.slow_shift_progress;
   return out.str();
 }
 

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
+#include <vector>
 
 #include "baselines/newton.hpp"
 #include "cloth/backward_euler.hpp"
@@ -168,6 +170,22 @@ TEST(NewtonSolver, StallGuardFinishesAStepWhereTheShiftCrawls) {
       EXPECT_EQ(r.steps.back().status, SolveStatus::IterationBudget);
       EXPECT_EQ(newton.counters().stalled_shifts, 0);
     }
+  }
+}
+
+// settings() keys compare's reference cache: changing any parameter must change it.
+TEST(NewtonParams, EveryParameterChangesTheSettingsString) {
+  const std::string base = NewtonOptimizer{}.settings();
+  const std::vector<void (*)(NewtonParams&)> changes = {
+      [](NewtonParams& p) { p.armijo = 2e-4; },           [](NewtonParams& p) { p.backtrack = 0.6; },
+      [](NewtonParams& p) { p.max_backtracks = 30; },     [](NewtonParams& p) { p.forcing_cap = 2e-2; },
+      [](NewtonParams& p) { p.max_cg_iterations = 10; },  [](NewtonParams& p) { p.max_shift = 1e5; },
+      [](NewtonParams& p) { p.shift_growth = 3.0; },      [](NewtonParams& p) { p.max_slow_shifted_iterations = 20; },
+      [](NewtonParams& p) { p.slow_shift_progress = 0.8; }};
+  for (std::size_t i = 0; i < changes.size(); ++i) {
+    NewtonParams params;
+    changes[i](params);
+    EXPECT_NE(NewtonOptimizer(params).settings(), base) << "change " << i;
   }
 }
 
