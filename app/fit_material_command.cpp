@@ -52,14 +52,11 @@ void run_fit(FitFlags& flags) {
   flags.params.coefficients.clear();
   for (auto name : split(flags.coefficients, ',')) flags.params.coefficients.push_back(material_coefficient(std::string(trim(name))));
   for (const auto& text : flags.ranges) {
-    const auto eq = text.find('=');
-    const auto colon = text.find(':');
+    std::string name;
     CoefficientRange range;
-    require(eq != std::string::npos && colon != std::string::npos && colon > eq &&
-                parse_double(text.substr(eq + 1, colon - eq - 1), range.low) &&
-                parse_double(text.substr(colon + 1), range.high),
-            "range", "expected COEFFICIENT=LOW:HIGH, got '" + text + "'");
-    flags.params.range(material_coefficient(text.substr(0, eq))) = range;
+    require(parse_named_interval(text, name, range.low, range.high), "range",
+            "expected COEFFICIENT=LOW:HIGH, got '" + text + "'");
+    flags.params.range(material_coefficient(name)) = range;
   }
   flags.params.validate();
   const Material start = material_preset(flags.start);

@@ -38,6 +38,7 @@ struct TrainFlags {
   bool validate = false;  // --validate-res given
   int validate_every = 500;
   bool keep_validated = false;  // also keep every validated model
+  std::vector<std::string> ranges;  // --range QUANTITY=LOW:HIGH
 };
 
 constexpr const char* kLogHeader =
@@ -96,6 +97,14 @@ void run_train(TrainFlags& flags) {
   flags.options.model.width(flags.width).fourier_layers(flags.layers).modes_x(flags.modes).modes_y(flags.modes)
       .lifting_channels(flags.lifting).projection_channels(flags.projection)
       .in_channels(flags.combined ? 9 : 3).out_channels(flags.combined ? 3 : 1);
+  for (const std::string& text : flags.ranges) {
+    std::string quantity;
+    double low = 0.0, high = 0.0;
+    require(parse_named_interval(text, quantity, low, high), "range",
+            "expected QUANTITY=LOW:HIGH, got '" + text + "'");
+    flags.options.pool.ranges.set(quantity, low, high);
+  }
+  flags.options.validate();
   require(flags.validate_every > 0, "validate-every", "must be positive");
   if (flags.validate) flags.validation.validate();
   const int threads = set_thread_count(flags.threads);
@@ -129,6 +138,8 @@ void run_train(TrainFlags& flags) {
     std::ofstream(validation_log_path) << kValidationHeader << '\n';
   std::fprintf(stderr, "fnopt train: %s, %d thread%s, writing %s\n", flags.options.signature().c_str(), threads,
                threads == 1 ? "" : "s", flags.out.c_str());
+  std::fprintf(stderr, "fnopt train: pool ranges (grid units, damping as c dt): %s\n",
+               flags.options.pool.ranges.text().c_str());
 
   std::unique_ptr<RolloutValidation> validation;
   if (flags.validate) {
@@ -243,6 +254,13 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->transform(CLI::CheckedTransformer(std::map<std::string, LossNormalisation>{
           {"per-environment", LossNormalisation::PerEnvironment}, {"batch", LossNormalisation::Batch}}))
       ->option_text("{per-environment,batch}=per-environment");
+  command->add_option("--range", flags->ranges,
+                      "sampling range of the pool, QUANTITY=LOW:HIGH, log-uniform, in grid units (repeatable): "
+                      "stretch k~_s (default 40:8000), shear k~_sh (0.5:600), bend k~_b (0.005:20), gravity g~ "
+                      "(0.03:0.6), damping c dt (0.005:0.3); README, \"The learned optimizer\"");
+  command->add_option("--undamped-share", o.pool.ranges.undamped_share,
+                      "share of the environments without damping")
+      ->capture_default_str();
   command->add_option("--width", flags->width, "FNO width")->capture_default_str();
   command->add_option("--layers", flags->layers, "Fourier layers")->capture_default_str();
   command->add_option("--modes", flags->modes, "Fourier modes per axis")->capture_default_str();

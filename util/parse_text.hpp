@@ -59,6 +59,18 @@ inline bool parse_double(std::string_view text, double& value) {
   return error == std::errc() && end == text.data() + text.size();
 }
 
+// True and the three set when `text` is "NAME=LOW:HIGH" with two numbers (the `--range` flags
+// of fit-material and train).
+inline bool parse_named_interval(std::string_view text, std::string& name, double& low, double& high) {
+  const auto eq = text.find('=');
+  const auto colon = text.find(':', eq == std::string_view::npos ? 0 : eq);
+  if (eq == std::string_view::npos || colon == std::string_view::npos) return false;
+  if (!parse_double(text.substr(eq + 1, colon - eq - 1), low) || !parse_double(text.substr(colon + 1), high))
+    return false;
+  name = std::string(trim(text.substr(0, eq)));
+  return true;
+}
+
 // "a, b, c": a list of valid names for a message.
 inline std::string joined(const std::vector<std::string>& names) {
   std::string text;

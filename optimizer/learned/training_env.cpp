@@ -3,6 +3,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+#include <utility>
 
 #include "cloth/strain.hpp"
 #include "optimizer/learned/learned_update.hpp"
@@ -30,6 +32,28 @@ NewtonParams reference_newton() {
 }
 
 }  // namespace
+
+void TrainingRanges::set(const std::string& quantity, double min, double max) {
+  const std::pair<const char*, std::pair<double*, double*>> fields[] = {
+      {"stretch", {&stretch_min, &stretch_max}}, {"shear", {&shear_min, &shear_max}},
+      {"bend", {&bend_min, &bend_max}},          {"gravity", {&gravity_min, &gravity_max}},
+      {"damping", {&damping_min, &damping_max}}};
+  for (const auto& [name, range] : fields)
+    if (quantity == name) {
+      *range.first = min;
+      *range.second = max;
+      return;
+    }
+  throw Error("train.range: unknown quantity '" + quantity + "' (stretch, shear, bend, gravity, damping)");
+}
+
+std::string TrainingRanges::text() const {
+  std::ostringstream s;
+  s << "stretch " << stretch_min << ':' << stretch_max << ", shear " << shear_min << ':' << shear_max << ", bend "
+    << bend_min << ':' << bend_max << ", gravity " << gravity_min << ':' << gravity_max << ", damping " << damping_min
+    << ':' << damping_max << ", undamped share " << undamped_share;
+  return s.str();
+}
 
 void TrainingRanges::validate() const {
   auto range = [](double lo, double hi, const char* name) {

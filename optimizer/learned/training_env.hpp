@@ -10,6 +10,7 @@
 // its saved state and generation alone.
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "baselines/newton.hpp"
@@ -32,6 +33,12 @@ struct TrainingRanges {
   double damping_min = 0.005, damping_max = 0.3;
   double undamped_share = 0.25;
 
+  // Sets the range of one quantity by name (stretch, shear, bend, gravity, damping), as
+  // `fnopt train --range` does; throws Error("train.range: ...") naming the valid quantities.
+  // Stage 1 of the shipped model trained on stretch 150:8000, shear 0.5:200, undamped share 1.
+  void set(const std::string& quantity, double min, double max);
+  // "stretch 40:8000, shear 0.5:600, ..., undamped share 0.25", for the log.
+  std::string text() const;
   void validate() const;  // throws Error("train.ranges.<field>: ...")
 };
 

@@ -73,6 +73,23 @@ TEST(TrainCli, BadValidationFlagsAreOneLineErrors) {
   }
 }
 
+TEST(TrainCli, PoolRangesAreSetByFlagAndPrinted) {
+  const fnopt::testing::TempDir tmp;
+  const auto dir = tmp.path() / "out";
+  for (const std::string flags :
+       {" --range stretch=150", " --range speed=1:2", " --range shear=200:0.5", " --undamped-share 2"}) {
+    const CommandResult r = run_fnopt("train --out " + dir.string() + " --steps 2" + kTinyModel + flags);
+    EXPECT_NE(r.status, 0) << flags;
+    EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << flags << ": " << r.output;
+    EXPECT_FALSE(std::filesystem::exists(dir)) << flags << ": nothing is written before the flags are checked";
+  }
+  const CommandResult r = run_fnopt("train --out " + dir.string() + " --steps 2" + kTinyModel +
+                                    " --range stretch=150:8000 --range shear=0.5:200 --undamped-share 1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("stretch 150:8000, shear 0.5:200, bend 0.005:20"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("undamped share 1"), std::string::npos) << r.output;
+}
+
 TEST(TrainCli, AnOutThatIsAFileIsAOneLineError) {
   const fnopt::testing::TempDir tmp;
   const std::string file = tmp.write("file", "not a folder\n");

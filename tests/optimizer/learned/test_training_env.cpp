@@ -1,7 +1,8 @@
 // A training environment lives --env-lifetime time steps, then the next generation (new
-// material, pose, handles and motion) replaces it.
+// material, pose, handles and motion) replaces it; its material comes from the pool's ranges.
 #include <gtest/gtest.h>
 
+#include "cloth/grid_units.hpp"
 #include "optimizer/learned/training_env.hpp"
 #include "util/error.hpp"
 
@@ -32,6 +33,45 @@ TEST(TrainingEnv, IsRenewedAfterItsLifetime) {
 TEST(TrainingEnv, RejectsALifetimeBelowOneStep) {
   EXPECT_THROW(one_iteration_per_step(0).validate(), Error);
   EXPECT_NO_THROW(one_iteration_per_step(1).validate());
+}
+
+TEST(TrainingRanges, SetsAQuantityByNameAndRejectsOthers) {
+  TrainingRanges r;
+  r.set("shear", 0.5, 200.0);
+  EXPECT_EQ(r.shear_min, 0.5);
+  EXPECT_EQ(r.shear_max, 200.0);
+  EXPECT_EQ(r.stretch_min, TrainingRanges{}.stretch_min);
+  EXPECT_THROW(r.set("speed", 1.0, 2.0), Error);
+  r.set("damping", 0.3, 0.005);
+  EXPECT_THROW(r.validate(), Error);
+  EXPECT_NE(r.text().find("shear 0.5:200"), std::string::npos) << r.text();
+}
+
+// One-point ranges pin the material: every environment of every generation gets exactly those
+// grid-unit values, damped or not as the undamped share says.
+TEST(TrainingEnv, SamplesItsMaterialFromThePoolRanges) {
+  for (const double undamped_share : {0.0, 1.0}) {
+    PoolOptions pool = one_iteration_per_step(1);
+    pool.environments = 3;
+    pool.ranges.set("stretch", 150.0, 150.0);
+    pool.ranges.set("shear", 7.0, 7.0);
+    pool.ranges.set("bend", 0.5, 0.5);
+    pool.ranges.set("gravity", 0.1, 0.1);
+    pool.ranges.set("damping", 0.02, 0.02);
+    pool.ranges.undamped_share = undamped_share;
+    for (int id = 0; id < pool.environments; ++id)
+      for (long generation : {0L, 5L}) {
+        TrainingEnv env(pool, 3, id, generation);
+        const BackwardEulerObjective& objective = env.objective();
+        const GridUnitStiffness k =
+            grid_unit_stiffness(env.grid(), objective.material(), env.dt(), objective.gravity().norm());
+        EXPECT_NEAR(k.stretch, 150.0, 1e-9);
+        EXPECT_NEAR(k.shear, 7.0, 1e-11);
+        EXPECT_NEAR(k.bend, 0.5, 1e-12);
+        EXPECT_NEAR(k.gravity, 0.1, 1e-12);
+        EXPECT_NEAR(objective.material().damping * env.dt(), undamped_share == 1.0 ? 0.0 : 0.02, 1e-12);
+      }
+  }
 }
 
 }  // namespace
