@@ -53,10 +53,10 @@ void bench_newton(const BenchFlags& flags, int threads) {
     ProgressBar bar("bench " + std::to_string(n) + "^2", scene.frames);
     const RolloutResult r = run_rollout(scene, newton, options, [&](int done, int, const StepRecord&) { bar.update(done); });
     bar.finish();
-    int converged = 0, max_iterations = 0;
+    const int converged = r.converged_steps();
+    int max_iterations = 0;
     double max_ms = 0.0;
     for (const auto& s : r.steps) {
-      converged += is_converged(s.status);
       max_iterations = std::max(max_iterations, s.iterations);
       max_ms = std::max(max_ms, s.wall_ms);
     }

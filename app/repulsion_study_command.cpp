@@ -233,7 +233,7 @@ void run_study(const StudyFlags& flags) {
           run.frames.push_back(measure_self_contact(run.rollout.grid, x, hash));
         }
         run.summary = summarize_self_contact(run.frames);
-        for (const auto& s : run.rollout.steps) run.converged += is_converged(s.status);
+        run.converged = run.rollout.converged_steps();
         csv.add_row(csv_row(run, flags));
         csv.write(csv_path);  // finished rows survive an interrupted study
         runs.push_back(std::move(run));

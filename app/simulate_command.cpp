@@ -65,9 +65,9 @@ void run_simulate(const SimulateFlags& flags) {
     }
   }
 
-  int converged = 0, precision_limited = 0, max_iterations = 0;
+  const int converged = rollout.converged_steps();
+  int precision_limited = 0, max_iterations = 0;
   for (const auto& s : rollout.steps) {
-    converged += is_converged(s.status);
     precision_limited += s.status == SolveStatus::PrecisionLimit;
     max_iterations = std::max(max_iterations, s.iterations);
   }

@@ -29,6 +29,10 @@ int RolloutResult::total_iterations() const {
   return n;
 }
 
+int RolloutResult::converged_steps() const {
+  return static_cast<int>(std::count_if(steps.begin(), steps.end(), [](const StepRecord& s) { return is_converged(s.status); }));
+}
+
 double ms_per_frame(const RolloutResult& rollout) {
   const int n = static_cast<int>(rollout.steps.size());
   const int warmup = std::min(10, n / 5);

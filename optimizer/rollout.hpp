@@ -43,6 +43,7 @@ struct RolloutResult {
   double mean_step_ms() const;
   double max_strain() const;
   int total_iterations() const;
+  int converged_steps() const;  // steps whose solve reached its tolerance (is_converged)
 };
 
 // Mean wall time of a step after warm-up (plan caches, first-touch memory, the GD curvature

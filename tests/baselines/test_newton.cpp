@@ -138,9 +138,9 @@ TEST(NewtonSolver, ShiftedHessianEscapesABucklingSaddle) {
   EXPECT_LT(iterations[0], iterations[1]);
 }
 
-// Solves every step with `main`; on step `twin_step` (counted from 0) it first solves the same step, from the
-// same start, with `twin` and keeps that result. So two solvers are compared on one state that
-// takes a long rollout to reach, without running the rollout twice.
+// Solves every step with `main`; on step `twin_step` (counted from 0) it first solves the same
+// step, from the same start, with `twin` and keeps that result. So two solvers are compared on
+// one state that takes a long rollout to reach, without running the rollout twice.
 class TwinOnOneStep : public InnerOptimizer {
  public:
   TwinOnOneStep(InnerOptimizer& main, InnerOptimizer& twin, int twin_step, InnerSolveOptions options)
@@ -189,11 +189,9 @@ TEST(NewtonSolver, StallGuardFinishesAStepWhereTheShiftCrawls) {
   const RolloutResult r = run_rollout(scene, solvers, options);
   ASSERT_FALSE(r.diverged) << r.divergence;
   ASSERT_EQ(r.steps.size(), 114u);
-  int unconverged = 0, max_iterations = 0;
-  for (const auto& s : r.steps) {
-    unconverged += !is_converged(s.status);
-    max_iterations = std::max(max_iterations, s.iterations);
-  }
+  const int unconverged = static_cast<int>(r.steps.size()) - r.converged_steps();
+  int max_iterations = 0;
+  for (const auto& s : r.steps) max_iterations = std::max(max_iterations, s.iterations);
   const InnerSolveResult& off = solvers.twin_result();
   std::printf("guard on: %d unconverged steps, at most %d iterations, %ld stall switches, step 114 in %d iterations\n"
               "guard off: step 114 %s after %d iterations, ||g|| = %.2e ||g0||\n",
