@@ -569,6 +569,7 @@ void run_compare(const CompareFlags& flags) {
     }
   }
   bar.finish();
+  table.write(csv_path);  // the rows resumed after the last computed one
   write_outputs("finished");
   std::printf("%s", table.text().c_str());
   std::printf("wrote %s, %s and %s (%d thread%s)\n", csv_path.c_str(), svg_path.c_str(),

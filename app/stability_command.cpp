@@ -40,7 +40,7 @@ struct StabilityFlags {
   SceneFlags scene;
   std::string out;
   std::string cases = "all";
-  std::string optimizers = "newton,fnopt,fnopt-ls,lbfgs,lbfgs-ls,adam,gd";
+  std::string optimizers = "newton,fnopt,fnopt-ls,fnopt-ss,lbfgs,lbfgs-ls,adam,gd";
   std::vector<std::string> iters_for;  // METHOD=N
   std::string model;
   int threads = 1;
@@ -55,7 +55,7 @@ int default_budget(const std::string& method) {
                                                      {"lbfgs-ls", 100}, {"adam", 500}, {"gd", 500}};
   const auto found = budgets.find(method);
   if (found != budgets.end()) return found->second;
-  for (const char* prefix : {"newton", "fnopt"})  // variants such as fnopt-ls, fnopt-interp32
+  for (const char* prefix : {"newton", "fnopt"})  // variants such as fnopt-ss, fnopt-interp32
     if (method.rfind(prefix, 0) == 0) return budgets.at(prefix);
   return 100;
 }

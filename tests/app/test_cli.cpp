@@ -51,8 +51,8 @@ TEST(Cli, SimulateRunsTheShippedLearnedOptimizerByDefault) {
   const auto out = (std::filesystem::temp_directory_path() / "fnopt_test_cli_default.h5").string();
   const CommandResult r = run_fnopt("simulate --res 16 --frames 10 --out " + out);
   EXPECT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("fnopt-ls: 10/10 frames"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("line_search=on"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("fnopt-ss: 10/10 frames"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("subspace=6 carried"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("finite"), std::string::npos) << r.output;
   std::filesystem::remove(out);
 }

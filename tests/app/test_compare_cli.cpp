@@ -41,6 +41,20 @@ TEST(CompareCli, ANonSquareComparisonWritesCsvPlotAndReport) {
   EXPECT_EQ(std::count(after.begin(), after.end(), '\n'), 4) << after;
   EXPECT_NE(after.find("gd,5,"), std::string::npos) << after;
   EXPECT_NE(after.find("lbfgs,5,,,12x16,"), std::string::npos) << after;
+
+  // A run computed before resumed ones (newton dropped from the CSV, gd resumed after it): the
+  // CSV written at the end holds every row, the resumed ones after the last computed one too.
+  std::string without_newton;
+  std::istringstream lines(after);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("newton,", 0) != 0) without_newton += line + "\n";
+  std::ofstream(dir / "compare.csv") << without_newton;
+  const CommandResult again = run_fnopt("compare --res 12x16 --frames 4 --optimizers newton,gd --iters 5 --lr-gd 1 "
+                                        "--threads 1 --step-samples 2 --cd-samples 500 --resume --out " + dir.string());
+  ASSERT_EQ(again.status, 0) << again.output;
+  const std::string last = read_text(dir / "compare.csv");
+  EXPECT_EQ(std::count(last.begin(), last.end(), '\n'), 4) << last;
+  for (const char* row : {"newton,", "gd,5,", "lbfgs,5,"}) EXPECT_NE(last.find(row), std::string::npos) << row << "\n" << last;
   std::filesystem::remove_all(dir);
 }
 
