@@ -40,10 +40,9 @@ SecantSubspace::Coefficients SecantSubspace::minimiser(const VecX& gradient) con
     rhs(j) = -s(j).dot(gradient);
     scale(j) = 1.0 / std::sqrt(sy_(j, j));  // Jacobi scaling: unit curvature along each s_j
   }
-  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxCapacity, kMaxCapacity>;
-  const Matrix top = sy_.topLeftCorner(k, k);
-  const Matrix model = scale.asDiagonal() * (0.5 * (top + top.transpose())) * scale.asDiagonal();
-  const Eigen::SelfAdjointEigenSolver<Matrix> eigen(model);
+  const SmallMatrix top = sy_.topLeftCorner(k, k);
+  const SmallMatrix model = scale.asDiagonal() * (0.5 * (top + top.transpose())) * scale.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<SmallMatrix> eigen(model);
   const Coefficients& values = eigen.eigenvalues();
   const double floor = kRelativeEigenvalueFloor * values.maxCoeff();
   Coefficients projected = eigen.eigenvectors().transpose() * scale.asDiagonal() * rhs;

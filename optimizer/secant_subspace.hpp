@@ -39,10 +39,12 @@ class SecantSubspace {
   bool push(const VecX& s, const VecX& y);
   // c minimising the model at gradient g (newest direction last); empty if size() == 0.
   Coefficients minimiser(const VecX& gradient) const;
-  // step = S c.
+  // step = S c, for c from minimiser() (size() >= 1).
   void combine(const Coefficients& c, VecX& step) const;
 
  private:
+  using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxCapacity, kMaxCapacity>;
+
   const VecX& s(int j) const { return s_[index(j)]; }  // j = 0 is the oldest pair
   const VecX& y(int j) const { return y_[index(j)]; }
   int index(int j) const { return (first_ + j) % capacity_; }
@@ -51,7 +53,7 @@ class SecantSubspace {
   int size_ = 0, first_ = 0;
   std::vector<VecX> s_, y_;
   // s_i . y_j in logical order (oldest first), kept up to date on every push.
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxCapacity, kMaxCapacity> sy_;
+  SmallMatrix sy_;
 };
 
 }  // namespace fnopt

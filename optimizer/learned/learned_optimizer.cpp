@@ -94,8 +94,7 @@ double LearnedOptimizer::rescale_update(StepProblem& problem, VecX& a, double& v
 double LearnedOptimizer::subspace_update(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
   direction_ = a - previous_a_;
   gradient_change_ = gradient - previous_gradient_;
-  if (!std::isfinite(value)) return 1.0;
-  if (!subspace_.push(direction_, gradient_change_)) return 1.0;
+  if (!std::isfinite(value) || !subspace_.push(direction_, gradient_change_)) return 1.0;
   const SecantSubspace::Coefficients c = subspace_.minimiser(previous_gradient_);
   subspace_.combine(c, trial_);
   if ((trial_ - direction_).norm() <= params_.min_rescale * direction_.norm()) return 1.0;
