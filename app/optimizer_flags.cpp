@@ -21,9 +21,10 @@ struct OptimizerEntry {
   std::function<std::unique_ptr<InnerOptimizer>(const OptimizerChoice&)> make;
 };
 
-// fnopt-ss: subspace steps over the last six proposals, carried across time steps (measured
-// against three at 100^2 on xy_v2: e_CD x 10^3 14.3 against 15.2; README "The learned optimizer").
-constexpr int kLearnedSubspace = 6;
+// fnopt-ss: subspace steps over the last eight proposals, carried across time steps (measured
+// at 100^2 on xy_v2, e_CD x 10^3: 9.41 with eight, 14.3 with six, 15.2 with three; at 32^2,
+// twelve were no better than eight; README "The learned optimizer").
+constexpr int kLearnedSubspace = 8;
 
 // The learned optimizer on --model (default: the shipped model): plain, with the secant step
 // along its updates, or with the subspace step.

@@ -11,10 +11,10 @@
 namespace fnopt::app {
 
 struct OptimizerChoice {
-  // The learned optimizer on the shipped model, with the subspace step over its last six
-  // proposals (measured against the secant step fnopt-ls: e_CD x 10^3 0.681 -> 0.388 over the
-  // fifteen 32^2 motions, 33.2 -> 14.3 at 100^2 on xy_v2, for 1-13 % more time; README "The
-  // learned optimizer").
+  // The learned optimizer on the shipped model, with the subspace step over its last eight
+  // proposals (measured against the secant step fnopt-ls: e_CD x 10^3 0.681 -> 0.344 over the
+  // fifteen 32^2 motions, 33.2 -> 9.41 at 100^2 on xy_v2, for 2-10 % more time; README
+  // "Results").
   std::string name = "fnopt-ss";
   int iterations = 0;           // budget per step; 0 = the method's default
   double learning_rate = 0.0;   // 0 = the method's default

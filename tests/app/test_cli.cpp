@@ -52,7 +52,7 @@ TEST(Cli, SimulateRunsTheShippedLearnedOptimizerByDefault) {
   const CommandResult r = run_fnopt("simulate --res 16 --frames 10 --out " + out);
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("fnopt-ss: 10/10 frames"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("subspace=6 carried"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("subspace=8 carried"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("finite"), std::string::npos) << r.output;
   std::filesystem::remove(out);
 }

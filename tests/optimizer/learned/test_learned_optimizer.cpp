@@ -165,7 +165,7 @@ TEST(LearnedOptimizer, SubspaceStepLeavesLessErrorThanTheSecantStepAlongANewtonT
   const std::string path = std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt";
   LearnedParams secant, carried, cleared;
   secant.line_search = true;
-  carried.subspace = cleared.subspace = 6;
+  carried.subspace = cleared.subspace = 8;
   cleared.carry_subspace = false;
   LearnedOptimizer ls(path, secant), ss(path, carried), ss_cleared(path, cleared);
   EXPECT_EQ(ss.name(), "fnopt-ss");
