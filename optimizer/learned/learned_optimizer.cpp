@@ -74,6 +74,15 @@ bool LearnedOptimizer::continues_previous_step(const BackwardEulerObjective& obj
   return mismatch <= kContinuationTolerance * (1.0 + x.lpNorm<Eigen::Infinity>());
 }
 
+bool LearnedOptimizer::take_trial_if_lower(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
+  const double trial_value = problem.value_gradient(trial_, trial_gradient_);
+  if (!(trial_value < value)) return false;
+  a.swap(trial_);
+  gradient.swap(trial_gradient_);
+  value = trial_value;
+  return true;
+}
+
 double LearnedOptimizer::rescale_update(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
   direction_ = a - previous_a_;
   const double slope_before = previous_gradient_.dot(direction_), slope_after = gradient.dot(direction_);
@@ -83,12 +92,7 @@ double LearnedOptimizer::rescale_update(StepProblem& problem, VecX& a, double& v
                                   params_.max_rescale);
   if (std::abs(alpha - 1.0) <= params_.min_rescale) return 1.0;
   trial_ = previous_a_ + alpha * direction_;
-  const double trial_value = problem.value_gradient(trial_, trial_gradient_);
-  if (!(trial_value < value)) return 1.0;
-  a.swap(trial_);
-  gradient.swap(trial_gradient_);
-  value = trial_value;
-  return alpha;
+  return take_trial_if_lower(problem, a, value, gradient) ? alpha : 1.0;
 }
 
 double LearnedOptimizer::subspace_update(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
@@ -99,11 +103,7 @@ double LearnedOptimizer::subspace_update(StepProblem& problem, VecX& a, double& 
   subspace_.combine(c, trial_);
   if ((trial_ - direction_).norm() <= params_.min_rescale * direction_.norm()) return 1.0;
   trial_ += previous_a_;
-  const double trial_value = problem.value_gradient(trial_, trial_gradient_);
-  if (!(trial_value < value)) return 1.0;
-  a.swap(trial_);
-  gradient.swap(trial_gradient_);
-  value = trial_value;
+  if (!take_trial_if_lower(problem, a, value, gradient)) return 1.0;
   const double newest = c(c.size() - 1);
   return newest > 0.0 ? std::clamp(newest, 1.0 / params_.max_rescale, params_.max_rescale) : 1.0;
 }

@@ -71,6 +71,9 @@ class LearnedOptimizer final : public InnerOptimizer {
   // Moves a (with value and gradient) to previous_a_ + alpha (a - previous_a_) if that lowers
   // L; returns the alpha applied (1 if none).
   double rescale_update(StepProblem& problem, VecX& a, double& value, VecX& gradient);
+  // Evaluates L at trial_ and moves a (with value and gradient) there if that is lower than
+  // value; the secant and the subspace step both end with this.
+  bool take_trial_if_lower(StepProblem& problem, VecX& a, double& value, VecX& gradient);
   // Moves a to previous_a_ + S c, the subspace model's minimiser, if that lowers L; returns
   // the coefficient of the newest proposal (1 if the step was not taken).
   double subspace_update(StepProblem& problem, VecX& a, double& value, VecX& gradient);

@@ -152,7 +152,8 @@ class Shadows final : public InnerOptimizer {
   const InnerSolveOptions options_;
 
  public:
-  std::vector<std::vector<double>> values;  // per shadow, L at the end of every step
+  // Per shadow, L at the end of every step (declared after shadows_, which sizes it).
+  std::vector<std::vector<double>> values;
 };
 
 TEST(LearnedOptimizer, SubspaceStepLeavesLessErrorThanTheSecantStepAlongANewtonTrajectory) {
