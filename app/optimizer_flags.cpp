@@ -21,11 +21,6 @@ struct OptimizerEntry {
   std::function<std::unique_ptr<InnerOptimizer>(const OptimizerChoice&)> make;
 };
 
-// fnopt-ss: subspace steps over the last eight proposals, carried across time steps (measured
-// at 100^2 on xy_v2, e_CD x 10^3: 9.41 with eight, 14.3 with six, 15.2 with three; at 32^2,
-// twelve were no better than eight; README "The learned optimizer").
-constexpr int kLearnedSubspace = 8;
-
 // The learned optimizer on --model (default: the shipped model): plain, with the secant step
 // along its updates, or with the subspace step.
 std::unique_ptr<InnerOptimizer> make_learned(const OptimizerChoice& c, bool line_search, int subspace = 0) {
@@ -40,7 +35,7 @@ const std::vector<OptimizerEntry>& optimizer_table() {
       {"newton", [](const OptimizerChoice&) { return std::make_unique<NewtonOptimizer>(); }},
       {"fnopt", [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false); }},
       {"fnopt-ls", [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/true); }},
-      {"fnopt-ss", [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false, kLearnedSubspace); }},
+      {"fnopt-ss", [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false, kFnoptSubspace); }},
       {"gd",
        [](const OptimizerChoice& c) {
          GradientDescentParams params;

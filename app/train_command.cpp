@@ -44,7 +44,8 @@ struct TrainFlags {
 constexpr const char* kLogHeader =
     "step,seconds,loss,newton_loss,mean_ratio,gradient_norm,learning_rate,renewed,skipped";
 
-constexpr const char* kValidationHeader = "step,seconds,resolution,motions,frames,iterations,e3d_x1e2,max_strain,diverged";
+constexpr const char* kValidationHeader =
+    "step,seconds,resolution,motions,frames,optimizer,iterations,e3d_x1e2,max_strain,diverged";
 
 // Keeps a CSV log's rows up to `step` (those the checkpoint had seen), so a resumed run's log
 // reads as one run; returns the kept rows, split into fields.
@@ -71,7 +72,7 @@ std::vector<std::vector<std::string>> trim_log(const std::string& path, const st
 std::vector<std::string> validation_key(const ValidationOptions& v) {
   std::string motions;
   for (const std::string& motion : v.motions) motions += (motions.empty() ? "" : "+") + motion;
-  return {std::to_string(v.resolution), motions, std::to_string(v.frames), std::to_string(v.iterations)};
+  return {std::to_string(v.resolution), motions, std::to_string(v.frames), v.optimizer(), std::to_string(v.iterations)};
 }
 
 struct BestValidation {
@@ -86,9 +87,9 @@ BestValidation best_of(const std::vector<std::vector<std::string>>& rows, const 
   BestValidation best;
   has_step = false;
   for (const auto& row : rows) {
-    if (row.size() != 9 || std::vector<std::string>(row.begin() + 2, row.begin() + 6) != validation_key(v)) continue;
+    if (row.size() != 10 || std::vector<std::string>(row.begin() + 2, row.begin() + 7) != validation_key(v)) continue;
     has_step = has_step || std::stoi(row[0]) == step;
-    if (std::stod(row[6]) < best.e3d) best = {std::stod(row[6]), std::stoi(row[0])};
+    if (std::stod(row[7]) < best.e3d) best = {std::stod(row[7]), std::stoi(row[0])};
   }
   return best;
 }
@@ -140,12 +141,18 @@ void run_train(TrainFlags& flags) {
                threads == 1 ? "" : "s", flags.out.c_str());
   std::fprintf(stderr, "fnopt train: pool ranges (grid units, damping as c dt): %s\n",
                flags.options.pool.ranges.text().c_str());
+  const int subspace = flags.options.pool.subspace;
+  std::fprintf(stderr, "fnopt train: the pool takes each proposal %s\n",
+               subspace == 0 ? "as it is"
+                             : ("as fnopt-ss does: subspace step over the last " + std::to_string(subspace) +
+                                " proposals, carried across time steps, and the energy safeguard")
+                                   .c_str());
 
   std::unique_ptr<RolloutValidation> validation;
   if (flags.validate) {
     const ValidationOptions& v = flags.validation;
-    std::fprintf(stderr, "fnopt train: validation every %d steps: fnopt-ls N=%d, %d frames of %s at %dx%d against Newton\n",
-                 flags.validate_every, v.iterations, v.frames, validation_key(v)[1].c_str(), v.resolution, v.resolution);
+    std::fprintf(stderr, "fnopt train: validation every %d steps: %s N=%d, %d frames of %s at %dx%d against Newton\n",
+                 flags.validate_every, v.optimizer().c_str(), v.iterations, v.frames, validation_key(v)[1].c_str(), v.resolution, v.resolution);
     std::optional<ProgressBar> reference_bar;  // only if a reference is solved
     validation = std::make_unique<RolloutValidation>(v, flags.out, [&](int done, int total, const StepRecord&) {
       if (!reference_bar) reference_bar.emplace("validation references", total);
@@ -258,6 +265,11 @@ const RegisterCommand kRegister([](CLI::App& app) {
                       "sampling range of the pool, QUANTITY=LOW:HIGH, log-uniform, in grid units (repeatable): "
                       "stretch k~_s (default 40:8000), shear k~_sh (0.5:600), bend k~_b (0.005:20), gravity g~ "
                       "(0.03:0.6), damping c dt (0.005:0.3); README, \"The learned optimizer\"");
+  command->add_option("--subspace", o.pool.subspace,
+                      "how the pool takes each proposal: 0, as it is (the shipped model's training); K, as fnopt-ss "
+                      "does: the subspace step over the last K proposals, carried across time steps, and the energy "
+                      "safeguard, so the model trains on the states it meets at inference")
+      ->capture_default_str();
   command->add_option("--undamped-share", o.pool.ranges.undamped_share,
                       "share of the environments without damping")
       ->capture_default_str();
@@ -274,7 +286,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--threads", flags->threads, "threads (default: all cores)");
   command->add_flag("--resume", flags->resume, "continue from OUT/checkpoint.pt");
   CLI::Option* validate_res = command->add_option("--validate-res", flags->validation.resolution,
-                      "validate on an N x N grid every --validate-every steps: fnopt-ls rollouts of the benchmark scene "
+                      "validate on an N x N grid every --validate-every steps: fnopt-ss rollouts of the benchmark scene "
                       "(default material, corner handles) against their Newton references (solved once, cached in OUT); "
                       "the closest model so far (e_3D) is kept as OUT/model-best.pt, each score in OUT/validation.csv")
       ->each([flags](const std::string&) { flags->validate = true; });
@@ -292,7 +304,12 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_flag("--keep-validated", flags->keep_validated,
                     "also keep every validated model as OUT/validated/model-STEP.pt (to compare them later)")
       ->needs(validate_res);
-  command->add_option("--validate-iters", flags->validation.iterations, "fnopt-ls iterations per validation step")
+  command->add_option("--validate-iters", flags->validation.iterations, "iterations per validation step")
+      ->capture_default_str()
+      ->needs(validate_res);
+  command->add_option("--validate-subspace", flags->validation.subspace,
+                      "proposals the validation's subspace step keeps (fnopt-ss); 0 validates with fnopt-ls, as the "
+                      "validations before fnopt-ss did")
       ->capture_default_str()
       ->needs(validate_res);
   command->callback([flags] { run_train(*flags); });

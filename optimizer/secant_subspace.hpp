@@ -42,11 +42,14 @@ class SecantSubspace {
   // step = S c, for c from minimiser() (size() >= 1).
   void combine(const Coefficients& c, VecX& step) const;
 
+  // The kept pair j, 0 <= j < size(), oldest first: pushing them again in this order into an
+  // empty subspace restores it exactly.
+  const VecX& s(int j) const { return s_[index(j)]; }
+  const VecX& y(int j) const { return y_[index(j)]; }
+
  private:
   using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxCapacity, kMaxCapacity>;
 
-  const VecX& s(int j) const { return s_[index(j)]; }  // j = 0 is the oldest pair
-  const VecX& y(int j) const { return y_[index(j)]; }
   int index(int j) const { return (first_ + j) % capacity_; }
 
   int capacity_;

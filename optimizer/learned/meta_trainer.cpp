@@ -76,12 +76,12 @@ TrainStepStats MetaTrainer::step() {
   batch.samples_per_environment = k;
   batch.normalisation = options_.loss_normalisation;
   std::vector<torch::Tensor> gradients, previous_gradients, previous_deltas, scales, masks, newton_deltas;
-  VecX g;
+  std::vector<VecX> start_gradients(options_.batch);
   for (int i = 0; i < options_.batch; ++i) {
     TrainingEnv& env = *pool_[order[i]];
+    VecX& g = start_gradients[i];
     batch.envs.push_back(&env);
-    batch.current_loss.push_back(env.objective().value_gradient(env.acceleration(), g));
-    env.dirichlet().zero_fixed(g);
+    batch.current_loss.push_back(StepProblem(env.objective(), env.dirichlet()).value_gradient(env.acceleration(), g));
     gradients.push_back(to_model_layout(to_coordinate_samples(g, env.grid()), k));
     previous_gradients.push_back(to_model_layout(env.previous_gradient, k));
     previous_deltas.push_back(to_model_layout(env.previous_delta, k));
@@ -118,23 +118,26 @@ TrainStepStats MetaTrainer::step() {
     if (average_) average_->update(model_, std::min(options_.average_decay, (1.0 + t) / (10.0 + t)));
   }
 
-  // Write each update back into its environment.
+  // Each environment takes its update by its proposal rule, as inference would.
   double ratio_sum = 0.0;
   int finite = 0;
   for (int i = 0; i < options_.batch; ++i) {
     TrainingEnv& env = *batch.envs[i];
-    const torch::Tensor delta = to_coordinate_layout(update.delta.narrow(0, k * i, k).detach());
-    if (!std::isfinite(batch.ratio[i]) || !torch::isfinite(delta).all().item<bool>()) {
+    const LearnedStep proposal{update.delta.narrow(0, k * i, k).detach(), update.scale.narrow(0, k * i, k).detach()};
+    if (!std::isfinite(batch.ratio[i]) || !torch::isfinite(proposal.delta).all().item<bool>()) {
       env.renew();
       ++stats.renewed;
       continue;
     }
     ratio_sum += batch.ratio[i];
     ++finite;
-    add_coordinate_samples(delta, env.grid(), acceleration_per_grid_unit(env.grid(), env.dt()), env.acceleration());
-    env.previous_gradient = to_coordinate_layout(gradients[i]);
-    env.previous_delta = delta;
-    env.scale = update.scale.narrow(0, k * i, k).detach().expand({3, 1, 1, 1}).contiguous();
+    StepProblem problem(env.objective(), env.dirichlet());
+    double value = batch.current_loss[i];
+    const LearnedState next =
+        env.rule().apply(problem, gradients[i], proposal, env.acceleration(), value, start_gradients[i]);
+    env.previous_gradient = to_coordinate_layout(next.gradient);
+    env.previous_delta = to_coordinate_layout(next.delta);
+    env.scale = next.scale.expand({3, 1, 1, 1}).contiguous();
     env.finish_iteration();
   }
   stats.mean_ratio = finite ? ratio_sum / finite : NAN;
@@ -201,9 +204,15 @@ void MetaTrainer::restore(const std::string& path) {
       average_->reset_to(model_);
   }
   for (int e = 0; e < options_.pool.environments; ++e) {
-    std::vector<torch::Tensor> tensors(7);
+    std::vector<torch::Tensor> tensors(TrainingEnv::kStateTensors);
     for (std::size_t k = 0; k < tensors.size(); ++k)
       archive.read("env" + std::to_string(e) + "_" + std::to_string(k), tensors[k]);
+    // The kept proposals and their gradient differences, if the run that saved it had any. A
+    // fresh tensor for each: try_read overwrites a defined tensor in place.
+    for (const int k : {TrainingEnv::kStateTensors, TrainingEnv::kStateTensors + 1}) {
+      torch::Tensor pairs;
+      if (archive.try_read("env" + std::to_string(e) + "_" + std::to_string(k), pairs)) tensors.push_back(pairs);
+    }
     pool_.push_back(TrainingEnv::restored(options_.pool, options_.seed, e, tensors));
   }
 }

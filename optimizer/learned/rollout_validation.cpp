@@ -18,6 +18,8 @@ void ValidationOptions::validate() const {
   require(frames > 0, "validate.frames", "must be positive");
   require(iterations > 0, "validate.iterations", "must be positive");
   require(!motions.empty(), "validate.motions", "must name at least one motion");
+  require(subspace >= 0 && subspace <= SecantSubspace::kMaxCapacity, "validate.subspace",
+          "must be 0 to " + std::to_string(SecantSubspace::kMaxCapacity));
   try {
     for (const std::string& motion : motions) scene_checks::motion_name(motion);
   } catch (const Error& e) {
@@ -90,9 +92,15 @@ RolloutValidation::RolloutValidation(const ValidationOptions& options, const std
   }
 }
 
+std::string ValidationOptions::optimizer() const {
+  if (subspace == 0) return "fnopt-ls";
+  return subspace == kFnoptSubspace ? "fnopt-ss" : "fnopt-ss-k" + std::to_string(subspace);
+}
+
 ValidationScore RolloutValidation::score(const FNO2d& model) const {
   LearnedParams params;
-  params.line_search = true;
+  params.line_search = options_.subspace == 0;
+  params.subspace = options_.subspace;
   RolloutOptions rollout_options;
   rollout_options.solve.max_iterations = options_.iterations;
   TrajectoryComparisonOptions comparison;

@@ -1,6 +1,6 @@
 #pragma once
 // Validation of a model in training on the grid it will be used on: the learned optimizer's
-// rollouts (fnopt-ls, N iterations per step) of benchmark scenes against the Newton references
+// rollouts (fnopt-ss by default, N iterations per step) of benchmark scenes against the Newton references
 // of the same scenes, scored by e_3D (trajectory_error.hpp) averaged over the scenes. Why: training at 32^2 keeps
 // lowering the 32^2 error while it can break larger grids (README: the step-5500 model
 // diverged at 100^2, the step-8800 model reached 174 % strain there, step 7000 did neither),
@@ -11,6 +11,7 @@
 
 #include "fno/fno2d.hpp"
 #include "io/rollout_file.hpp"
+#include "optimizer/learned/proposal_rule.hpp"
 #include "optimizer/rollout.hpp"
 #include "scenes/scene.hpp"
 
@@ -25,8 +26,14 @@ struct ValidationOptions {
   std::vector<std::string> motions = {"xyz_v3", "rot_h0"};
   int frames = 120;     // time steps of each rollout (2 s at dt = 1/60)
   int iterations = 10;  // the learned optimizer's budget per step
+  // The rule the rollouts take proposals with: fnopt-ss's subspace step over this many
+  // proposals (the default of `fnopt simulate`), or 0 for fnopt-ls, which the validations in
+  // the README before fnopt-ss used.
+  int subspace = kFnoptSubspace;
 
   void validate() const;  // Error("validate.<field>: ...") for a bad value
+  // "fnopt-ss" (K = kFnoptSubspace), "fnopt-ss-kK" (another K) or "fnopt-ls".
+  std::string optimizer() const;
 };
 
 struct ValidationScore {

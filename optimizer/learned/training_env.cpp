@@ -25,6 +25,14 @@ Vec3 random_unit(std::mt19937_64& rng) {
   return u.normalized();
 }
 
+// The rule the pool takes proposals with: as they are, or fnopt-ss's (safeguard and subspace step).
+LearnedParams pool_rule(int subspace) {
+  LearnedParams p;
+  p.safeguard = subspace > 0;
+  p.subspace = subspace;
+  return p;
+}
+
 NewtonParams reference_newton() {
   NewtonParams p;
   p.max_cg_iterations = 0;  // a fresh factorization per iteration: deterministic, so resumable
@@ -75,16 +83,23 @@ void PoolOptions::validate() const {
   require(max_age > 0, "train.max_age", "must be positive");
   require(!budgets.empty(), "train.budgets", "must not be empty");
   for (int b : budgets) require(b > 0, "train.budgets", "must be positive");
+  require(subspace >= 0 && subspace <= SecantSubspace::kMaxCapacity, "train.subspace",
+          "must be 0 to " + std::to_string(SecantSubspace::kMaxCapacity));
 }
 
 TrainingEnv::TrainingEnv(const PoolOptions& options, std::uint64_t seed, int id, long generation)
-    : options_(options), seed_(seed), id_(id), generation_(generation), newton_(reference_newton()) {
+    : options_(options),
+      seed_(seed),
+      id_(id),
+      generation_(generation),
+      newton_(reference_newton()),
+      rule_(pool_rule(options.subspace)) {
   generate();
   begin_step();
 }
 
 TrainingEnv::TrainingEnv(const PoolOptions& options, std::uint64_t seed, int id, Unbuilt)
-    : options_(options), seed_(seed), id_(id), generation_(0), newton_(reference_newton()) {}
+    : options_(options), seed_(seed), id_(id), generation_(0), newton_(reference_newton()), rule_(pool_rule(options.subspace)) {}
 
 std::unique_ptr<TrainingEnv> TrainingEnv::restored(const PoolOptions& options, std::uint64_t seed, int id,
                                                    const std::vector<torch::Tensor>& tensors) {
@@ -144,6 +159,7 @@ void TrainingEnv::generate() {
   objective_ = std::make_unique<BackwardEulerObjective>(grid_, m, dt_, gravity);
   t_ = 0.0;
   age_ = 0;
+  rule_.pairs().clear();
   scale = torch::full({3, 1, 1, 1}, kInitialStepScale);
 }
 
@@ -203,7 +219,18 @@ std::vector<torch::Tensor> TrainingEnv::state_tensors() const {
   const auto scalars = torch::tensor({t_, static_cast<double>(age_), static_cast<double>(budget_),
                                       static_cast<double>(used_), static_cast<double>(generation_)},
                                      torch::kFloat64);
-  return {vec(x_), vec(v_), vec(a_), scalars, previous_gradient, previous_delta, scale};
+  std::vector<torch::Tensor> tensors{vec(x_), vec(v_), vec(a_), scalars, previous_gradient, previous_delta, scale};
+  const SecantSubspace& pairs = rule_.pairs();
+  if (pairs.size() > 0) {
+    std::vector<torch::Tensor> s, y;
+    for (int j = 0; j < pairs.size(); ++j) {
+      s.push_back(vec(pairs.s(j)));
+      y.push_back(vec(pairs.y(j)));
+    }
+    tensors.push_back(torch::stack(s));
+    tensors.push_back(torch::stack(y));
+  }
+  return tensors;
 }
 
 void TrainingEnv::restore(const std::vector<torch::Tensor>& s) {
@@ -227,6 +254,16 @@ void TrainingEnv::restore(const std::vector<torch::Tensor>& s) {
   previous_gradient = s[4].clone();
   previous_delta = s[5].clone();
   scale = s[6].clone();
+  // The kept proposals, pushed oldest first: the same pairs give the same products.
+  if (options_.subspace > 0 && s.size() == kStateTensors + 2) {
+    const auto directions = s[kStateTensors].contiguous(), changes = s[kStateTensors + 1].contiguous();
+    VecX direction, change;
+    for (int64_t j = 0; j < directions.size(0); ++j) {
+      copy(directions[j], direction);
+      copy(changes[j], change);
+      rule_.pairs().push(direction, change);
+    }
+  }
 }
 
 }  // namespace fnopt

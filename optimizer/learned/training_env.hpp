@@ -16,6 +16,7 @@
 #include "baselines/newton.hpp"
 #include "boundary/dirichlet.hpp"
 #include "cloth/backward_euler.hpp"
+#include "optimizer/learned/proposal_rule.hpp"
 
 #include <torch/torch.h>
 
@@ -49,6 +50,10 @@ struct PoolOptions {
   double divergence_strain = 1.0;      // renew when an edge stretches beyond 2x its rest length
   std::vector<int> budgets{1, 3, 10, 30};
   TrainingRanges ranges;
+  // How an environment takes the learned proposals (proposal_rule.hpp): 0, as they are (the
+  // shipped model's training); K > 0, as fnopt-ss does at inference: the subspace step over the
+  // last K proposals, carried across the environment's time steps, and the energy safeguard.
+  int subspace = 0;
 
   void validate() const;
 };
@@ -84,9 +89,15 @@ class TrainingEnv {
 
   // Learned-optimizer state carried by the environment.
   torch::Tensor previous_gradient, previous_delta, scale;  // [3,1,R,C], [3,1,R,C], [3,1,1,1]
+  // Takes the proposals; its kept proposals carry across time steps and start empty with each
+  // generation.
+  ProposalRule& rule() { return rule_; }
 
-  // The state that is not derived from (seed, id, generation), for checkpoints.
+  // The state that is not derived from (seed, id, generation), for checkpoints: kStateTensors
+  // tensors, then the kept proposals and their gradient differences ([K, n] each) if the rule
+  // keeps any.
   std::vector<torch::Tensor> state_tensors() const;
+  static constexpr int kStateTensors = 7;
 
  private:
   struct Unbuilt {};
@@ -107,6 +118,7 @@ class TrainingEnv {
   std::unique_ptr<BackwardEulerObjective> objective_;
   DirichletSet dirichlet_;
   NewtonOptimizer newton_;
+  ProposalRule rule_;
   std::vector<Vec3> handle_rest_;
   Vec3 pivot_, amplitude_, turn_axis_;
   double frequency_ = 0, phase_ = 0, turn_amplitude_ = 0, turn_frequency_ = 0;

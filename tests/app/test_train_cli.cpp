@@ -35,8 +35,8 @@ TEST(TrainCli, ValidatesEveryIntervalAndKeepsTheBestModel) {
     EXPECT_TRUE(std::filesystem::exists(dir / "validated" / ("model-" + std::to_string(step) + ".pt"))) << step;
   const auto rows = validation_rows(dir);
   ASSERT_EQ(rows.size(), 4u) << read_text(dir / "validation.csv");
-  EXPECT_EQ(rows[0], "step,resolution,motions,frames,iterations,e3d_x1e2,max_strain,diverged");
-  EXPECT_EQ(rows[1].rfind("10,12,xy_v2+rot_h0,12,10,", 0), 0u) << rows[1];
+  EXPECT_EQ(rows[0], "step,resolution,motions,frames,optimizer,iterations,e3d_x1e2,max_strain,diverged");
+  EXPECT_EQ(rows[1].rfind("10,12,xy_v2+rot_h0,12,fnopt-ss,10,", 0), 0u) << rows[1];
   EXPECT_EQ(rows[3].rfind("30,", 0), 0u) << rows[3];
   EXPECT_TRUE(std::filesystem::exists(dir / "model-best.pt"));
   EXPECT_NE(r.output.find("best validation: step "), std::string::npos) << r.output;
@@ -64,7 +64,7 @@ TEST(TrainCli, BadValidationFlagsAreOneLineErrors) {
   const auto dir = tmp.path() / "out";
   for (const std::string flags :
        {" --validate-res 12 --validate-motions xy_v2,sideways", " --validate-res 12 --validate-frames 0",
-        " --validate-res 2", " --validate-res 12 --validate-every 0"}) {
+        " --validate-res 2", " --validate-res 12 --validate-every 0", " --validate-res 12 --validate-subspace 9"}) {
     const CommandResult r = run_fnopt("train --out " + dir.string() + " --steps 5" + kTinyModel + flags);
     EXPECT_NE(r.status, 0) << flags;
     EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << flags << ": " << r.output;
@@ -77,7 +77,8 @@ TEST(TrainCli, PoolRangesAreSetByFlagAndPrinted) {
   const fnopt::testing::TempDir tmp;
   const auto dir = tmp.path() / "out";
   for (const std::string flags :
-       {" --range stretch=150", " --range speed=1:2", " --range shear=200:0.5", " --undamped-share 2"}) {
+       {" --range stretch=150", " --range speed=1:2", " --range shear=200:0.5", " --undamped-share 2", " --subspace 9",
+        " --subspace -1"}) {
     const CommandResult r = run_fnopt("train --out " + dir.string() + " --steps 2" + kTinyModel + flags);
     EXPECT_NE(r.status, 0) << flags;
     EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << flags << ": " << r.output;
@@ -105,6 +106,21 @@ TEST(TrainCli, ValidationFlagsWithoutValidateResAreRejected) {
       run_fnopt("train --out " + (tmp.path() / "out").string() + " --steps 2 --validate-motions rot_h0");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("--validate-motions requires --validate-res"), std::string::npos) << r.output;
+}
+
+TEST(TrainCli, TheSubspaceRuleTrainsAndValidatesAsChosen) {
+  const fnopt::testing::TempDir tmp;
+  const auto dir = tmp.path() / "out";
+  const CommandResult r = run_fnopt("train --out " + dir.string() + " --steps 10 --subspace 4 --validate-subspace 0" +
+                                    kTinyRun);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("the pool takes each proposal as fnopt-ss does: subspace step over the last 4 proposals"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("validation every 10 steps: fnopt-ls N=10"), std::string::npos) << r.output;
+  const auto rows = validation_rows(dir);
+  ASSERT_EQ(rows.size(), 2u) << read_text(dir / "validation.csv");
+  EXPECT_EQ(rows[1].rfind("10,12,xy_v2+rot_h0,12,fnopt-ls,10,", 0), 0u) << rows[1];
 }
 
 }  // namespace

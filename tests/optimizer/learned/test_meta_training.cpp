@@ -142,6 +142,30 @@ TEST(MetaTraining, CombinedLayoutTrainsAndResumesToo) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(MetaTraining, SubspaceRuleChangesThePoolAndResumesWithItsKeptProposals) {
+  TrainOptions options = tiny_training();
+  options.pool.subspace = 8;
+  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_resume_subspace";
+  std::filesystem::create_directories(dir);
+  const std::string checkpoint = (dir / "checkpoint.pt").string();
+  MetaTrainer original(options), as_is(tiny_training());
+  std::vector<double> losses, losses_as_is;
+  for (int i = 0; i < 4; ++i) {
+    losses.push_back(original.step().loss);
+    losses_as_is.push_back(as_is.step().loss);
+  }
+  // The first step sees the same pool; the pool the rule leaves behind differs.
+  EXPECT_EQ(losses[0], losses_as_is[0]);
+  EXPECT_NE(losses, losses_as_is);
+  original.save_checkpoint(checkpoint);
+  std::vector<double> expected;
+  for (int i = 0; i < 8; ++i) expected.push_back(original.step().loss);
+
+  MetaTrainer resumed(options, checkpoint);
+  for (int i = 0; i < 8; ++i) EXPECT_NEAR(resumed.step().loss, expected[i], 1e-6 * std::abs(expected[i])) << "step " << i;
+  std::filesystem::remove_all(dir);
+}
+
 TEST(MetaTraining, RejectsACheckpointOfOtherOptions) {
   const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_resume_other";
   std::filesystem::create_directories(dir);

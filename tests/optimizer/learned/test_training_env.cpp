@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "cloth/grid_units.hpp"
+#include "optimizer/learned/grid_tensor.hpp"
 #include "optimizer/learned/training_env.hpp"
 #include "util/error.hpp"
 
@@ -28,6 +29,52 @@ TEST(TrainingEnv, IsRenewedAfterItsLifetime) {
   EXPECT_EQ(env.generation(), 1);
   for (int step = 0; step < 3; ++step) env.finish_iteration();
   EXPECT_EQ(env.generation(), 2);
+}
+
+// Takes `count` proposals of -t g by the environment's rule.
+void take_scaled_gradients(TrainingEnv& env, int count) {
+  for (int i = 0; i < count; ++i) {
+    StepProblem problem(env.objective(), env.dirichlet());
+    VecX gradient;
+    double value = problem.value_gradient(env.acceleration(), gradient);
+    const double unit = acceleration_per_grid_unit(env.grid(), env.dt());
+    const double t = 0.3 * unit / gradient.lpNorm<Eigen::Infinity>();
+    const torch::Tensor g = to_coordinate_samples(gradient, env.grid());
+    env.rule().apply(problem, g, {to_coordinate_samples(gradient, env.grid(), -t / unit), env.scale}, env.acceleration(),
+                     value, gradient);
+    env.finish_iteration();
+  }
+}
+
+TEST(TrainingEnv, KeepsItsProposalsAcrossTimeStepsAndForgetsThemWhenRenewed) {
+  PoolOptions pool = one_iteration_per_step(4);
+  pool.subspace = 3;
+  TrainingEnv env(pool, 7, 0);
+  take_scaled_gradients(env, 2);  // two time steps of one proposal each
+  EXPECT_EQ(env.generation(), 0);
+  EXPECT_EQ(env.rule().pairs().size(), 2);
+
+  // A checkpoint restores the same pairs, oldest first.
+  const auto restored = TrainingEnv::restored(pool, 7, 0, env.state_tensors());
+  ASSERT_EQ(restored->rule().pairs().size(), 2);
+  for (int j = 0; j < 2; ++j) {
+    EXPECT_EQ(restored->rule().pairs().s(j), env.rule().pairs().s(j)) << j;
+    EXPECT_EQ(restored->rule().pairs().y(j), env.rule().pairs().y(j)) << j;
+  }
+
+  take_scaled_gradients(env, 2);  // the lifetime ends: a new cloth, no pairs from the old one
+  EXPECT_EQ(env.generation(), 1);
+  EXPECT_EQ(env.rule().pairs().size(), 0);
+  take_scaled_gradients(env, 1);
+  EXPECT_EQ(env.rule().pairs().size(), 1);
+}
+
+TEST(TrainingEnv, TakesProposalsAsTheyAreWithoutASubspace) {
+  TrainingEnv env(one_iteration_per_step(4), 7, 0);
+  take_scaled_gradients(env, 2);
+  EXPECT_EQ(env.rule().pairs().size(), 0);
+  EXPECT_FALSE(env.rule().params().safeguard);
+  EXPECT_EQ(env.state_tensors().size(), static_cast<std::size_t>(TrainingEnv::kStateTensors));
 }
 
 TEST(TrainingEnv, RejectsALifetimeBelowOneStep) {
