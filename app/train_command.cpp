@@ -290,12 +290,12 @@ const RegisterCommand kRegister([](CLI::App& app) {
                       "(default material, corner handles) against their Newton references (solved once, cached in OUT); "
                       "the closest model so far (e_3D) is kept as OUT/model-best.pt, each score in OUT/validation.csv")
       ->each([flags](const std::string&) { flags->validate = true; });
-  command->add_option("--validate-every", flags->validate_every, "steps between validations")
-      ->capture_default_str()
-      ->needs(validate_res);
-  command->add_option("--validate-frames", flags->validation.frames, "time steps of the validation rollout")
-      ->capture_default_str()
-      ->needs(validate_res);
+  // The validation's settings: each shows its default and needs --validate-res.
+  auto validation_option = [&](const std::string& name, auto& value, const std::string& help) {
+    return command->add_option(name, value, help)->capture_default_str()->needs(validate_res);
+  };
+  validation_option("--validate-every", flags->validate_every, "steps between validations");
+  validation_option("--validate-frames", flags->validation.frames, "time steps of the validation rollout");
   command->add_option("--validate-motions", flags->validation.motions,
                       "motions of the validation scenes, comma-separated (default xyz_v3,rot_h0: not xy_v2, the test "
                       "scene of the README's 64^2 and 100^2 tables); the score is their mean e_3D")
@@ -304,14 +304,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_flag("--keep-validated", flags->keep_validated,
                     "also keep every validated model as OUT/validated/model-STEP.pt (to compare them later)")
       ->needs(validate_res);
-  command->add_option("--validate-iters", flags->validation.iterations, "iterations per validation step")
-      ->capture_default_str()
-      ->needs(validate_res);
-  command->add_option("--validate-subspace", flags->validation.subspace,
-                      "proposals the validation's subspace step keeps (fnopt-ss); 0 validates with fnopt-ls, as the "
-                      "validations before fnopt-ss did")
-      ->capture_default_str()
-      ->needs(validate_res);
+  validation_option("--validate-iters", flags->validation.iterations, "iterations per validation step");
+  validation_option("--validate-subspace", flags->validation.subspace,
+                    "proposals the validation's subspace step keeps (fnopt-ss); 0 validates with fnopt-ls, as the "
+                    "validations before fnopt-ss did");
   command->callback([flags] { run_train(*flags); });
 });
 
