@@ -13,7 +13,11 @@ namespace fnopt {
 void LearnedParams::validate() const {
   require(min_rescale >= 0.0, "fnopt.min_rescale", "must not be negative");
   require(max_rescale >= 1.0, "fnopt.max_rescale", "must be at least 1");
-  require(subspace >= 0 && subspace <= SecantSubspace::kMaxCapacity, "fnopt.subspace",
+  require_subspace_size(subspace, "fnopt.subspace");
+}
+
+void require_subspace_size(int subspace, const std::string& field) {
+  require(subspace >= 0 && subspace <= SecantSubspace::kMaxCapacity, field,
           "must be 0 to " + std::to_string(SecantSubspace::kMaxCapacity));
 }
 

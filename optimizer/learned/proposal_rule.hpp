@@ -14,6 +14,8 @@
 // The next proposal sees the gradient this one was made from, the update as applied along p
 // (alpha p, with alpha the newest proposal's coefficient) and s alpha, so it starts from the
 // length that worked.
+#include <string>
+
 #include "optimizer/learned/learned_update.hpp"
 #include "optimizer/secant_subspace.hpp"
 #include "optimizer/step_problem.hpp"
@@ -47,6 +49,10 @@ struct LearnedParams {
 
   void validate() const;  // Error("fnopt.<field>: ...") for values out of range
 };
+
+// Error("<field>: ...") unless 0 <= subspace <= SecantSubspace::kMaxCapacity (0: no subspace
+// step); for every option that sets a rule's `subspace`.
+void require_subspace_size(int subspace, const std::string& field);
 
 class ProposalRule {
  public:

@@ -18,8 +18,7 @@ void ValidationOptions::validate() const {
   require(frames > 0, "validate.frames", "must be positive");
   require(iterations > 0, "validate.iterations", "must be positive");
   require(!motions.empty(), "validate.motions", "must name at least one motion");
-  require(subspace >= 0 && subspace <= SecantSubspace::kMaxCapacity, "validate.subspace",
-          "must be 0 to " + std::to_string(SecantSubspace::kMaxCapacity));
+  require_subspace_size(subspace, "validate.subspace");
   try {
     for (const std::string& motion : motions) scene_checks::motion_name(motion);
   } catch (const Error& e) {

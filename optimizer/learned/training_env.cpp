@@ -83,8 +83,7 @@ void PoolOptions::validate() const {
   require(max_age > 0, "train.max_age", "must be positive");
   require(!budgets.empty(), "train.budgets", "must not be empty");
   for (int b : budgets) require(b > 0, "train.budgets", "must be positive");
-  require(subspace >= 0 && subspace <= SecantSubspace::kMaxCapacity, "train.subspace",
-          "must be 0 to " + std::to_string(SecantSubspace::kMaxCapacity));
+  require_subspace_size(subspace, "train.subspace");
 }
 
 TrainingEnv::TrainingEnv(const PoolOptions& options, std::uint64_t seed, int id, long generation)
