@@ -26,6 +26,7 @@ struct EvaluateFlags {
   int step_samples = 16;
   int threads = 0;
   std::string per_frame;
+  std::string per_step;
 };
 
 // The rest edge length h of a trajectory file: from rest_positions (both layouts have it),
@@ -61,6 +62,19 @@ void write_per_frame_table(const std::string& path, const TrajectoryComparison& 
     const std::string e3d = k < c.e3d_per_frame.size() ? CsvTable::number(1e2 * c.e3d_per_frame[k]) : "";
     table.add_row({CsvTable::number(c.matches[k].time), cd, e3d});
   }
+  table.write(path);
+}
+
+// One row per sampled reference state: L at the start, at Newton's converged step and at the
+// method's, the per-step error and the method's status. Shows which states a mean is made of,
+// e.g. a negative error where the method ends in a lower minimum than Newton's.
+void write_per_step_table(const std::string& path, const StepErrorSummary& summary) {
+  CsvTable table({"step", "initial_value", "newton_value", "method_value", "step_error", "status"});
+  // L at round-trip precision: the error is a ratio of small differences of these values.
+  auto value = [](double v) { return CsvTable::number(v, 17); };
+  for (const StepErrorSample& s : summary.samples)
+    table.add_row({std::to_string(s.step), value(s.initial_value), value(s.newton_value), value(s.method_value),
+                   CsvTable::number(s.error), to_string(s.status)});
   table.write(path);
 }
 
@@ -103,6 +117,10 @@ void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
                 "   ((L(a_N) - L*)/(L(a_0) - L*), L* by Newton to 1e-9; %d thread%s)\n",
                 method->name().c_str(), method->settings().c_str(), flags.optimizer.solve_options().max_iterations,
                 summary.samples.size(), summary.mean, summary.median, threads, threads == 1 ? "" : "s");
+    if (!flags.per_step.empty()) {
+      write_per_step_table(flags.per_step, summary);
+      std::printf("per-step errors: %s\n", flags.per_step.c_str());
+    }
   }
 }
 
@@ -128,6 +146,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->capture_default_str();
   command->add_option("--threads", flags->threads, "threads (default: all cores)");
   command->add_option("--per-frame", flags->per_frame, "also write the errors of every matched frame (CSV)");
+  command->add_option("--per-step", flags->per_step,
+                      "also write the per-step error of every sampled state, with L at the start, at Newton's step "
+                      "and at the method's (CSV)")
+      ->needs(optimizer);
   command->callback([flags, optimizer] { run_evaluate(*flags, optimizer->count() > 0); });
 });
 

@@ -1,0 +1,74 @@
+// fnopt evaluate as a user runs it: a rollout against itself, the per-frame and per-step tables
+// it writes, and the per-step table's rows making up the printed mean.
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <vector>
+
+#include "run_fnopt.hpp"
+#include "tests/boundary/temp_dir.hpp"
+
+namespace {
+
+// The CSV's data rows, split into fields.
+std::vector<std::vector<std::string>> csv_rows(const std::filesystem::path& path, std::string& header) {
+  std::istringstream text(read_text(path));
+  std::getline(text, header);
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(text, line);) {
+    std::vector<std::string> fields;
+    std::istringstream fields_text(line);
+    for (std::string field; std::getline(fields_text, field, ',');) fields.push_back(field);
+    rows.push_back(fields);
+  }
+  return rows;
+}
+
+TEST(EvaluateCli, WritesThePerFrameAndPerStepTablesBehindItsMeans) {
+  const fnopt::testing::TempDir tmp;
+  const auto rollout = (tmp.path() / "newton.h5").string();
+  ASSERT_EQ(run_fnopt("simulate --optimizer newton --res 8 --frames 12 --threads 1 --out " + rollout).status, 0);
+
+  const auto per_frame = tmp.path() / "frames.csv", per_step = tmp.path() / "steps.csv";
+  const CommandResult r = run_fnopt("evaluate --reference " + rollout + " " + rollout +
+                                    " --optimizer gd --iters 3 --step-samples 4 --threads 1 --per-frame " +
+                                    per_frame.string() + " --per-step " + per_step.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("e_3D x 10^2 = 0.0000"), std::string::npos) << r.output;
+
+  std::string header;
+  const auto frames = csv_rows(per_frame, header);
+  EXPECT_EQ(header, "t_s,e_cd_x1e3,e_3d_x1e2");
+  EXPECT_EQ(frames.size(), 13u);
+
+  const auto steps = csv_rows(per_step, header);
+  EXPECT_EQ(header, "step,initial_value,newton_value,method_value,step_error,status");
+  ASSERT_EQ(steps.size(), 4u);
+  double sum = 0.0;
+  for (const auto& row : steps) {
+    ASSERT_EQ(row.size(), 6u);
+    const double initial = std::stod(row[1]), newton = std::stod(row[2]), method = std::stod(row[3]);
+    const double error = std::stod(row[4]);
+    // The error is the remaining fraction of the start's distance to Newton's minimum.
+    EXPECT_NEAR(error, (method - newton) / (initial - newton), 1e-5 * std::abs(error) + 1e-9) << row[0];
+    EXPECT_GT(error, 0.0) << "three gradient steps do not reach the minimum, step " << row[0];
+    EXPECT_EQ(row[5], "iteration-budget");
+    sum += error;
+  }
+  char mean[32];
+  std::snprintf(mean, sizeof mean, "mean %.4g", sum / 4.0);
+  EXPECT_NE(r.output.find(mean), std::string::npos) << mean << "\n" << r.output;
+  EXPECT_NE(r.output.find("per-step errors: " + per_step.string()), std::string::npos) << r.output;
+}
+
+TEST(EvaluateCli, PerStepNeedsAnOptimizer) {
+  const fnopt::testing::TempDir tmp;
+  const auto rollout = (tmp.path() / "newton.h5").string();
+  ASSERT_EQ(run_fnopt("simulate --optimizer newton --res 8 --frames 2 --threads 1 --out " + rollout).status, 0);
+  const CommandResult r =
+      run_fnopt("evaluate --reference " + rollout + " " + rollout + " --per-step " + (tmp.path() / "s.csv").string());
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("--per-step requires --optimizer"), std::string::npos) << r.output;
+}
+
+}  // namespace
