@@ -147,6 +147,9 @@ void run_train(TrainFlags& flags) {
                              : ("as fnopt-ss does: subspace step over the last " + std::to_string(subspace) +
                                 " proposals, carried across time steps, and the energy safeguard")
                                    .c_str());
+  std::fprintf(stderr, "fnopt train: the loss scores each update %s\n",
+               flags.options.score_after_subspace_step ? "where the rule ends, past the subspace step"
+                                                       : "at the proposal");
 
   std::unique_ptr<RolloutValidation> validation;
   if (flags.validate) {
@@ -270,6 +273,12 @@ const RegisterCommand kRegister([](CLI::App& app) {
                       "does: the subspace step over the last K proposals, carried across time steps, and the energy "
                       "safeguard, so the model trains on the states it meets at inference")
       ->capture_default_str();
+  command->add_option("--score", o.score_after_subspace_step,
+                      "where the loss scores each update: proposal, the energy at a + delta (the shipped model's "
+                      "training); subspace-step, where the pool's rule ends after it, past the subspace step (needs "
+                      "--subspace K), so a proposal is judged by what it adds to the directions kept")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, bool>{{"proposal", false}, {"subspace-step", true}}))
+      ->option_text("{proposal,subspace-step}=proposal");
   command->add_option("--undamped-share", o.pool.ranges.undamped_share,
                       "share of the environments without damping")
       ->capture_default_str();

@@ -7,6 +7,7 @@
 #include "cloth/grid_units.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
 #include "optimizer/learned/learned_update.hpp"
+#include "optimizer/learned/subspace_step_loss.hpp"
 
 namespace fnopt {
 
@@ -37,8 +38,15 @@ torch::Tensor EnergyLoss::forward(torch::autograd::AutogradContext* ctx, torch::
     trial = env.acceleration();
     add_coordinate_samples(to_coordinate_layout(delta.narrow(0, k * e, k)), grid, to_acceleration, trial);
     VecX& g = energy_gradient[e];
-    const double value = env.objective().value_gradient(trial, g);
-    env.dirichlet().zero_fixed(g);
+    StepProblem problem(env.objective(), env.dirichlet());
+    double value = problem.value_gradient(trial, g);
+    if (batch->after_subspace_step) {
+      SubspaceStepOutcome end =
+          energy_after_subspace_step(problem, env.rule().pairs(), env.rule().params().min_rescale, env.acceleration(),
+                                     batch->current_gradient[e], trial - env.acceleration(), value, g);
+      value = end.value;
+      g.swap(end.gradient);
+    }
     g *= to_acceleration;
     const double reference = env.reference_loss();
     // The floor on the denominator is L's rounding error: an environment at rest has

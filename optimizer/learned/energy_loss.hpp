@@ -15,6 +15,10 @@
 //   r = sum_e (L_e(a_e + delta_e) - L*_e) / sum_e max(L_e(a_e) - L*_e, ...),
 // whose gradient is FNOpt's plain mean energy up to one detached factor per batch: the
 // environments with the most energy left weigh the most.
+//
+// With `after_subspace_step` (pools whose rule takes the subspace step), L_e is scored where the
+// rule ends after the update, a_e + S c rather than a_e + delta_e when that is lower
+// (subspace_step_loss.hpp): the proposal is judged by what it adds to the directions kept.
 #include <torch/torch.h>
 
 #include <vector>
@@ -31,9 +35,11 @@ enum class LossNormalisation {
 struct EnergyLossBatch {
   std::vector<TrainingEnv*> envs;
   std::vector<double> current_loss;  // L_e(a_e), the iterate before the update
+  std::vector<VecX> current_gradient;  // masked gradient of L_e at a_e (for after_subspace_step)
   std::vector<double> ratio;         // r_e, filled by the forward pass
   int samples_per_environment = 3;   // the model's layout (learned_update.hpp)
   LossNormalisation normalisation = LossNormalisation::PerEnvironment;
+  bool after_subspace_step = false;
 };
 
 class EnergyLoss : public torch::autograd::Function<EnergyLoss> {

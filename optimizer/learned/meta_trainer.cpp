@@ -26,6 +26,8 @@ void TrainOptions::validate() const {
   require(clip_norm > 0.0, "train.clip_norm", "must be positive");
   require(newton_weight >= 0.0, "train.newton_weight", "must not be negative");
   require(average_decay >= 0.0 && average_decay < 1.0, "train.average_decay", "must lie in [0, 1)");
+  require(!score_after_subspace_step || pool.subspace > 0, "train.score_after_subspace_step",
+          "needs a pool that takes the subspace step (subspace > 0: fnopt train --subspace K)");
 }
 
 std::string TrainOptions::signature() const {
@@ -75,11 +77,12 @@ TrainStepStats MetaTrainer::step() {
   EnergyLossBatch batch;
   batch.samples_per_environment = k;
   batch.normalisation = options_.loss_normalisation;
+  batch.after_subspace_step = options_.score_after_subspace_step;
+  batch.current_gradient.resize(options_.batch);
   std::vector<torch::Tensor> gradients, previous_gradients, previous_deltas, scales, masks, newton_deltas;
-  std::vector<VecX> start_gradients(options_.batch);
   for (int i = 0; i < options_.batch; ++i) {
     TrainingEnv& env = *pool_[order[i]];
-    VecX& g = start_gradients[i];
+    VecX& g = batch.current_gradient[i];
     batch.envs.push_back(&env);
     batch.current_loss.push_back(StepProblem(env.objective(), env.dirichlet()).value_gradient(env.acceleration(), g));
     gradients.push_back(to_model_layout(to_coordinate_samples(g, env.grid()), k));
@@ -134,7 +137,7 @@ TrainStepStats MetaTrainer::step() {
     StepProblem problem(env.objective(), env.dirichlet());
     double value = batch.current_loss[i];
     const LearnedState next =
-        env.rule().apply(problem, gradients[i], proposal, env.acceleration(), value, start_gradients[i]);
+        env.rule().apply(problem, gradients[i], proposal, env.acceleration(), value, batch.current_gradient[i]);
     env.previous_gradient = to_coordinate_layout(next.gradient);
     env.previous_delta = to_coordinate_layout(next.delta);
     env.scale = next.scale.expand({3, 1, 1, 1}).contiguous();

@@ -33,6 +33,10 @@ struct TrainOptions {
   double newton_weight = 1.0;
   // How the energy loss weighs the environments of a batch (energy_loss.hpp).
   LossNormalisation loss_normalisation = LossNormalisation::PerEnvironment;
+  // Score each update where the pool's rule ends after it, past the subspace step, instead of at
+  // the raw proposal (energy_loss.hpp; needs pool.subspace > 0). Like the pool's rule it is not
+  // part of the signature: a run may be continued with it.
+  bool score_after_subspace_step = false;
   // The model a run produces (model.pt, validation) is the moving average of its weights with
   // this decay (weight_average.hpp), ramped up over a run's first steps; 0 gives the trained
   // weights themselves. Averaging does not change the training steps, so it is not part of the

@@ -78,7 +78,7 @@ TEST(TrainCli, PoolRangesAreSetByFlagAndPrinted) {
   const auto dir = tmp.path() / "out";
   for (const std::string flags :
        {" --range stretch=150", " --range speed=1:2", " --range shear=200:0.5", " --undamped-share 2", " --subspace 9",
-        " --subspace -1"}) {
+        " --subspace -1", " --score subspace-step"}) {
     const CommandResult r = run_fnopt("train --out " + dir.string() + " --steps 2" + kTinyModel + flags);
     EXPECT_NE(r.status, 0) << flags;
     EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << flags << ": " << r.output;
@@ -111,11 +111,13 @@ TEST(TrainCli, ValidationFlagsWithoutValidateResAreRejected) {
 TEST(TrainCli, TheSubspaceRuleTrainsAndValidatesAsChosen) {
   const fnopt::testing::TempDir tmp;
   const auto dir = tmp.path() / "out";
-  const CommandResult r = run_fnopt("train --out " + dir.string() + " --steps 10 --subspace 4 --validate-subspace 0" +
-                                    kTinyRun);
+  const CommandResult r = run_fnopt("train --out " + dir.string() +
+                                    " --steps 10 --subspace 4 --score subspace-step --validate-subspace 0" + kTinyRun);
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("the pool takes each proposal as fnopt-ss does: subspace step over the last 4 proposals"),
             std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("the loss scores each update where the rule ends, past the subspace step"), std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("validation every 10 steps: fnopt-ls N=10"), std::string::npos) << r.output;
   const auto rows = validation_rows(dir);

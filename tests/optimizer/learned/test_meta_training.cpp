@@ -59,6 +59,50 @@ TEST(EnergyLoss, GradientMatchesFiniteDifferencesForBothNormalisations) {
   }
 }
 
+TEST(EnergyLoss, ScoredAfterTheSubspaceStepItsGradientMatchesFiniteDifferences) {
+  PoolOptions pool = small_pool();
+  pool.subspace = 8;
+  TrainingEnv env(pool, 7, 0);
+  // Two proposals of -g in cell widths taken by the rule first, so that a direction is kept.
+  StepProblem problem(env.objective(), env.dirichlet());
+  VecX gradient;
+  double value = problem.value_gradient(env.acceleration(), gradient);
+  for (int i = 0; i < 2; ++i) {
+    const torch::Tensor g = to_coordinate_samples(gradient, env.grid());
+    const LearnedStep proposal{to_coordinate_samples(gradient, env.grid(), -0.02 / gradient.norm()),
+                               torch::full({3, 1, 1, 1}, 0.5)};
+    env.rule().apply(problem, g, proposal, env.acceleration(), value, gradient);
+  }
+  ASSERT_GE(env.rule().pairs().size(), 1);
+
+  EnergyLossBatch batch;
+  batch.envs = {&env};
+  batch.after_subspace_step = true;
+  batch.current_loss = {value};
+  batch.current_gradient = {gradient};
+  torch::manual_seed(2);
+  const auto mask = free_mask(env.dirichlet(), env.grid()).expand({3, 1, 8, 8});
+  auto delta = (-to_coordinate_samples(gradient, env.grid(), 0.02 / gradient.norm()) +
+                0.005 * torch::randn({3, 1, 8, 8}, torch::kFloat32)) * mask;
+  delta.requires_grad_(true);
+  const double loss = EnergyLoss::apply(delta, &batch).item<double>();
+  EnergyLossBatch as_proposal = batch;
+  as_proposal.after_subspace_step = false;
+  // The rule ends lower than the proposal: the subspace step was taken.
+  ASSERT_LT(loss, EnergyLoss::apply(delta.detach(), &as_proposal).item<double>());
+  EnergyLoss::apply(delta, &batch).backward();
+  const auto analytic = delta.grad().clone();
+  const float eps = 1e-3f;
+  for (int index : {9, 20, 83, 150}) {
+    auto plus = delta.detach().clone(), minus = delta.detach().clone();
+    plus.view({-1})[index] += eps;
+    minus.view({-1})[index] -= eps;
+    const double fd =
+        (EnergyLoss::apply(plus, &batch).item<double>() - EnergyLoss::apply(minus, &batch).item<double>()) / (2 * eps);
+    EXPECT_NEAR(analytic.view({-1})[index].item<double>(), fd, 1e-2 * std::abs(fd) + 1e-6) << "entry " << index;
+  }
+}
+
 TEST(EnergyLoss, NormalisationsAgreeOnOneEnvironmentAndDifferOnTwo) {
   TrainingEnv a(small_pool(), 3, 0), b(small_pool(), 3, 5);
   auto loss_of = [](std::vector<TrainingEnv*> envs, LossNormalisation normalisation, const torch::Tensor& delta) {
@@ -164,6 +208,14 @@ TEST(MetaTraining, SubspaceRuleChangesThePoolAndResumesWithItsKeptProposals) {
   MetaTrainer resumed(options, checkpoint);
   for (int i = 0; i < 8; ++i) EXPECT_NEAR(resumed.step().loss, expected[i], 1e-6 * std::abs(expected[i])) << "step " << i;
   std::filesystem::remove_all(dir);
+}
+
+TEST(MetaTraining, ScoringAfterTheSubspaceStepNeedsThePoolToTakeIt) {
+  TrainOptions options = tiny_training();
+  options.score_after_subspace_step = true;
+  EXPECT_THROW(options.validate(), Error);
+  options.pool.subspace = 8;
+  EXPECT_NO_THROW(options.validate());
 }
 
 TEST(MetaTraining, RejectsACheckpointOfOtherOptions) {
