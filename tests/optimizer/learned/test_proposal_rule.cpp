@@ -4,32 +4,16 @@
 #include <gtest/gtest.h>
 
 #include "baselines/newton.hpp"
-#include "cloth/grid_units.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
 #include "optimizer/learned/proposal_rule.hpp"
 #include "optimizer/rollout.hpp"
+#include "tests/optimizer/learned/falling_cloth_step.hpp"
 #include "util/error.hpp"
 
 namespace fnopt {
 namespace {
 
-// One time step of a 12 x 12 cloth falling from rest with its two top corners held.
-struct Step {
-  Grid grid = Grid::make(12, 12, 1.0);
-  BackwardEulerObjective objective{grid, Material{}, 1.0 / 60.0, Vec3(0, 0, -9.81)};
-  DirichletSet handles{grid.vertex_count(), {0, 11}};
-  StepProblem problem{objective, handles};
-  VecX a = VecX::Zero(grid.dof_count()), gradient;
-  double value;
-  Step() {
-    objective.begin_step(grid.rest_positions(), VecX::Zero(grid.dof_count()));
-    value = problem.value_gradient(a, gradient);
-  }
-  double grid_unit() const { return acceleration_per_grid_unit(grid, objective.dt()); }
-  // A proposal of -t g in grid units, as the learned optimizer's samples.
-  LearnedStep scaled_gradient(double t) const {
-    return {to_coordinate_samples(gradient, grid, -t / grid_unit()), torch::full({3, 1, 1, 1}, 0.5)};
-  }
+struct Step : FallingClothStep {
   double minimum() {
     NewtonOptimizer newton;
     VecX exact = a;
@@ -85,15 +69,11 @@ TEST(ProposalRule, SubspaceStepAcceleratesScaledGradientProposals) {
     Step step;
     const double minimum = step.minimum(), initial = step.value;
     ProposalRule rule(params);
-    // Half the exact step length along -g at the start (g.g / g.Hg, Hg by a difference of
-    // gradients): plain descent makes progress, slowly, on the stiff cloth.
-    VecX shifted_gradient;
-    const double eps = 1e-6 / step.gradient.norm();
-    step.problem.value_gradient(step.a - eps * step.gradient, shifted_gradient);
-    const double t = 0.5 * step.gradient.squaredNorm() * eps / step.gradient.dot(step.gradient - shifted_gradient);
+    // Half the exact step length along -g at the start: plain descent makes progress, slowly,
+    // on the stiff cloth.
+    const double t = 0.5 * step.gradient_step_length();
     for (int i = 0; i < proposals; ++i) {
-      const LearnedStep proposal{to_coordinate_samples(step.gradient, step.grid, -t / step.grid_unit()),
-                                 torch::full({3, 1, 1, 1}, 0.5)};
+      const LearnedStep proposal = step.scaled_gradient(t);
       rule.apply(step.problem, to_coordinate_samples(step.gradient, step.grid), proposal, step.a, step.value,
                  step.gradient);
     }

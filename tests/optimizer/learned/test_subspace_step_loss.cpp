@@ -5,43 +5,27 @@
 
 #include <random>
 
-#include "cloth/grid_units.hpp"
-#include "optimizer/learned/grid_tensor.hpp"
 #include "optimizer/learned/proposal_rule.hpp"
 #include "optimizer/learned/subspace_step_loss.hpp"
+#include "tests/optimizer/learned/falling_cloth_step.hpp"
 
 namespace fnopt {
 namespace {
 
-// A 12 x 12 cloth falling from rest with its two top corners held, after three scaled-gradient
-// proposals taken by fnopt-ss's rule: the rule keeps their directions.
-struct KeptDirections {
-  Grid grid = Grid::make(12, 12, 1.0);
-  BackwardEulerObjective objective{grid, Material{}, 1.0 / 60.0, Vec3(0, 0, -9.81)};
-  DirichletSet handles{grid.vertex_count(), {0, 11}};
-  StepProblem problem{objective, handles};
+// The falling cloth's step after three scaled-gradient proposals taken by fnopt-ss's rule: the
+// rule keeps their directions.
+struct KeptDirections : FallingClothStep {
   ProposalRule rule{[] {
     LearnedParams p;
     p.subspace = kFnoptSubspace;
     return p;
   }()};
-  VecX a = VecX::Zero(grid.dof_count()), gradient;
-  double value;
-  double exact_length;  // the exact step length along -g at the start: g.g / g.Hg
+  double exact_length = gradient_step_length();  // at the start
 
   KeptDirections() {
-    objective.begin_step(grid.rest_positions(), VecX::Zero(grid.dof_count()));
-    value = problem.value_gradient(a, gradient);
-    VecX shifted_gradient;
-    const double eps = 1e-6 / gradient.norm();
-    problem.value_gradient(a - eps * gradient, shifted_gradient);
-    exact_length = gradient.squaredNorm() * eps / gradient.dot(gradient - shifted_gradient);
-    const double grid_unit = acceleration_per_grid_unit(grid, objective.dt());
     for (const double t : {0.5, 0.3, 0.8}) {
       const torch::Tensor g = to_coordinate_samples(gradient, grid);
-      const LearnedStep proposal{to_coordinate_samples(gradient, grid, -t * exact_length / grid_unit),
-                                 torch::full({3, 1, 1, 1}, 0.5)};
-      rule.apply(problem, g, proposal, a, value, gradient);
+      rule.apply(problem, g, scaled_gradient(t * exact_length), a, value, gradient);
     }
   }
 
