@@ -1,5 +1,6 @@
 // A training environment lives --env-lifetime time steps, then the next generation (new
-// material, pose, handles and motion) replaces it; its material comes from the pool's ranges.
+// material, pose, handles and motion) replaces it; its material comes from the pool's ranges; a
+// step scale stuck at its floor starts the next time step afresh.
 #include <gtest/gtest.h>
 
 #include "cloth/grid_units.hpp"
@@ -29,6 +30,22 @@ TEST(TrainingEnv, IsRenewedAfterItsLifetime) {
   EXPECT_EQ(env.generation(), 1);
   for (int step = 0; step < 3; ++step) env.finish_iteration();
   EXPECT_EQ(env.generation(), 2);
+}
+
+TEST(TrainingEnv, AStepScaleAtItsFloorStartsTheNextTimeStepAfresh) {
+  PoolOptions pool = one_iteration_per_step(10);
+  pool.budgets = {2};
+  TrainingEnv env(pool, 7, 0);
+  // Coordinate x at the floor, y just above it, z at a working scale.
+  env.scale = torch::tensor({kMinStepScale, 2 * kMinStepScale, 0.01}).view({3, 1, 1, 1});
+  const torch::Tensor before = env.scale.clone();
+  EXPECT_FALSE(env.finish_iteration());
+  EXPECT_TRUE(torch::equal(env.scale, before)) << "within a time step the scale is the network's";
+  EXPECT_TRUE(env.finish_iteration());
+  EXPECT_EQ(env.generation(), 0);
+  EXPECT_FLOAT_EQ(env.scale[0].item<float>(), static_cast<float>(kInitialStepScale));
+  EXPECT_FLOAT_EQ(env.scale[1].item<float>(), static_cast<float>(2 * kMinStepScale));
+  EXPECT_FLOAT_EQ(env.scale[2].item<float>(), 0.01f);
 }
 
 // Takes `count` proposals of -t g by the environment's rule.
