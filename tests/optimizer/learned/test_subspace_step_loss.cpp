@@ -45,15 +45,18 @@ struct KeptDirections : FallingClothStep {
     handles.zero_fixed(v);
     return v * (norm / v.norm());
   }
+  // A proposal that is mostly downhill, with a random part the kept directions do not span.
+  VecX downhill_proposal(std::mt19937_64& rng) const {
+    const double length = 0.5 * exact_length;
+    return -length * gradient + random_direction(rng, length * gradient.norm());
+  }
 };
 
 TEST(SubspaceStepLoss, DerivativeMatchesCentralDifferencesOfTheEnergyAfterTheStep) {
   KeptDirections kept;
   ASSERT_EQ(kept.rule.pairs().size(), 3);
   std::mt19937_64 rng(7);
-  // A proposal that is mostly downhill, with a random part the kept directions do not span.
-  const double length = 0.5 * kept.exact_length;
-  const VecX p = -length * kept.gradient + kept.random_direction(rng, length * kept.gradient.norm());
+  const VecX p = kept.downhill_proposal(rng);
   const SubspaceStepOutcome at_p = kept.outcome(p);
   ASSERT_TRUE(at_p.taken);
   VecX proposal_gradient;
@@ -77,8 +80,7 @@ TEST(SubspaceStepLoss, DerivativeMatchesCentralDifferencesOfTheEnergyAfterTheSte
 TEST(SubspaceStepLoss, WhereTheStepIsNotTakenItIsTheProposalsOwnEnergy) {
   KeptDirections kept;
   std::mt19937_64 rng(3);
-  const double length = 0.5 * kept.exact_length;
-  const VecX p = -length * kept.gradient + kept.random_direction(rng, length * kept.gradient.norm());
+  const VecX p = kept.downhill_proposal(rng);
   VecX proposal_gradient;
   const double proposal_value = kept.problem.value_gradient(kept.a + p, proposal_gradient);
   // A threshold no subspace step passes, as the rule's min_rescale would have it.
