@@ -50,9 +50,9 @@ SecantSubspace::Coefficients SecantSubspace::minimiser(const VecX& gradient) con
   return scale.asDiagonal() * (eigen.eigenvectors() * projected);
 }
 
-void SecantSubspace::combine(const Coefficients& c, VecX& step) const {
-  step.setZero(s(0).size());
-  for (int j = 0; j < size_; ++j) step.noalias() += c(j) * s(j);
+void SecantSubspace::combine(const std::vector<VecX>& vectors, const Coefficients& c, VecX& result) const {
+  result.setZero(vectors[index(0)].size());
+  for (int j = 0; j < size_; ++j) result.noalias() += c(j) * vectors[index(j)];
 }
 
 }  // namespace fnopt

@@ -40,7 +40,9 @@ class SecantSubspace {
   // c minimising the model at gradient g (newest direction last); empty if size() == 0.
   Coefficients minimiser(const VecX& gradient) const;
   // step = S c, for c from minimiser() (size() >= 1).
-  void combine(const Coefficients& c, VecX& step) const;
+  void combine(const Coefficients& c, VecX& step) const { combine(s_, c, step); }
+  // change = Y c: the gradient change along S c for a quadratic L (size() >= 1).
+  void combine_changes(const Coefficients& c, VecX& change) const { combine(y_, c, change); }
 
   // The kept pair j, 0 <= j < size(), oldest first: pushing them again in this order into an
   // empty subspace restores it exactly.
@@ -51,6 +53,8 @@ class SecantSubspace {
   using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxCapacity, kMaxCapacity>;
 
   int index(int j) const { return (first_ + j) % capacity_; }
+  // result = sum_j c_j vectors[j], over the pairs kept in logical order.
+  void combine(const std::vector<VecX>& vectors, const Coefficients& c, VecX& result) const;
 
   int capacity_;
   int size_ = 0, first_ = 0;

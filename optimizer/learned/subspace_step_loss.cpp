@@ -5,13 +5,6 @@
 namespace fnopt {
 namespace {
 
-// Y c for coefficients c over the pairs kept, oldest first.
-VecX combine_gradient_changes(const SecantSubspace& pairs, const SecantSubspace::Coefficients& c) {
-  VecX result = VecX::Zero(pairs.y(0).size());
-  for (int j = 0; j < pairs.size(); ++j) result.noalias() += c(j) * pairs.y(j);
-  return result;
-}
-
 // H(x) u by a central difference of the masked gradient, the step a 1e-4 of |p| along u: small
 // against the scale on which L's curvature changes, large against the gradient's rounding.
 VecX hessian_product(StepProblem& problem, const VecX& x, const VecX& u, double proposal_norm) {
@@ -45,7 +38,9 @@ SubspaceStepOutcome energy_after_subspace_step(StepProblem& problem, const Secan
   const SecantSubspace::Coefficients w = -pairs.minimiser(end_gradient);  // M^+ S^T g'
   VecX s_w;
   pairs.combine(w, s_w);
-  const VecX y_c = combine_gradient_changes(pairs, c), y_w = combine_gradient_changes(pairs, w);
+  VecX y_c, y_w;
+  pairs.combine_changes(c, y_c);
+  pairs.combine_changes(w, y_w);
   const VecX u = 0.5 * (c(newest) * s_w + w(newest) * step);
   outcome.gradient = c(newest) * end_gradient - w(newest) * start_gradient - 0.5 * (w(newest) * y_c + c(newest) * y_w) -
                      hessian_product(problem, a + proposal, u, proposal.norm());
