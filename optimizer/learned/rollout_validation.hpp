@@ -2,8 +2,8 @@
 // Validation of a model in training on the grid it will be used on: the learned optimizer's
 // rollouts (fnopt-ss by default, N iterations per step) of benchmark scenes against the Newton references
 // of the same scenes, scored by e_3D (trajectory_error.hpp) averaged over the scenes. Why: training at 32^2 keeps
-// lowering the 32^2 error while it can break larger grids (README: the step-5500 model
-// diverged at 100^2, the step-8800 model reached 174 % strain there, step 7000 did neither),
+// lowering the 32^2 error while it can break larger grids (docs/training-experiments.md: the
+// step-5500 model diverged at 100^2, the step-8800 model reached 174 % strain there, step 7000 did neither),
 // so the training loss alone cannot say which checkpoint to ship.
 #include <limits>
 #include <string>
