@@ -47,9 +47,10 @@ struct CompareFlags {
   std::vector<std::string> iters_for;  // METHOD=N,N,...
   std::string lr_gd = "0.25,0.5,1,1.5,1.9";
   std::string lr_adam = "0.0003,0.001,0.003,0.01";
-  std::string model;
+  OptimizerChoice settings;  // --model and the other per-method settings
   std::string out;
   std::string arcsim_dir;
+  std::string error_levels = "1,0.3,0.1";  // e_CD x 10^3
   std::string preset;
   int preset_frames = 0;  // the preset's frame count, where --frames was not given
   int threads = 1;
@@ -61,7 +62,7 @@ struct CompareFlags {
   bool resume = false;
 };
 
-bool uses_learning_rate(const std::string& method) { return method == "gd" || method == "adam"; }
+bool uses_learning_rate(const std::string& method) { return method_traits(method).learning_rate; }
 
 std::vector<int> int_list(const std::string& flag, const std::string& text) {
   std::vector<int> values;
@@ -176,10 +177,10 @@ struct TimedRollout {
 
 // Relative cost of one frame, for the progress bar's ETA only.
 double cost_weight(const std::string& method, int budget, int vertices) {
-  if (method == "newton") return 40.0;
   if (is_interpolated_method(method)) return 1.0 + budget * std::min(1.0, 1024.0 / std::max(1, vertices));
-  if (method == "lbfgs-ls") return 1.3 * budget;
-  return std::max(1, budget);
+  const MethodTraits& traits = method_traits(method);
+  if (traits.budget == BudgetKind::ToTolerance && budget == 0) return 5.0 * traits.iteration_cost;  // ~5 per step
+  return traits.iteration_cost * std::max(1, budget);
 }
 
 struct LearningRate {
@@ -195,14 +196,14 @@ std::string run_key(const std::string& method, const std::string& budget, const 
 const std::vector<std::string> kColumns = {
     "method", "N", "lr", "lr_source", "resolution", "motion", "frames", "threads", "ms_per_frame",
     "cpu_share", "ms_per_frame_cpu", "iterations_per_frame", "e_cd_x1e3", "e_3d_x1e2", "step_error_mean", "step_error_median", "max_strain",
-    "diverged", "e_cd_arcsim_x1e3", "note"};
+    "diverged", "frontier", "e_cd_arcsim_x1e3", "note"};
 
-std::vector<std::string> csv_row(const RunResult& r, int threads, const std::string& lr_source) {
+std::vector<std::string> csv_row(const RunResult& r, int threads) {
   auto num = [](double v, int digits = 4) { return CsvTable::number(v, digits); };
   return {r.spec.method,
           budget_text(r.spec),
           uses_learning_rate(r.spec.method) ? num(r.lr) : "",
-          lr_source,
+          r.lr_source,
           r.resolution,
           r.motion,
           std::to_string(r.frames) + "/" + std::to_string(r.frames_requested),
@@ -217,6 +218,7 @@ std::vector<std::string> csv_row(const RunResult& r, int threads, const std::str
           num(r.step_median),
           num(r.strain),
           r.failed ? "error" : (r.diverged ? "yes" : "no"),
+          r.frontier ? "yes" : "no",
           std::isnan(r.e_cd_arcsim) ? "" : num(1e3 * r.e_cd_arcsim),
           r.note};
 }
@@ -236,6 +238,7 @@ RunResult result_of_row(const RunSpec& spec, const std::vector<std::string>& row
   r.resolution = cell("resolution");
   r.motion = cell("motion");
   r.lr = num("lr");
+  r.lr_source = cell("lr_source");
   r.ms = num("ms_per_frame");
   r.cpu_share = num("cpu_share");
   r.iterations = num("iterations_per_frame");
@@ -261,21 +264,22 @@ void run_compare(const CompareFlags& flags) {
   if (flags.motions == "eval") motions.resize(15);  // the fifteen benchmark motions, not "static"
   const std::vector<std::string> methods = name_list("optimizers", flags.optimizers);
   const std::vector<int> default_budgets = int_list("iters", flags.iters);
-  std::map<std::string, std::vector<int>> budgets;
+  std::map<std::string, std::vector<int>> budgets, given_budgets;  // given: by --iters-for
   for (const auto& method : methods) budgets[method] = default_budgets;
   for (const std::string& entry : flags.iters_for) {
     const auto equals = entry.find('=');
     require(equals != std::string::npos, "iters-for", "expected METHOD=N,N,..., got '" + entry + "'");
     const std::string method(trim(entry.substr(0, equals)));
     require(budgets.count(method) > 0, "iters-for", "'" + method + "' is not in --optimizers");
-    budgets[method] = int_list("iters-for", entry.substr(equals + 1));
+    budgets[method] = given_budgets[method] = int_list("iters-for", entry.substr(equals + 1));
   }
+  std::vector<double> error_levels = number_list("error-levels", flags.error_levels);
+  for (double& level : error_levels) level *= 1e-3;
   std::map<std::string, std::vector<double>> lr_candidates = {{"gd", number_list("lr-gd", flags.lr_gd)},
                                                               {"adam", number_list("lr-adam", flags.lr_adam)}};
   for (const auto& method : methods) {  // fail on a bad name before any work
-    OptimizerChoice choice;
+    OptimizerChoice choice = flags.settings;
     choice.name = method;
-    choice.model = flags.model;
     choice.make();
   }
   require(flags.step_samples >= 1, "step-samples", "must be positive");
@@ -310,11 +314,20 @@ void run_compare(const CompareFlags& flags) {
       motion_names_used.push_back(motion_text(scene));
   }
 
+  // A method that runs to its tolerance runs so, and also at the budgets --iters-for gives it
+  // (newton=1,2,3: Newton capped at that many iterations); a one-solve method runs once.
   std::vector<RunSpec> runs;
   for (const auto& method : methods) {
-    if (method == "newton") runs.push_back({method, 0});
-    else
-      for (int budget : budgets[method]) runs.push_back({method, budget});
+    switch (method_traits(method).budget) {
+      case BudgetKind::ToTolerance:
+        runs.push_back({method, 0});
+        for (int budget : given_budgets[method]) runs.push_back({method, budget});
+        break;
+      case BudgetKind::OneSolve: runs.push_back({method, 1}); break;
+      case BudgetKind::Iterations:
+        for (int budget : budgets[method]) runs.push_back({method, budget});
+        break;
+    }
   }
   NewtonOptimizer reference_solver;
   const InnerSolveOptions reference_options = NewtonOptimizer::reference_solve_options();
@@ -344,7 +357,7 @@ void run_compare(const CompareFlags& flags) {
                joined(motion_names_used).c_str(), runs.size(), base.frames, threads, threads == 1 ? "" : "s",
                flags.out.c_str());
 
-  CsvTable table(kColumns);
+  std::vector<RunResult> results;  // every row of compare.csv, in its order
   const std::string csv_path = (fs::path(flags.out) / "compare.csv").string();
   // --resume: the rows of an earlier run with the same columns are kept and not run again.
   std::map<std::string, std::vector<std::string>> resumed;
@@ -360,9 +373,20 @@ void run_compare(const CompareFlags& flags) {
   for (const Scene& scene : scenes)
     for (const auto& run : runs) planned.insert(run_key(run.method, budget_text(run), resolution_text(scene), motion_text(scene)));
   for (const auto& [key, row] : resumed)
-    if (!planned.count(key)) table.add_row(row);
+    if (!planned.count(key)) {
+      int budget = 0;
+      parse_int(row[1], budget);  // "tol1e-9": 0, a converged run
+      results.push_back(result_of_row({row[0], budget}, row));
+    }
   const std::string svg_path = (fs::path(flags.out) / "compare.svg").string();
-  std::vector<RunResult> results;
+  // compare.csv from `results`, the frontier marked anew over every row.
+  auto write_table = [&] {
+    mark_frontier(results, threads);
+    CsvTable table(kColumns);
+    for (const RunResult& r : results) table.add_row(csv_row(r, threads));
+    table.write(csv_path);
+    return table;
+  };
   std::map<std::pair<std::string, int>, LearningRate> chosen_lr;
   std::vector<std::string> lr_notes;
   TrajectoryComparisonOptions comparison_options;
@@ -379,6 +403,7 @@ void run_compare(const CompareFlags& flags) {
   report.methods = methods;
   report.threads = threads;
   report.preset = flags.preset;
+  report.error_levels = error_levels;
   report.superres = flags.preset == "superres" ||
                     (std::count(methods.begin(), methods.end(), "fnopt") > 0 &&
                      std::any_of(methods.begin(), methods.end(), is_interpolated_method));
@@ -468,7 +493,7 @@ void run_compare(const CompareFlags& flags) {
         double best_error = INFINITY;
         std::string tried;
         for (double lr : candidates) {
-          OptimizerChoice choice;
+          OptimizerChoice choice = flags.settings;
           choice.name = run.method;
           choice.iterations = run.budget;
           choice.learning_rate = lr;
@@ -493,7 +518,6 @@ void run_compare(const CompareFlags& flags) {
       const auto earlier = resumed.find(run_key(run.method, budget_text(run), res, motion));
       if (earlier != resumed.end()) {
         results.push_back(result_of_row(run, earlier->second));
-        table.add_row(earlier->second);
         done_units += static_cast<long long>(scene.frames * weight);
         std::fprintf(stderr, "%-26s resumed from %s\n", label.c_str(), csv_path.c_str());
         continue;
@@ -503,15 +527,13 @@ void run_compare(const CompareFlags& flags) {
       r.resolution = res;
       r.motion = motion;
       r.frames_requested = scene.frames;
-      std::string lr_source;
-      OptimizerChoice choice;
+      OptimizerChoice choice = flags.settings;
       choice.name = run.method;
       choice.iterations = run.budget;
-      choice.model = flags.model;
       if (uses_learning_rate(run.method)) {
         const LearningRate& lr = chosen_lr[{run.method, run.budget}];
         choice.learning_rate = r.lr = lr.value;
-        lr_source = lr.source;
+        r.lr_source = lr.source;
       }
       try {
         const auto optimizer = choice.make();
@@ -519,7 +541,7 @@ void run_compare(const CompareFlags& flags) {
         options.solve = choice.solve_options();
         options.warm_start = flags.warm_start;
         TimedRollout timed;
-        if (run.method == "newton" && fresh_reference && !flags.warm_start) {
+        if (is_converged_run(run) && fresh_reference && !flags.warm_start) {
           timed = *fresh_reference;  // the same solver, just run: reuse it (its timing included)
           done_units += static_cast<long long>(scene.frames * weight);
           r.note = "the reference rollout itself";
@@ -558,8 +580,7 @@ void run_compare(const CompareFlags& flags) {
         done_units += static_cast<long long>(scene.frames * weight);
       }
       results.push_back(r);
-      table.add_row(csv_row(r, threads, lr_source));
-      table.write(csv_path);
+      write_table();
       write_outputs("in progress, " + std::to_string(results.size()) + " of " + std::to_string(total_runs) +
                     " runs done");
       bar.update(static_cast<int>(done_units * unit_scale), label + " done");
@@ -569,9 +590,19 @@ void run_compare(const CompareFlags& flags) {
     }
   }
   bar.finish();
-  table.write(csv_path);  // the rows resumed after the last computed one
+  const CsvTable table = write_table();  // with the rows resumed after the last computed one
   write_outputs("finished");
   std::printf("%s", table.text().c_str());
+  for (const std::string& res : resolution_names) {
+    std::printf("fastest at %s (mean over the motions, runs that diverged nowhere):", resolution_title(res).c_str());
+    for (const LevelWinner& w : fastest_within(results, res, error_levels, threads))
+      std::printf("  e_CD x10^3 <= %g: %s", 1e3 * w.level,
+                  w.method.empty() ? "none"
+                                   : (w.method + " N=" + std::to_string(w.budget) + " (" + CsvTable::number(w.ms, 3) +
+                                      " ms/frame, " + CsvTable::number(1e3 * w.e_cd, 3) + ")")
+                                         .c_str());
+    std::printf("\n");
+  }
   std::printf("wrote %s, %s and %s (%d thread%s)\n", csv_path.c_str(), svg_path.c_str(),
               (fs::path(flags.out) / "report.md").string().c_str(), threads, threads == 1 ? "" : "s");
 }
@@ -616,8 +647,11 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--lr-adam", flags->lr_adam,
                       "adam learning rates (cell widths per step^2); several: the best per budget on the first scene")
       ->capture_default_str();
-  command->add_option("--model", flags->model, "learned optimizer weights file");
+  add_method_setting_flags(*command, flags->settings);
   command->add_option("--out", flags->out, "output directory (CSV, SVG, cached references)")->required();
+  command->add_option("--error-levels", flags->error_levels,
+                      "e_CD x 10^3 levels at which the fastest method is printed (and in report.md)")
+      ->capture_default_str();
   command->add_option("--arcsim-dir", flags->arcsim_dir,
                       "also report e_CD against DIR/arcsim_N{res}_{motion}.h5 where it exists");
   command->add_option("--threads", flags->threads, "threads for every run (fixed, printed)")->capture_default_str();

@@ -4,15 +4,18 @@
 #include <filesystem>
 #include <map>
 
+#include "app/optimizer_flags.hpp"
 #include "io/csv_table.hpp"
 #include "io/markdown_report.hpp"
 #include "util/parse_text.hpp"
 
 namespace fnopt::app {
 
-std::string budget_text(const RunSpec& spec) {
-  return spec.method == "newton" ? "tol1e-9" : std::to_string(spec.budget);
+bool is_converged_run(const RunSpec& spec) {
+  return spec.budget == 0 && method_traits(spec.method).budget == BudgetKind::ToTolerance;
 }
+
+std::string budget_text(const RunSpec& spec) { return is_converged_run(spec) ? "tol1e-9" : std::to_string(spec.budget); }
 
 double plotted_ms(const RunResult& r, int threads) {
   return threads == 1 && std::isfinite(r.cpu_share) ? r.ms * std::min(1.0, r.cpu_share) : r.ms;
@@ -41,7 +44,86 @@ std::string resolution_title(const std::string& resolution) {
   return resolution.find('x') == std::string::npos ? resolution + "^2" : resolution;
 }
 
-bool is_interpolated_method(const std::string& method) { return method.find("-interp") != std::string::npos; }
+namespace {
+std::string method_label(const std::string& method, int budget) {
+  return method + (is_converged_run({method, budget}) ? "" : " N=" + std::to_string(budget));
+}
+}  // namespace
+
+std::vector<bool> pareto_optimal(const std::vector<std::pair<double, double>>& points) {
+  std::vector<bool> optimal(points.size(), false);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto [ms, error] = points[i];
+    if (!std::isfinite(ms) || !std::isfinite(error)) continue;
+    optimal[i] = std::none_of(points.begin(), points.end(), [&](const std::pair<double, double>& other) {
+      return std::isfinite(other.first) && std::isfinite(other.second) && other.first <= ms &&
+             other.second <= error && (other.first < ms || other.second < error);
+    });
+  }
+  return optimal;
+}
+
+void mark_frontier(std::vector<RunResult>& results, int threads) {
+  std::map<std::pair<std::string, std::string>, std::vector<std::size_t>> scenes;
+  for (std::size_t i = 0; i < results.size(); ++i) scenes[{results[i].resolution, results[i].motion}].push_back(i);
+  for (const auto& [scene, indices] : scenes) {
+    std::vector<std::pair<double, double>> points;
+    for (std::size_t i : indices) {
+      const RunResult& r = results[i];
+      const bool finished = !r.diverged && !r.failed;
+      points.push_back({finished ? plotted_ms(r, threads) : NAN, finished ? r.e_cd : NAN});
+    }
+    const std::vector<bool> optimal = pareto_optimal(points);
+    for (std::size_t k = 0; k < indices.size(); ++k) results[indices[k]].frontier = optimal[k];
+  }
+}
+
+namespace {
+
+// Mean ms/frame and e_CD over the motions of each method and budget at one resolution, for
+// those that finished every motion they ran.
+struct MeanRun {
+  RunSpec spec;
+  double ms = NAN, e_cd = NAN;
+};
+
+std::vector<MeanRun> finished_means(const std::vector<RunResult>& results, const std::string& resolution,
+                                    int threads) {
+  std::map<std::pair<std::string, int>, std::vector<const RunResult*>> runs;
+  std::vector<std::pair<std::string, int>> order;
+  for (const auto& r : results)
+    if (r.resolution == resolution) {
+      auto& list = runs[{r.spec.method, r.spec.budget}];
+      if (list.empty()) order.push_back({r.spec.method, r.spec.budget});
+      list.push_back(&r);
+    }
+  std::vector<MeanRun> means;
+  for (const auto& key : order) {
+    const auto& list = runs[key];
+    if (std::any_of(list.begin(), list.end(), [](const RunResult* r) { return r->diverged || r->failed; })) continue;
+    std::vector<double> ms, cd;
+    for (const auto* r : list) ms.push_back(plotted_ms(*r, threads)), cd.push_back(r->e_cd);
+    means.push_back({{key.first, key.second}, mean_finite(ms), mean_finite(cd)});
+  }
+  return means;
+}
+
+}  // namespace
+
+std::vector<LevelWinner> fastest_within(const std::vector<RunResult>& results, const std::string& resolution,
+                                        const std::vector<double>& levels, int threads) {
+  const std::vector<MeanRun> means = finished_means(results, resolution, threads);
+  std::vector<LevelWinner> winners;
+  for (double level : levels) {
+    LevelWinner w;
+    w.level = level;
+    for (const MeanRun& m : means)
+      if (!is_converged_run(m.spec) && m.e_cd <= level && !(m.ms >= w.ms))
+        w.method = m.spec.method, w.budget = m.spec.budget, w.ms = m.ms, w.e_cd = m.e_cd;
+    winners.push_back(w);
+  }
+  return winners;
+}
 
 PlotFigure make_compare_plot(const std::vector<RunResult>& results, const std::vector<std::string>& methods,
                              const std::vector<std::string>& resolutions, const std::vector<std::string>& motions,
@@ -80,12 +162,6 @@ PlotFigure make_compare_plot(const std::vector<RunResult>& results, const std::v
         for (const auto& r : results)
           if (r.resolution == res && r.spec.method == method) by_budget[r.spec.budget].push_back(&r);
         if (by_budget.empty()) continue;
-        if (method == "newton" && metric.newton_is_reference) {
-          std::vector<double> ms;
-          for (const auto* r : by_budget.begin()->second) ms.push_back(plotted_ms(*r, threads));
-          panel.vertical_lines.push_back({mean_finite(ms), "newton (the reference)"});
-          continue;
-        }
         PlotSeries series;
         series.name = method;
         for (const auto& [budget, runs] : by_budget) {
@@ -96,10 +172,30 @@ PlotFigure make_compare_plot(const std::vector<RunResult>& results, const std::v
             value.push_back(metric.scale * (r->*metric.value));
             diverged = diverged || r->diverged || r->failed;
           }
-          series.points.push_back(
-              {mean_finite(ms), mean_finite(value), method == "newton" ? "" : "N=" + std::to_string(budget), diverged});
+          if (is_converged_run({method, budget}) && metric.newton_is_reference) {
+            panel.vertical_lines.push_back({mean_finite(ms), method + " (the reference)"});
+            continue;
+          }
+          series.points.push_back({mean_finite(ms), mean_finite(value),
+                                   is_converged_run({method, budget}) ? "" : "N=" + std::to_string(budget), diverged});
         }
+        if (series.points.empty()) continue;
         panel.series.push_back(series);
+      }
+      if (&metric == &metrics.front()) {  // the error-time frontier of the means over the motions
+        std::vector<MeanRun> means = finished_means(results, res, threads);
+        means.erase(std::remove_if(means.begin(), means.end(), [](const MeanRun& m) { return is_converged_run(m.spec); }),
+                    means.end());
+        std::vector<std::pair<double, double>> points;
+        for (const MeanRun& m : means) points.push_back({m.ms, m.e_cd});
+        const std::vector<bool> optimal = pareto_optimal(points);
+        PlotSeries front;
+        front.name = "frontier (fastest for its error)";
+        for (std::size_t k = 0; k < means.size(); ++k)
+          if (optimal[k])
+            front.points.push_back({means[k].ms, 1e3 * means[k].e_cd, method_label(means[k].spec.method, means[k].spec.budget)});
+        std::sort(front.points.begin(), front.points.end(), [](const PlotPoint& a, const PlotPoint& b) { return a.x < b.x; });
+        if (front.points.size() > 1) panel.series.push_back(front);
       }
       figure.panels.push_back(panel);
     }
@@ -190,10 +286,6 @@ std::vector<SuperresColumns> superres_columns(const std::vector<RunResult>& resu
   return columns;
 }
 
-std::string method_label(const std::string& method, int budget) {
-  return method + (method == "newton" ? "" : " N=" + std::to_string(budget));
-}
-
 PlotFigure superres_figure(const std::vector<RunResult>& results, const std::vector<std::string>& resolutions,
                            const std::vector<SuperresColumns>& columns, const CompareReport& report) {
   PlotFigure figure;
@@ -281,6 +373,24 @@ void write_compare_report(const CompareReport& report, const std::vector<RunResu
     md.heading(resolution_title(res) + " (" + std::to_string(vertex_count_of(res)) + " vertices)", 3);
     md.table(header, rows);
   }
+  md.heading("The error-time frontier");
+  md.paragraph("A run is on the frontier of its scene when no other run of the scene is as fast and as close to "
+               "Newton, and better in one (compare.csv, column frontier). Per resolution, over the means across "
+               "motions of the runs that diverged nowhere: the fastest method within each e_CD level.");
+  for (const auto& res : report.resolutions) {
+    std::vector<std::vector<std::string>> rows;
+    for (const LevelWinner& w : fastest_within(results, res, report.error_levels, report.threads))
+      rows.push_back({num(1e3 * w.level), w.method.empty() ? "none reaches it" : method_label(w.method, w.budget),
+                      num(w.ms), num(1e3 * w.e_cd)});
+    std::vector<std::string> on_frontier;
+    for (const auto& r : results)
+      if (r.resolution == res && r.frontier)
+        on_frontier.push_back(r.motion + ": " + method_label(r.spec.method, r.spec.budget));
+    md.heading(resolution_title(res), 3);
+    md.table({"e_CD x10^3 at most", "fastest", "ms/frame", "e_CD x10^3"}, rows);
+    md.paragraph("On the frontier, per motion: " + joined(on_frontier, "; ") + ".");
+  }
+
   md.heading("Error against run time");
   md.image("compare.svg", "error against ms/frame, one line per method through its budgets");
 

@@ -13,7 +13,7 @@ namespace fnopt::app {
 
 struct RunSpec {
   std::string method;
-  int budget = 0;  // 0: newton to its reference tolerance
+  int budget = 0;  // 0: a method that runs to its tolerance (newton), run so
 };
 
 struct RunResult {
@@ -25,10 +25,14 @@ struct RunResult {
   double e_cd_arcsim = NAN;
   bool diverged = false, failed = false;
   int frames = 0, frames_requested = 0;
+  std::string lr_source;  // where the learning rate came from (given, swept)
+  bool frontier = false;  // Pareto-optimal in ms/frame and e_CD among its scene's runs
   std::string note;
 };
 
-// "10", or "tol1e-9" for newton (the CSV's N).
+// Newton to its reference tolerance (not a budgeted Newton run).
+bool is_converged_run(const RunSpec& spec);
+// "10", or "tol1e-9" for a converged run (the CSV's N).
 std::string budget_text(const RunSpec& spec);
 // The run time a plot or report shows: with one thread, wall time x the CPU share the process
 // got (what it would take on an idle core of this shared machine); otherwise wall time.
@@ -38,8 +42,25 @@ double mean_finite(const std::vector<double>& values);
 int vertex_count_of(const std::string& resolution);
 // "32^2" or "32x64".
 std::string resolution_title(const std::string& resolution);
-// An interpolation-ablation method (METHOD-interpK).
-bool is_interpolated_method(const std::string& method);
+
+// Which of the points (ms, error) are Pareto-optimal: no other point is at most as slow and at
+// most as far, and better in one. Points with a non-finite coordinate are never optimal.
+std::vector<bool> pareto_optimal(const std::vector<std::pair<double, double>>& points);
+// Sets RunResult::frontier per scene (resolution and motion) over the runs that finished:
+// Pareto-optimal in (plotted ms/frame, e_CD against Newton).
+void mark_frontier(std::vector<RunResult>& results, int threads);
+
+// The fastest run of a method at one resolution whose mean e_CD over the motions is at most a level.
+struct LevelWinner {
+  double level = 0.0;  // e_CD
+  std::string method;  // empty if no method reaches the level
+  int budget = 0;
+  double ms = NAN, e_cd = NAN;
+};
+// Per level, over the method-budget pairs that ran every motion of `resolution` without diverging
+// (the converged reference excluded: it is the error's zero).
+std::vector<LevelWinner> fastest_within(const std::vector<RunResult>& results, const std::string& resolution,
+                                        const std::vector<double>& levels, int threads);
 
 // The error-time figure: one row of panels per resolution, one line per method.
 PlotFigure make_compare_plot(const std::vector<RunResult>& results, const std::vector<std::string>& methods,
@@ -58,6 +79,7 @@ struct CompareReport {
   bool superres = false;                 // write the super-resolution section and superres.svg
   std::string preset;                    // "superres" or empty
   std::string status;                    // e.g. "finished" or "in progress: 7 of 24 runs"
+  std::vector<double> error_levels;      // e_CD levels of the "fastest within" table
 };
 
 // Writes DIR/report.md and, if report.superres and the results hold fnopt and an

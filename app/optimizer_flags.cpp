@@ -5,8 +5,10 @@
 
 #include "baselines/adam.hpp"
 #include "baselines/gradient_descent.hpp"
+#include "baselines/implicit_euler.hpp"
 #include "baselines/lbfgs.hpp"
 #include "baselines/newton.hpp"
+#include "baselines/pqn.hpp"
 #include "optimizer/interpolated_optimizer.hpp"
 #include "optimizer/learned/learned_optimizer.hpp"
 #include "util/error.hpp"
@@ -15,11 +17,19 @@
 namespace fnopt::app {
 namespace {
 
-// One entry per optimizer name: how to build it from the flags. To add a method, add a row.
+// One entry per optimizer name: its traits and how to build it from the flags. To add a
+// method, add a row.
 struct OptimizerEntry {
   const char* name;
+  MethodTraits traits;
   std::function<std::unique_ptr<InnerOptimizer>(const OptimizerChoice&)> make;
 };
+
+// Relative cost of one iteration (L-BFGS's = 1), for progress ETAs: measured at 32^2-100^2, one
+// learned iteration costs ~10 L-BFGS iterations (three FNO passes), a Newton iteration or a
+// one-solve implicit Euler step ~10-40 (a sparse factorization).
+constexpr MethodTraits kBudgeted{BudgetKind::Iterations, false, false, 1.0};
+constexpr MethodTraits kLearned{BudgetKind::Iterations, false, false, 10.0};
 
 // The learned optimizer on --model (default: the shipped model): plain, with the secant step
 // along its updates, or with the subspace step.
@@ -32,29 +42,40 @@ std::unique_ptr<InnerOptimizer> make_learned(const OptimizerChoice& c, bool line
 
 const std::vector<OptimizerEntry>& optimizer_table() {
   static const std::vector<OptimizerEntry> table = {
-      {"newton", [](const OptimizerChoice&) { return std::make_unique<NewtonOptimizer>(); }},
-      {"fnopt", [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false); }},
-      {"fnopt-ls", [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/true); }},
-      {"fnopt-ss", [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false, kFnoptSubspace); }},
-      {"gd",
+      {"pqn", {BudgetKind::Iterations, false, false, 1.5},
+       [](const OptimizerChoice& c) {
+         PqnParams params;
+         params.history = c.pqn_history;
+         params.matrix = parse_pqn_matrix_kind(c.pqn_matrix);
+         return std::make_unique<PqnOptimizer>(params);
+       }},
+      {"newton", {BudgetKind::ToTolerance, true, false, 8.0},
+       [](const OptimizerChoice&) { return std::make_unique<NewtonOptimizer>(); }},
+      {"implicit-euler", {BudgetKind::OneSolve, false, false, 30.0},
+       [](const OptimizerChoice&) { return std::make_unique<ImplicitEulerOptimizer>(); }},
+      {"fnopt", kLearned, [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false); }},
+      {"fnopt-ls", kLearned, [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/true); }},
+      {"fnopt-ss", kLearned,
+       [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false, kFnoptSubspace); }},
+      {"gd", {BudgetKind::Iterations, false, true, 1.0},
        [](const OptimizerChoice& c) {
          GradientDescentParams params;
          if (c.learning_rate > 0.0) params.learning_rate = c.learning_rate;
          return std::make_unique<GradientDescentOptimizer>(params);
        }},
-      {"adam",
+      {"adam", {BudgetKind::Iterations, false, true, 1.0},
        [](const OptimizerChoice& c) {
          AdamParams params;
          if (c.learning_rate > 0.0) params.learning_rate = c.learning_rate;
          return std::make_unique<AdamOptimizer>(params);
        }},
-      {"lbfgs",
+      {"lbfgs", kBudgeted,
        [](const OptimizerChoice&) {
          LbfgsParams params;
          params.line_search = false;
          return std::make_unique<LbfgsOptimizer>(params);
        }},
-      {"lbfgs-ls",
+      {"lbfgs-ls", {BudgetKind::Iterations, false, false, 1.3},
        [](const OptimizerChoice&) {
          LbfgsParams params;
          params.line_search = true;
@@ -98,6 +119,17 @@ std::string optimizer_names() {
   return joined(names);
 }
 
+const MethodTraits& method_traits(const std::string& name) {
+  // The fine grid of METHOD-interpK takes one iteration; the budget is the coarse solver's.
+  static const MethodTraits interpolated{BudgetKind::Iterations, false, false, 1.0};
+  for (const auto& entry : optimizer_table())
+    if (name == entry.name) return entry.traits;
+  if (is_interpolated(name)) return interpolated;
+  throw Error("optimizer: unknown optimizer '" + name + "' (choose from: " + optimizer_names() + ")");
+}
+
+bool is_interpolated_method(const std::string& name) { return is_interpolated(name); }
+
 std::unique_ptr<InnerOptimizer> OptimizerChoice::make() const {
   require(iterations >= 0, "iters", "must be a positive iteration budget");
   require(learning_rate >= 0.0, "lr", "must be positive");
@@ -108,11 +140,16 @@ std::unique_ptr<InnerOptimizer> OptimizerChoice::make() const {
 }
 
 InnerSolveOptions OptimizerChoice::solve_options() const {
-  if (is_interpolated(name)) return {1, 0.0};  // one iteration gives the interpolated answer
-  if (name == "newton") {
-    InnerSolveOptions options = NewtonOptimizer::reference_solve_options();
-    if (iterations > 0) options.max_iterations = iterations;
-    return options;
+  // One iteration gives the interpolated answer.
+  if (is_interpolated(name)) return {1, 0.0};
+  switch (method_traits(name).budget) {
+    case BudgetKind::OneSolve: return {1, 0.0};
+    case BudgetKind::ToTolerance: {
+      InnerSolveOptions options = NewtonOptimizer::reference_solve_options();
+      if (iterations > 0) options.max_iterations = iterations;
+      return options;
+    }
+    case BudgetKind::Iterations: break;
   }
   return {iterations > 0 ? iterations : 10, 0.0};
 }
@@ -125,7 +162,17 @@ void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice) {
   command.add_option("--lr", choice.learning_rate,
                      "learning rate: gd in units of 1/lambda_max of the mass-scaled Hessian (default 1), adam in "
                      "cell widths per step^2 per iteration (default 0.003)");
+  add_method_setting_flags(command, choice);
+}
+
+void add_method_setting_flags(CLI::App& command, OptimizerChoice& choice) {
   command.add_option("--model", choice.model, "learned optimizer weights (default: the shipped models/fnopt-32.pt)");
+  command.add_option("--pqn-history", choice.pqn_history, "pqn: curvature pairs kept (0: plain -A^-1 g steps)")
+      ->capture_default_str();
+  command.add_option("--pqn-matrix", choice.pqn_matrix,
+                     "pqn: the prefactored matrix, isotropic (projective-dynamics-like, rotation invariant) or "
+                     "rest-hessian (the rest pose's Hessian as it is)")
+      ->capture_default_str();
 }
 
 }  // namespace fnopt::app

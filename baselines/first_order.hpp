@@ -28,6 +28,9 @@ class SmoothProblem {
   virtual const VecX& inverse_metric() const = 0;
   // A natural step length [units of x], h/dt^2 for the cloth (one cell width per step^2).
   virtual double step_unit() const = 0;
+  // The cloth time step behind the problem, for methods that build matrices from its energy;
+  // null for the analytic problems.
+  virtual StepProblem* step_problem() const { return nullptr; }
 };
 
 // A cloth time step seen as a SmoothProblem: inverse metric 1/(dt^2 m_i), step unit h/dt^2.
@@ -41,6 +44,7 @@ class ClothSmoothProblem final : public SmoothProblem {
   }
   const VecX& inverse_metric() const override { return inverse_metric_; }
   double step_unit() const override { return step_unit_; }
+  StepProblem* step_problem() const override { return problem_; }
 
  private:
   StepProblem* problem_;

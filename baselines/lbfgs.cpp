@@ -43,27 +43,7 @@ void LbfgsParams::validate() const {
   require(max_line_search_evaluations >= 1, "lbfgs.max_line_search_evaluations", "must be positive");
 }
 
-void lbfgs_two_loop(const std::vector<const CurvaturePair*>& pairs, const VecX& h0, const VecX& gradient,
-                    VecX& direction, std::vector<double>& alphas) {
-  const int m = static_cast<int>(pairs.size());
-  alphas.resize(m);
-  direction = gradient;  // q
-  for (int i = m - 1; i >= 0; --i) {
-    alphas[i] = pairs[i]->rho * pairs[i]->s.dot(direction);
-    direction -= alphas[i] * pairs[i]->y;
-  }
-  direction.array() *= h0.array();  // r = H0 q
-  for (int i = 0; i < m; ++i) {
-    const double beta = pairs[i]->rho * pairs[i]->y.dot(direction);
-    direction += (alphas[i] - beta) * pairs[i]->s;
-  }
-  direction = -direction;
-}
-
-LbfgsOptimizer::LbfgsOptimizer(LbfgsParams params) : params_(params) {
-  params_.validate();
-  ring_.resize(params_.history);
-}
+LbfgsOptimizer::LbfgsOptimizer(LbfgsParams params) : params_(validated(params)), history_(params_.history) {}
 
 std::string LbfgsOptimizer::settings() const {
   std::ostringstream out;
@@ -76,44 +56,29 @@ std::string LbfgsOptimizer::settings() const {
   return out.str();
 }
 
-void LbfgsOptimizer::begin(SmoothProblem&, const VecX&, double, const VecX&) {
-  newest_ = -1;
-  count_ = 0;
-}
+void LbfgsOptimizer::begin(SmoothProblem&, const VecX&, double, const VecX&) { history_.clear(); }
 
 void LbfgsOptimizer::remember(const VecX& x_old, const VecX& g_old, const VecX& x_new, const VecX& g_new,
                               const VecX& inverse_metric) {
-  // Built aside: a rejected pair must not overwrite the oldest stored one.
-  candidate_.s = x_new - x_old;
-  candidate_.y = g_new - g_old;
-  const double sy = candidate_.s.dot(candidate_.y);
-  const double s_norm2 = candidate_.s.cwiseQuotient(inverse_metric).dot(candidate_.s);  // s.P s
-  const double y_norm2 = candidate_.y.cwiseProduct(inverse_metric).dot(candidate_.y);   // y.P^-1 y
   // Keep only pairs of clearly positive curvature (cosine in the metric above 1e-10).
-  if (!std::isfinite(sy) || !(sy > 1e-10 * std::sqrt(s_norm2 * y_norm2))) {
-    ++skipped_pairs_;
-    return;
-  }
-  candidate_.rho = 1.0 / sy;
-  newest_ = (newest_ + 1) % params_.history;
-  std::swap(ring_[newest_], candidate_);
-  count_ = std::min(count_ + 1, params_.history);
+  const bool stored = history_.push(x_old, g_old, x_new, g_new, [&](const CurvaturePair& pair, double sy) {
+    const double s_norm2 = pair.s.cwiseQuotient(inverse_metric).dot(pair.s);  // s.P s
+    const double y_norm2 = pair.y.cwiseProduct(inverse_metric).dot(pair.y);   // y.P^-1 y
+    return std::isfinite(sy) && sy > 1e-10 * std::sqrt(s_norm2 * y_norm2);
+  });
+  if (!stored) ++skipped_pairs_;
 }
 
 double LbfgsOptimizer::compute_direction(SmoothProblem& problem, const VecX& gradient) {
   const VecX& inverse_metric = problem.inverse_metric();
-  if (count_ > 0) {
-    ordered_.clear();
-    for (int k = count_ - 1; k >= 0; --k)
-      ordered_.push_back(&ring_[(newest_ - k + params_.history) % params_.history]);
-    const CurvaturePair& newest = ring_[newest_];
+  if (history_.size() > 0) {
+    const CurvaturePair& newest = history_.newest();
     const double gamma = 1.0 / (newest.rho * newest.y.cwiseProduct(inverse_metric).dot(newest.y));
     h0_ = gamma * inverse_metric;
-    lbfgs_two_loop(ordered_, h0_, gradient, direction_, alphas_);
+    lbfgs_two_loop(history_.oldest_first(), [&](VecX& q) { q.array() *= h0_.array(); }, gradient, direction_, alphas_);
     const double slope = gradient.dot(direction_);
     if (std::isfinite(slope) && slope < 0.0) return 1.0;
-    count_ = 0;  // not a descent direction (rounding): restart from the metric gradient step
-    newest_ = -1;
+    history_.clear();  // not a descent direction (rounding): restart from the metric gradient step
   }
   direction_ = -inverse_metric.cwiseProduct(gradient);
   if (params_.line_search) return 1.0;

@@ -19,6 +19,7 @@
 // a line-search iteration costs one gradient evaluation per trial (usually one).
 #include <vector>
 
+#include "baselines/curvature_history.hpp"
 #include "baselines/first_order.hpp"
 
 namespace fnopt {
@@ -32,17 +33,6 @@ struct LbfgsParams {
 
   void validate() const;  // throws Error naming the parameter
 };
-
-// One curvature pair: s = x_{k+1} - x_k, y = g_{k+1} - g_k, rho = 1/(s.y).
-struct CurvaturePair {
-  VecX s, y;
-  double rho = 0.0;
-};
-
-// The two-loop recursion: direction = -H g, H the L-BFGS inverse Hessian built from `pairs`
-// (oldest first) on the diagonal initial inverse Hessian `h0`. `alphas` is scratch space.
-void lbfgs_two_loop(const std::vector<const CurvaturePair*>& pairs, const VecX& h0, const VecX& gradient,
-                    VecX& direction, std::vector<double>& alphas);
 
 class LbfgsOptimizer final : public FirstOrderOptimizer {
  public:
@@ -65,10 +55,7 @@ class LbfgsOptimizer final : public FirstOrderOptimizer {
                 const VecX& inverse_metric);
 
   LbfgsParams params_;
-  std::vector<CurvaturePair> ring_;
-  CurvaturePair candidate_;
-  int newest_ = -1, count_ = 0;
-  std::vector<const CurvaturePair*> ordered_;
+  CurvatureHistory history_;
   std::vector<double> alphas_;
   VecX direction_, h0_, x_old_, g_old_, trial_x_, trial_g_, best_x_, best_g_;
   long skipped_pairs_ = 0;

@@ -5,26 +5,14 @@
 #include <limits>
 #include <sstream>
 
+#include "optimizer/line_search.hpp"
 #include "util/error.hpp"
 #include "util/serial_openmp_scope.hpp"
 
 namespace fnopt {
-namespace {
-
-// Gathers the free vertices' dofs of a full vector into the reduced numbering.
-void reduce(const DirichletSet& dirichlet, const VecX& full, VecX& reduced) {
-  reduced.resize(3 * dirichlet.free_count());
-  const auto& free_index = dirichlet.free_index();
-  for (int v = 0; v < dirichlet.vertex_count(); ++v)
-    if (free_index[v] >= 0) reduced.segment<3>(3 * free_index[v]) = full.segment<3>(3 * v);
-}
-
-}  // namespace
 
 void NewtonParams::validate() const {
-  require(armijo > 0.0 && armijo < 0.5, "newton.armijo", "must lie in (0, 0.5)");
-  require(backtrack > 0.0 && backtrack < 1.0, "newton.backtrack", "must lie in (0, 1)");
-  require(max_backtracks > 0, "newton.max_backtracks", "must be positive");
+  line_search().validate("newton");
   require(forcing_cap > 0.0 && forcing_cap < 1.0, "newton.forcing_cap", "must lie in (0, 1)");
   require(max_cg_iterations >= 0, "newton.max_cg_iterations", "must not be negative");
   require(max_shift >= 0.0, "newton.max_shift", "must not be negative");
@@ -168,8 +156,7 @@ void NewtonOptimizer::begin_step(StepProblem&, const VecX&, double value, const 
 std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& a, double& value,
                                                     VecX& gradient) {
   const DirichletSet& dirichlet = problem.dirichlet();
-  const auto& free_index = dirichlet.free_index();
-  reduce(dirichlet, gradient, rhs_);
+  dirichlet.gather_free(gradient, rhs_);
   rhs_ = -rhs_;
   const double gradient_norm = rhs_.norm();
   // The stall guard's count: the last iteration was shifted and gained little.
@@ -179,35 +166,12 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
   const double forcing = std::min(params_.forcing_cap, gradient_norm / initial_gradient_norm_);
   if (!newton_direction(problem, a, forcing)) return SolveStatus::FactorizationFailed;
   const double slope = -rhs_.dot(direction_);
-
-  // Backtracking on L(a + alpha d). Armijo's test must also see a strict decrease, so that a
-  // step too small to change L is never taken as progress. Close to the minimum L changes by
-  // less than its rounding error; there a step that halves ||g|| is accepted instead.
+  dirichlet.scatter_free(direction_, full_direction_);
   // L sums terms larger than itself (inertia, gravity, elastic), so its rounding error is a few
   // hundred ulps of |L| (10^4 stencils): 1e-13 relative still rejected Newton steps at 4e-9 ||g0||.
   const double rounding = 1e-12 * (std::abs(value) + std::abs(start_value_));
-  double alpha = 1.0;
-  for (int trial = 0; trial < params_.max_backtracks; ++trial, alpha *= params_.backtrack) {
-    trial_ = a;
-    for (int v = 0; v < dirichlet.vertex_count(); ++v)
-      if (free_index[v] >= 0) trial_.segment<3>(3 * v) += alpha * direction_.segment<3>(3 * free_index[v]);
-    const double trial_value = problem.value_gradient(trial_, trial_gradient_);
-    if (!std::isfinite(trial_value)) continue;
-    const bool armijo = trial_value < value && trial_value <= value + params_.armijo * alpha * slope;
-    // In the flat regime only a real gain counts: at the gradient's own rounding floor, noise
-    // lowers ||g|| by a hair at every step and the solve would wander until its budget.
-    const bool flat = !armijo && std::abs(trial_value - value) <= rounding &&
-                      trial_gradient_.norm() < 0.5 * gradient_norm;
-    if (armijo || flat) {
-      a.swap(trial_);
-      gradient.swap(trial_gradient_);
-      value = trial_value;
-      return std::nullopt;
-    }
-  }
-  // No trial lowered L or ||g||. If the step could not lower L by more than L's rounding error
-  // anyway, the iterate is a minimiser to the precision of L: say so rather than "failed".
-  return -slope <= rounding ? SolveStatus::PrecisionLimit : SolveStatus::LineSearchFailed;
+  return backtracking_line_search(problem, a, value, gradient, full_direction_,
+                                  {value, slope, gradient_norm, rounding}, params_.line_search(), line_search_);
 }
 
 }  // namespace fnopt

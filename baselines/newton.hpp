@@ -22,10 +22,12 @@
 #include <Eigen/CholmodSupport>
 
 #include "optimizer/inner_optimizer.hpp"
+#include "optimizer/line_search.hpp"
 
 namespace fnopt {
 
 struct NewtonParams {
+  // The backtracking line search (optimizer/line_search.hpp).
   double armijo = 1e-4;             // sufficient-decrease constant c1
   double backtrack = 0.5;           // step shrink factor per line-search trial
   int max_backtracks = 40;
@@ -55,6 +57,7 @@ struct NewtonParams {
   double slow_shift_progress = 0.9;
 
   void validate() const;  // throws Error naming the parameter
+  BacktrackingParams line_search() const { return {armijo, backtrack, max_backtracks}; }
 };
 
 // Work counters, for benchmarks.
@@ -109,7 +112,8 @@ class NewtonOptimizer final : public InnerOptimizer {
   double previous_gradient_norm_ = 0.0;
   Eigen::SparseMatrix<double> shifted_;
   VecX inertia_diagonal_;  // dt^2 m per free dof
-  VecX trial_, trial_gradient_, rhs_, direction_, residual_, preconditioned_, search_, product_;
+  VecX rhs_, direction_, full_direction_, residual_, preconditioned_, search_, product_;
+  LineSearchScratch line_search_;
 };
 
 }  // namespace fnopt

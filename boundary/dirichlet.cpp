@@ -18,6 +18,18 @@ void DirichletSet::zero_fixed(VecX& v) const {
   for (int k : fixed_) vertex(v, k).setZero();
 }
 
+void DirichletSet::gather_free(const VecX& full, VecX& reduced) const {
+  reduced.resize(3 * free_count_);
+  for (int k = 0; k < vertex_count(); ++k)
+    if (free_index_[k] >= 0) reduced.segment<3>(3 * free_index_[k]) = full.segment<3>(3 * k);
+}
+
+void DirichletSet::scatter_free(const VecX& reduced, VecX& full) const {
+  full.setZero(3 * vertex_count());
+  for (int k = 0; k < vertex_count(); ++k)
+    if (free_index_[k] >= 0) full.segment<3>(3 * k) = reduced.segment<3>(3 * free_index_[k]);
+}
+
 void DirichletSet::prescribe(VecX& a, const VecX& x, const VecX& v,
                              const std::vector<Vec3>& targets, double dt) const {
   assert(targets.size() == fixed_.size());

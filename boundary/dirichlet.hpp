@@ -23,6 +23,10 @@ class DirichletSet {
 
   // Sets the three coordinates of every fixed vertex to zero (mask a gradient or an update).
   void zero_fixed(VecX& v) const;
+  // The free vertices' dofs of a full vector in the reduced numbering (free vertex f at 3f).
+  void gather_free(const VecX& full, VecX& reduced) const;
+  // The inverse: a full vector with `reduced` on the free dofs and zero on the fixed ones.
+  void scatter_free(const VecX& reduced, VecX& full) const;
   // Writes the prescribed accelerations of the fixed vertices into `a`: targets[k] is the
   // position at t+1 of fixed_vertices()[k].
   void prescribe(VecX& a, const VecX& x, const VecX& v, const std::vector<Vec3>& targets,

@@ -94,7 +94,7 @@ const Eigen::SparseMatrix<double>& BackwardEulerObjective::hessian(const VecX& a
   const double dt2 = dt_ * dt_;
   assembly_->scale(dt2 * dt2);
   for (Eigen::Index k = 0; k < masses_.size(); ++k)
-    assembly_->add_vertex_diagonal(static_cast<int>(k), dt2 * masses_[k] * (1.0 + damping_ * dt_));
+    assembly_->add_vertex_diagonal(static_cast<int>(k), inertia_weight(static_cast<int>(k)));
   return assembly_->matrix();
 }
 

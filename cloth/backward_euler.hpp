@@ -35,6 +35,8 @@ class BackwardEulerObjective {
   const Vec3& gravity() const { return gravity_; }
   double dt() const { return dt_; }
   const VecX& masses() const { return masses_; }  // per vertex
+  // The inertia (and damping) part of hess L on vertex k's three dofs: dt^2 m_k (1 + c dt).
+  double inertia_weight(int k) const { return dt_ * dt_ * masses_[k] * (1.0 + damping_ * dt_); }
   const std::vector<std::unique_ptr<EnergyTerm>>& terms() const { return terms_; }
   // The self-repulsion term, or null when the material does not enable it.
   const RepulsionTerm* repulsion() const { return repulsion_; }

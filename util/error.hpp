@@ -17,4 +17,12 @@ inline void require(bool ok, const std::string& field, const std::string& proble
   if (!ok) throw Error(field + ": " + problem);
 }
 
+// The parameter struct `params` after its validate() (which throws Error naming the bad field),
+// for member initialiser lists that size buffers from the parameters.
+template <class Params>
+Params validated(Params params) {
+  params.validate();
+  return params;
+}
+
 }  // namespace fnopt

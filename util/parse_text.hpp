@@ -71,10 +71,10 @@ inline bool parse_named_interval(std::string_view text, std::string& name, doubl
   return true;
 }
 
-// "a, b, c": a list of valid names for a message.
-inline std::string joined(const std::vector<std::string>& names) {
+// "a, b, c": a list of valid names for a message (or joined by another separator).
+inline std::string joined(const std::vector<std::string>& names, const std::string& separator = ", ") {
   std::string text;
-  for (const auto& name : names) text += (text.empty() ? "" : ", ") + name;
+  for (const auto& name : names) text += (text.empty() ? "" : separator) + name;
   return text;
 }
 

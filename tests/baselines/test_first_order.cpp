@@ -12,6 +12,7 @@
 #include "baselines/lbfgs.hpp"
 #include "baselines/newton.hpp"
 #include "cloth/backward_euler.hpp"
+#include "tests/baselines/cloth_step.hpp"
 
 namespace fnopt {
 namespace {
@@ -176,7 +177,7 @@ TEST(Lbfgs, TwoLoopDirectionEqualsDenseBfgs) {
   for (const auto& pair : pairs) ordered.push_back(&pair);
   VecX direction;
   std::vector<double> scratch;
-  lbfgs_two_loop(ordered, h0, gradient, direction, scratch);
+  lbfgs_two_loop(ordered, [&](VecX& q) { q.array() *= h0.array(); }, gradient, direction, scratch);
 
   Eigen::MatrixXd H = h0.asDiagonal();
   const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
@@ -189,26 +190,6 @@ TEST(Lbfgs, TwoLoopDirectionEqualsDenseBfgs) {
   // With n independent exact pairs, BFGS recovers the inverse Hessian on their span.
   EXPECT_LT(direction.dot(gradient), 0.0);
 }
-
-// A cloth step with the cloth already swinging, the handles moving.
-struct ClothStep {
-  Grid grid = Grid::make(12, 12, 1.0);
-  BackwardEulerObjective objective{grid, Material{}, 1.0 / 60.0, Vec3(0, 0, -9.81)};
-  DirichletSet handles{grid.vertex_count(), {grid.index(0, 0), grid.index(0, grid.cols - 1)}};
-  StepProblem problem{objective, handles};
-  VecX x, v, a;
-
-  ClothStep() {
-    x = grid.rest_positions();
-    v = VecX::Zero(grid.dof_count());
-    for (int k = 0; k < grid.vertex_count(); ++k) v[3 * k] = 1.5 * (k % grid.cols) / grid.cols;
-    objective.begin_step(x, v);
-    a = VecX::Zero(grid.dof_count());
-    std::vector<Vec3> targets = {x.segment<3>(0) + Vec3(0.02, 0.01, 0.0),
-                                 x.segment<3>(3 * (grid.cols - 1)) + Vec3(0.02, 0.01, 0.0)};
-    handles.prescribe(a, x, v, targets, objective.dt());
-  }
-};
 
 TEST(FirstOrderOptimizers, NeverMoveAHandleAndDecreaseARealClothStep) {
   ClothStep step;

@@ -1,0 +1,76 @@
+#pragma once
+// Prefactored quasi-Newton ("pqn"; Liu, Bouaziz & Kavan 2017, "Quasi-Newton methods for
+// real-time simulation of hyperelastic materials"): L-BFGS whose initial inverse Hessian is
+// A^-1, A a fixed matrix close to the Hessian of a cloth step (baselines/pqn_matrix.hpp: the
+// inertia exactly, the elastic part as an isotropic, rotation-invariant projective-dynamics
+// matrix), factorised once per scene. Each iteration:
+//   d = -H g by the two-loop recursion over the last `history` pairs on H0 = A^-1 (one pair of
+//       triangular solves with A's Cholesky factor),
+//   a <- a + t d, t from 1 by backtracking (optimizer/line_search.hpp),
+// one gradient evaluation per trial (usually one). Without pairs (the first iteration of a
+// step) d = -A^-1 g, which is the exact step where the elastic energy is as A says: the cloth
+// at rest, or any quadratic whose Hessian is A. Why it beats a diagonal H0 on cloth: A carries
+// the stiff spring couplings that make L-BFGS's diagonal start overshoot (docs/design.md).
+//
+// The factor is refactorised only when what A depends on changes: the grid, dt, the material's
+// stiffnesses, density or damping, or the set of handle vertices. The history is cleared at
+// every time step.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "baselines/curvature_history.hpp"
+#include "baselines/first_order.hpp"
+#include "baselines/pqn_matrix.hpp"
+#include "optimizer/line_search.hpp"
+
+namespace fnopt {
+
+struct PqnParams {
+  int history = 5;  // curvature pairs kept (m); 0: every iteration steps along -A^-1 g
+  PqnMatrixKind matrix = PqnMatrixKind::Isotropic;
+  BacktrackingParams line_search{1e-4, 0.5, 30};
+
+  void validate() const;  // throws Error("pqn.<parameter>: ...")
+};
+
+class PqnOptimizer final : public FirstOrderOptimizer {
+ public:
+  explicit PqnOptimizer(PqnParams params = {});
+
+  std::string name() const override { return "pqn"; }
+  std::string settings() const override;
+  void begin(SmoothProblem& problem, const VecX& x, double value, const VecX& gradient) override;
+  std::optional<SolveStatus> step(SmoothProblem& problem, VecX& x, double& value, VecX& gradient) override;
+
+  // For problems that are not cloth steps (tests, tools): factorizes `matrix` and uses it on
+  // every problem until a cloth step replaces it. Throws Error if it is not positive definite.
+  void use_matrix(const PqnMatrix& matrix);
+  long factorizations() const { return factorizations_; }
+
+ private:
+  // What A depends on: equal keys, same matrix.
+  struct MatrixKey {
+    int rows = 0, cols = 0;
+    double spacing = 0.0, dt = 0.0;
+    double stretch = 0.0, shear = 0.0, bend = 0.0, density = 0.0, damping = 0.0;
+    std::vector<int> free_index;
+    bool operator==(const MatrixKey& other) const;
+  };
+  static MatrixKey key_of(const StepProblem& problem);
+  // Builds and factorizes A for this cloth step unless the factor already fits it.
+  void prepare_matrix(const StepProblem& problem);
+
+  PqnParams params_;
+  PqnFactor factor_;
+  bool have_factor_ = false;
+  MatrixKey factor_key_;
+  long factorizations_ = 0;
+  CurvatureHistory history_;
+  double start_value_ = 0.0;
+  VecX direction_, x_old_, g_old_;
+  std::vector<double> alphas_;
+  LineSearchScratch line_search_;
+};
+
+}  // namespace fnopt

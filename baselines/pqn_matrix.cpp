@@ -1,0 +1,88 @@
+#include "baselines/pqn_matrix.hpp"
+
+#include "cloth/repulsion_term.hpp"
+#include "util/error.hpp"
+
+namespace fnopt {
+
+const char* to_string(PqnMatrixKind kind) {
+  return kind == PqnMatrixKind::Isotropic ? "isotropic" : "rest-hessian";
+}
+
+PqnMatrixKind parse_pqn_matrix_kind(const std::string& name) {
+  for (PqnMatrixKind kind : {PqnMatrixKind::Isotropic, PqnMatrixKind::RestHessian})
+    if (name == to_string(kind)) return kind;
+  throw Error("pqn.matrix: unknown matrix '" + name + "' (choose from: isotropic, rest-hessian)");
+}
+
+Eigen::SparseMatrix<double> PqnMatrix::expanded() const {
+  if (kind == PqnMatrixKind::RestHessian) return matrix;
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int col = 0; col < matrix.outerSize(); ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(matrix, col); it; ++it)
+      for (int c = 0; c < 3; ++c) entries.emplace_back(3 * it.row() + c, 3 * col + c, it.value());
+  Eigen::SparseMatrix<double> A(3 * matrix.rows(), 3 * matrix.cols());
+  A.setFromTriplets(entries.begin(), entries.end());
+  return A;
+}
+
+PqnMatrix build_pqn_matrix(const BackwardEulerObjective& objective, const std::vector<int>& free_index,
+                           PqnMatrixKind kind, const VecX& x) {
+  HessianAssembly assembly(free_index);
+  std::vector<std::pair<const EnergyTerm*, int>> terms;
+  for (const auto& term : objective.terms())
+    if (term.get() != static_cast<const EnergyTerm*>(objective.repulsion()))
+      terms.emplace_back(term.get(), term->register_hessian(assembly));
+  assembly.finalize();
+  assembly.set_zero();
+  for (const auto& [term, handle] : terms)
+    if (handle >= 0) term->accumulate_hessian(x, /*project=*/true, assembly, handle);
+  const double dt2 = objective.dt() * objective.dt();
+  assembly.scale(dt2 * dt2);
+  const Eigen::SparseMatrix<double>& K = assembly.matrix();
+
+  PqnMatrix result;
+  result.kind = kind;
+  result.free_index = free_index;
+  std::vector<Eigen::Triplet<double>> entries;
+  if (kind == PqnMatrixKind::RestHessian) {
+    result.matrix = K;
+    for (int v = 0; v < static_cast<int>(free_index.size()); ++v)
+      if (free_index[v] >= 0)
+        for (int c = 0; c < 3; ++c) result.matrix.coeffRef(3 * free_index[v] + c, 3 * free_index[v] + c) += objective.inertia_weight(v);
+    return result;
+  }
+  // S_ij = trace of K's block (i, j): the sum of its entries (3i + c, 3j + c).
+  for (int col = 0; col < K.outerSize(); ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(K, col); it; ++it)
+      if (it.row() % 3 == col % 3) entries.emplace_back(it.row() / 3, col / 3, it.value());
+  for (int v = 0; v < static_cast<int>(free_index.size()); ++v)
+    if (free_index[v] >= 0) entries.emplace_back(free_index[v], free_index[v], objective.inertia_weight(v));
+  result.matrix.resize(K.rows() / 3, K.cols() / 3);
+  result.matrix.setFromTriplets(entries.begin(), entries.end());  // sums the duplicates
+  return result;
+}
+
+bool PqnFactor::factorize(const PqnMatrix& matrix) {
+  matrix_ = matrix;
+  return cholesky_.factorize_matrix(matrix_.matrix);
+}
+
+void PqnFactor::solve_in_place(VecX& q) {
+  const std::vector<int>& free_index = matrix_.free_index;
+  const int vertices = static_cast<int>(free_index.size());
+  const int rows = static_cast<int>(matrix_.matrix.rows());
+  block_.resize(3 * rows);
+  // Isotropic: an n_free x 3 column-major block, one column per coordinate; else one column.
+  const bool isotropic = matrix_.kind == PqnMatrixKind::Isotropic;
+  for (int v = 0; v < vertices; ++v)
+    if (const int f = free_index[v]; f >= 0)
+      for (int c = 0; c < 3; ++c) block_[isotropic ? c * rows + f : 3 * f + c] = q[3 * v + c];
+  cholesky_.solve_in_place(block_.data(), rows, isotropic ? 3 : 1);
+  for (int v = 0; v < vertices; ++v) {
+    const int f = free_index[v];
+    for (int c = 0; c < 3; ++c) q[3 * v + c] = f < 0 ? 0.0 : block_[isotropic ? c * rows + f : 3 * f + c];
+  }
+}
+
+}  // namespace fnopt

@@ -1,0 +1,60 @@
+#pragma once
+// The fixed matrix of the prefactored quasi-Newton method (baselines/pqn.hpp; docs/design.md,
+// "Prefactored quasi-Newton"), over the free vertices of a cloth step:
+//   A = dt^2 M (1 + c dt) + dt^4 K,
+// the inertia part of hess L exactly, and K built once from the elastic terms with fixed
+// stencils (stretch, shear, bend; self-repulsion is left out: its pairs change every step):
+//  - Isotropic (the default): K = the PSD-projected Hessian at the given positions with every
+//    3x3 block B replaced by trace(B) I3. A spring's rank-one block k e e^T/|e|^2 becomes k I3,
+//    the graph Laplacian of projective dynamics (Bouaziz et al. 2014) weighted by each term's
+//    stiffness; a bending hinge gives its bi-Laplacian. trace(R B R^T) = trace(B), so A does not
+//    depend on how the cloth is rotated, and it stays a fair model of the energy after the cloth
+//    turns, where the anisotropic Hessian of the rest pose does not (docs/results.md).
+//    A = S (x) I3 is stored as the scalar n_free x n_free matrix S: a factor 9x smaller, and the
+//    three coordinates are solved together.
+//  - RestHessian: K = the PSD-projected Hessian at the given positions, as it is (3 n_free rows).
+#include <Eigen/SparseCore>
+#include <string>
+#include <vector>
+
+#include "cloth/backward_euler.hpp"
+#include "optimizer/sparse_cholesky.hpp"
+
+namespace fnopt {
+
+enum class PqnMatrixKind { Isotropic, RestHessian };
+
+const char* to_string(PqnMatrixKind kind);  // "isotropic", "rest-hessian"
+// Throws Error("pqn.matrix: ...") for another name.
+PqnMatrixKind parse_pqn_matrix_kind(const std::string& name);
+
+struct PqnMatrix {
+  PqnMatrixKind kind = PqnMatrixKind::Isotropic;
+  // S (one row per free vertex, A = S (x) I3) for Isotropic; A (3 rows per free vertex) else.
+  Eigen::SparseMatrix<double> matrix;
+  std::vector<int> free_index;  // free_index[v]: vertex v's row (block) in the matrix, or -1
+
+  int rows_per_vertex() const { return kind == PqnMatrixKind::Isotropic ? 1 : 3; }
+  // The 3 n_free x 3 n_free matrix A itself (for tests and tools).
+  Eigen::SparseMatrix<double> expanded() const;
+};
+
+// The matrix at positions x (pqn passes the grid's rest pose) over free_index's free vertices.
+PqnMatrix build_pqn_matrix(const BackwardEulerObjective& objective, const std::vector<int>& free_index,
+                           PqnMatrixKind kind, const VecX& x);
+
+// The Cholesky factor of a PqnMatrix, applied to vectors of 3 dofs per vertex.
+class PqnFactor {
+ public:
+  // Factorizes `matrix` (kept by value); false if it is not positive definite.
+  bool factorize(const PqnMatrix& matrix);
+  // q <- A^-1 q on the free dofs; the fixed dofs of q are set to zero.
+  void solve_in_place(VecX& q);
+
+ private:
+  PqnMatrix matrix_;
+  SparseCholesky cholesky_{SparseCholesky::Method::Simplicial};
+  Eigen::VectorXd block_;  // the free dofs, in the factor's layout
+};
+
+}  // namespace fnopt
