@@ -22,6 +22,7 @@ struct BenchFlags {
   int frames = 390;
   int threads = 0;
   bool warm_start = false;
+  std::string preconditioner = "factor";
 };
 
 std::vector<int> parse_resolutions(const std::string& list) {
@@ -46,7 +47,9 @@ void bench_newton(const BenchFlags& flags, int threads) {
     Scene scene;
     scene.rows = scene.cols = n;
     scene.frames = flags.frames;
-    NewtonOptimizer newton;
+    NewtonParams params;
+    params.pqn_preconditioner = flags.preconditioner == "pqn";
+    NewtonOptimizer newton(params);
     RolloutOptions options;
     options.solve = NewtonOptimizer::reference_solve_options();
     options.warm_start = flags.warm_start;
@@ -91,6 +94,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--res", flags->resolutions, "resolutions, comma-separated")->capture_default_str();
   command->add_option("--frames", flags->frames, "frames per resolution (newton)")->capture_default_str();
   command->add_option("--threads", flags->threads, "threads (default: all cores)");
+  command->add_option("--preconditioner", flags->preconditioner,
+                      "newton: CG preconditioned by the factor of an earlier Hessian (factor) or by pqn's matrix (pqn)")
+      ->check(CLI::IsMember({"factor", "pqn"}))
+      ->capture_default_str();
   command->add_flag("--warm-start", flags->warm_start, "start each step from the previous acceleration");
   command->callback([flags] { run_bench(*flags); });
 });

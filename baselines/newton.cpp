@@ -20,10 +20,12 @@ void NewtonParams::validate() const {
   require(max_slow_shifted_iterations >= 0, "newton.max_slow_shifted_iterations", "must not be negative");
   require(slow_shift_progress > 0.0 && slow_shift_progress < 1.0, "newton.slow_shift_progress",
           "must lie in (0, 1)");
+  require(max_pqn_cg_iterations > 0, "newton.max_pqn_cg_iterations", "must be positive");
 }
 
 NewtonOptimizer::NewtonOptimizer(NewtonParams params) : params_(params) {
   params_.validate();
+  if (params_.pqn_preconditioner) pqn_ = std::make_unique<PqnFactorCache>(PqnMatrixKind::Isotropic);
   // An indefinite Hessian is expected (the projected one is used then): CHOLMOD must not print.
   llt_.cholmod().print = 0;
 }
@@ -38,6 +40,8 @@ std::string NewtonOptimizer::settings() const {
       << " shift_growth=" << params_.shift_growth
       << " max_slow_shifted_iterations=" << params_.max_slow_shifted_iterations
       << " slow_shift_progress=" << params_.slow_shift_progress;
+  // Only when set, so that the default's string (a cache key of compare's references) stays.
+  if (params_.pqn_preconditioner) out << " preconditioner=pqn max_pqn_cg_iterations=" << params_.max_pqn_cg_iterations;
   return out.str();
 }
 
@@ -56,25 +60,30 @@ bool NewtonOptimizer::factorize_and_solve(const Eigen::SparseMatrix<double>& H, 
   return have_factor_;
 }
 
-NewtonOptimizer::CgOutcome NewtonOptimizer::preconditioned_cg(const Eigen::SparseMatrix<double>& H,
-                                                              const VecX& b, double tolerance) {
+template <class Precondition>
+NewtonOptimizer::CgOutcome NewtonOptimizer::preconditioned_cg(const Eigen::SparseMatrix<double>& H, double shift,
+                                                              const VecX& b, double tolerance, int max_iterations,
+                                                              Precondition&& precondition) {
   SerialOpenMpScope serial;  // the factor's triangular solves run in CHOLMOD and BLAS
   direction_.setZero(b.size());
   residual_ = b;
-  preconditioned_ = llt_.solve(residual_);
+  preconditioned_ = residual_;
+  precondition(preconditioned_);
   search_ = preconditioned_;
   double rz = residual_.dot(preconditioned_);
   const double target = tolerance * b.norm();
-  for (int k = 0; k < params_.max_cg_iterations; ++k) {
+  for (int k = 0; k < max_iterations; ++k) {
     ++counters_.cg_iterations;
     product_.noalias() = H * search_;
+    if (shift != 0.0) product_.array() += shift * inertia_diagonal_.array() * search_.array();
     const double curvature = search_.dot(product_);
     if (curvature <= 0.0) return CgOutcome::NegativeCurvature;
     const double step = rz / curvature;
     direction_ += step * search_;
     residual_ -= step * product_;
     if (residual_.norm() <= target) return CgOutcome::Converged;
-    preconditioned_ = llt_.solve(residual_);
+    preconditioned_ = residual_;
+    precondition(preconditioned_);
     const double rz_next = residual_.dot(preconditioned_);
     search_ = preconditioned_ + (rz_next / rz) * search_;
     rz = rz_next;
@@ -82,17 +91,48 @@ NewtonOptimizer::CgOutcome NewtonOptimizer::preconditioned_cg(const Eigen::Spars
   return CgOutcome::TooManyIterations;
 }
 
-bool NewtonOptimizer::shifted_solve(StepProblem& problem, const Eigen::SparseMatrix<double>& H, const VecX& b,
-                                     double start) {
-  if (params_.max_shift <= 0.0) return false;
+void NewtonOptimizer::set_inertia_diagonal(StepProblem& problem) {
   const DirichletSet& dirichlet = problem.dirichlet();
   const BackwardEulerObjective& objective = problem.objective();
-  inertia_diagonal_.resize(H.rows());
+  inertia_diagonal_.resize(3 * dirichlet.free_count());
   const double dt2 = objective.dt() * objective.dt();
   for (int v = 0; v < dirichlet.vertex_count(); ++v) {
     const int f = dirichlet.free_index()[v];
     if (f >= 0) inertia_diagonal_.segment<3>(3 * f).setConstant(dt2 * objective.masses()[v]);
   }
+}
+
+bool NewtonOptimizer::pqn_direction(StepProblem& problem, const Eigen::SparseMatrix<double>& H, double tolerance) {
+  PqnFactor& factor = pqn_->prepare(problem);
+  auto precondition = [&](VecX& r) { factor.solve_free_in_place(r); };
+  const double growth = params_.shift_growth;
+  if (!last_shifted_ || shift_ / growth < kMinShift) {
+    last_shifted_ = false;
+    const CgOutcome outcome = preconditioned_cg(H, 0.0, rhs_, tolerance, params_.max_pqn_cg_iterations, precondition);
+    if (outcome == CgOutcome::Converged && rhs_.dot(direction_) > 0.0) return true;
+    if (outcome == CgOutcome::TooManyIterations) return false;
+  }
+  if (params_.max_shift <= 0.0) return false;
+  set_inertia_diagonal(problem);
+  const double start = last_shifted_ ? shift_ / growth : std::max(kMinShift, shift_ / (growth * growth));
+  for (double mu = start; mu <= params_.max_shift; mu *= growth) {
+    const CgOutcome outcome = preconditioned_cg(H, mu, rhs_, tolerance, params_.max_pqn_cg_iterations, precondition);
+    if (outcome == CgOutcome::TooManyIterations) break;
+    if (outcome == CgOutcome::Converged && rhs_.dot(direction_) > 0.0) {
+      shift_ = mu;
+      last_shifted_ = true;
+      ++counters_.shifted_iterations;
+      return true;
+    }
+  }
+  last_shifted_ = false;
+  return false;
+}
+
+bool NewtonOptimizer::shifted_solve(StepProblem& problem, const Eigen::SparseMatrix<double>& H, const VecX& b,
+                                     double start) {
+  if (params_.max_shift <= 0.0) return false;
+  set_inertia_diagonal(problem);
   shifted_ = H;  // one copy; each trial only raises the diagonal to the next mu
   double applied = 0.0;
   for (double mu = start; mu <= params_.max_shift; mu *= params_.shift_growth) {
@@ -111,6 +151,7 @@ bool NewtonOptimizer::newton_direction(StepProblem& problem, const VecX& a, doub
   const long pattern = problem.objective().hessian_pattern_id();
   const double growth = params_.shift_growth;
   const Eigen::SparseMatrix<double>& H = problem.objective().hessian(a, free_index, false);
+  if (pqn_ && pqn_direction(problem, H, tolerance)) return true;
   // After a shifted iteration the exact Hessian is almost surely still indefinite: go straight
   // to the shift search, one level below the last shift, so that the shift decays as the
   // iterate leaves the saddle (each skipped Cholesky of H saves a factorization).
@@ -118,7 +159,8 @@ bool NewtonOptimizer::newton_direction(StepProblem& problem, const VecX& a, doub
   if (exact_first) {
     last_shifted_ = false;
     if (have_factor_ && params_.max_cg_iterations > 0) {
-      const CgOutcome outcome = preconditioned_cg(H, rhs_, tolerance);
+      const CgOutcome outcome = preconditioned_cg(H, 0.0, rhs_, tolerance, params_.max_cg_iterations,
+                                                  [&](VecX& r) { r = llt_.solve(r); });
       if (outcome == CgOutcome::Converged && rhs_.dot(direction_) > 0.0) return true;
     }
     // CG was slow, met negative curvature, or there is no factor yet: refactorize. An

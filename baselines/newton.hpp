@@ -23,6 +23,8 @@
 
 #include "optimizer/inner_optimizer.hpp"
 #include "optimizer/line_search.hpp"
+#include "baselines/pqn_matrix.hpp"
+#include <memory>
 
 namespace fnopt {
 
@@ -55,6 +57,14 @@ struct NewtonParams {
   // 64^2: 8, 100^2: 3) are bit-identical with it. 0 disables the guard.
   int max_slow_shifted_iterations = 40;
   double slow_shift_progress = 0.9;
+  // Preconditioner of CG: the factor of an earlier Hessian (refactorized when CG is slow), or
+  // the fixed prefactored matrix of pqn (baselines/pqn_matrix.hpp), factorized once per scene,
+  // with the shift also searched by CG; factorizations of H only where that fails. The pqn
+  // matrix measured slower (docs/results.md, "Newton reference"): the exact Hessian's soft
+  // transverse modes are far from its isotropic springs, so CG needs ~860 iterations per step
+  // at 32^2 to the reference tolerance, 3.5x the time of the earlier factor's.
+  bool pqn_preconditioner = false;
+  int max_pqn_cg_iterations = 300;
 
   void validate() const;  // throws Error naming the parameter
   BacktrackingParams line_search() const { return {armijo, backtrack, max_backtracks}; }
@@ -88,8 +98,14 @@ class NewtonOptimizer final : public InnerOptimizer {
 
  private:
   enum class CgOutcome { Converged, NegativeCurvature, TooManyIterations };
-  // Preconditioned CG on H d = b with the current factor; d starts at 0.
-  CgOutcome preconditioned_cg(const Eigen::SparseMatrix<double>& H, const VecX& b, double tolerance);
+  // Preconditioned CG on (H + shift D) d = b, D = diag(shift_diagonal) (ignored when shift is 0),
+  // with `precondition(r)` applying the preconditioner in place; d starts at 0.
+  template <class Precondition>
+  CgOutcome preconditioned_cg(const Eigen::SparseMatrix<double>& H, double shift, const VecX& b, double tolerance,
+                              int max_iterations, Precondition&& precondition);
+  // The pqn-preconditioned direction: CG on H, then on H + mu dt^2 M for growing mu.
+  bool pqn_direction(StepProblem& problem, const Eigen::SparseMatrix<double>& H, double tolerance);
+  void set_inertia_diagonal(StepProblem& problem);
   // Factorizes H (false if it is not positive definite) and solves H d = b directly. `pattern`
   // is the objective's hessian_pattern_id(): the symbolic analysis is redone when it changes.
   bool factorize_and_solve(const Eigen::SparseMatrix<double>& H, const VecX& b, long pattern);
@@ -99,6 +115,7 @@ class NewtonOptimizer final : public InnerOptimizer {
   bool newton_direction(StepProblem& problem, const VecX& a, double tolerance);
 
   NewtonParams params_;
+  std::unique_ptr<PqnFactorCache> pqn_;
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt_;
   long analysed_pattern_ = -1;
   bool have_factor_ = false;

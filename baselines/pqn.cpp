@@ -12,7 +12,8 @@ void PqnParams::validate() const {
   line_search.validate("pqn");
 }
 
-PqnOptimizer::PqnOptimizer(PqnParams params) : params_(validated(params)), history_(params_.history) {}
+PqnOptimizer::PqnOptimizer(PqnParams params)
+    : params_(validated(params)), cache_(params_.matrix), history_(params_.history) {}
 
 std::string PqnOptimizer::settings() const {
   std::ostringstream out;
@@ -22,48 +23,25 @@ std::string PqnOptimizer::settings() const {
   return out.str();
 }
 
-bool PqnOptimizer::MatrixKey::operator==(const MatrixKey& o) const {
-  return rows == o.rows && cols == o.cols && spacing == o.spacing && dt == o.dt && stretch == o.stretch &&
-         shear == o.shear && bend == o.bend && density == o.density && damping == o.damping &&
-         free_index == o.free_index;
-}
-
-PqnOptimizer::MatrixKey PqnOptimizer::key_of(const StepProblem& problem) {
-  const BackwardEulerObjective& objective = problem.objective();
-  const Material& m = objective.material();
-  return {problem.grid().rows, problem.grid().cols, problem.grid().spacing, objective.dt(),
-          m.stretch,           m.shear,             m.bend,                 m.density,
-          m.damping,           problem.dirichlet().free_index()};
-}
-
-void PqnOptimizer::prepare_matrix(const StepProblem& problem) {
-  MatrixKey key = key_of(problem);
-  if (have_factor_ && key == factor_key_) return;
-  const PqnMatrix matrix = build_pqn_matrix(problem.objective(), key.free_index, params_.matrix,
-                                            problem.grid().rest_positions());
-  have_factor_ = factor_.factorize(matrix);
-  ++factorizations_;
-  // A is the inertia (positive) plus PSD terms: a failure means a non-finite material or dt.
-  require(have_factor_, "pqn", "the prefactored matrix is not positive definite (check the material and dt)");
-  factor_key_ = std::move(key);
-}
-
 void PqnOptimizer::use_matrix(const PqnMatrix& matrix) {
-  have_factor_ = factor_.factorize(matrix);
-  ++factorizations_;
-  require(have_factor_, "pqn", "the given matrix is not positive definite");
-  factor_key_ = {};
+  require(given_.factorize(matrix), "pqn", "the given matrix is not positive definite");
+  ++given_factorizations_;
+  factor_ = &given_;
 }
 
 void PqnOptimizer::begin(SmoothProblem& problem, const VecX&, double value, const VecX&) {
-  if (const StepProblem* step = problem.step_problem()) prepare_matrix(*step);
-  require(have_factor_, "pqn", "no matrix: use_matrix() must come first on a problem that is not a cloth step");
+  if (const StepProblem* step = problem.step_problem())
+    factor_ = &cache_.prepare(*step);
+  else if (given_factorizations_ > 0)
+    factor_ = &given_;
+  else
+    throw Error("pqn: no matrix: use_matrix() must come first on a problem that is not a cloth step");
   history_.clear();
   start_value_ = value;
 }
 
 std::optional<SolveStatus> PqnOptimizer::step(SmoothProblem& problem, VecX& x, double& value, VecX& gradient) {
-  auto apply_inverse = [&](VecX& q) { factor_.solve_in_place(q); };
+  auto apply_inverse = [&](VecX& q) { factor_->solve_in_place(q); };
   double slope = 0.0;
   if (history_.size() > 0) {
     lbfgs_two_loop(history_.oldest_first(), apply_inverse, gradient, direction_, alphas_);

@@ -12,9 +12,8 @@
 // at rest, or any quadratic whose Hessian is A. Why it beats a diagonal H0 on cloth: A carries
 // the stiff spring couplings that make L-BFGS's diagonal start overshoot (docs/design.md).
 //
-// The factor is refactorised only when what A depends on changes: the grid, dt, the material's
-// stiffnesses, density or damping, or the set of handle vertices. The history is cleared at
-// every time step.
+// The factor is refactorised only when what A depends on changes (PqnFactorCache). The history
+// is cleared at every time step.
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,28 +43,17 @@ class PqnOptimizer final : public FirstOrderOptimizer {
   std::optional<SolveStatus> step(SmoothProblem& problem, VecX& x, double& value, VecX& gradient) override;
 
   // For problems that are not cloth steps (tests, tools): factorizes `matrix` and uses it on
-  // every problem until a cloth step replaces it. Throws Error if it is not positive definite.
+  // every such problem. Throws Error if it is not positive definite.
   void use_matrix(const PqnMatrix& matrix);
-  long factorizations() const { return factorizations_; }
+  // Factorizations of A so far (one per scene; tests).
+  long factorizations() const { return cache_.factorizations() + given_factorizations_; }
 
  private:
-  // What A depends on: equal keys, same matrix.
-  struct MatrixKey {
-    int rows = 0, cols = 0;
-    double spacing = 0.0, dt = 0.0;
-    double stretch = 0.0, shear = 0.0, bend = 0.0, density = 0.0, damping = 0.0;
-    std::vector<int> free_index;
-    bool operator==(const MatrixKey& other) const;
-  };
-  static MatrixKey key_of(const StepProblem& problem);
-  // Builds and factorizes A for this cloth step unless the factor already fits it.
-  void prepare_matrix(const StepProblem& problem);
-
   PqnParams params_;
-  PqnFactor factor_;
-  bool have_factor_ = false;
-  MatrixKey factor_key_;
-  long factorizations_ = 0;
+  PqnFactorCache cache_;
+  PqnFactor given_;  // use_matrix()'s
+  long given_factorizations_ = 0;
+  PqnFactor* factor_ = nullptr;  // the factor of the problem at hand
   CurvatureHistory history_;
   double start_value_ = 0.0;
   VecX direction_, x_old_, g_old_;

@@ -68,6 +68,20 @@ bool PqnFactor::factorize(const PqnMatrix& matrix) {
   return cholesky_.factorize_matrix(matrix_.matrix);
 }
 
+void PqnFactor::solve_free_in_place(VecX& r) {
+  if (matrix_.kind == PqnMatrixKind::RestHessian) {
+    cholesky_.solve_in_place(r.data(), static_cast<int>(r.size()), 1);
+    return;
+  }
+  const int rows = static_cast<int>(matrix_.matrix.rows());
+  block_.resize(3 * rows);
+  for (int f = 0; f < rows; ++f)
+    for (int c = 0; c < 3; ++c) block_[c * rows + f] = r[3 * f + c];
+  cholesky_.solve_in_place(block_.data(), rows, 3);
+  for (int f = 0; f < rows; ++f)
+    for (int c = 0; c < 3; ++c) r[3 * f + c] = block_[c * rows + f];
+}
+
 void PqnFactor::solve_in_place(VecX& q) {
   const std::vector<int>& free_index = matrix_.free_index;
   const int vertices = static_cast<int>(free_index.size());
@@ -83,6 +97,32 @@ void PqnFactor::solve_in_place(VecX& q) {
     const int f = free_index[v];
     for (int c = 0; c < 3; ++c) q[3 * v + c] = f < 0 ? 0.0 : block_[isotropic ? c * rows + f : 3 * f + c];
   }
+}
+
+bool PqnFactorCache::Key::operator==(const Key& o) const {
+  return rows == o.rows && cols == o.cols && spacing == o.spacing && dt == o.dt && stretch == o.stretch &&
+         shear == o.shear && bend == o.bend && density == o.density && damping == o.damping &&
+         free_index == o.free_index;
+}
+
+PqnFactorCache::Key PqnFactorCache::key_of(const StepProblem& problem) {
+  const BackwardEulerObjective& objective = problem.objective();
+  const Material& m = objective.material();
+  return {problem.grid().rows, problem.grid().cols, problem.grid().spacing, objective.dt(),
+          m.stretch,           m.shear,             m.bend,                 m.density,
+          m.damping,           problem.dirichlet().free_index()};
+}
+
+PqnFactor& PqnFactorCache::prepare(const StepProblem& problem) {
+  Key key = key_of(problem);
+  if (have_factor_ && key == key_) return factor_;
+  const PqnMatrix matrix = build_pqn_matrix(problem.objective(), key.free_index, kind_, problem.grid().rest_positions());
+  have_factor_ = factor_.factorize(matrix);
+  ++factorizations_;
+  // A is the inertia (positive) plus PSD terms: a failure means a non-finite material or dt.
+  require(have_factor_, "pqn", "the prefactored matrix is not positive definite (check the material and dt)");
+  key_ = std::move(key);
+  return factor_;
 }
 
 }  // namespace fnopt

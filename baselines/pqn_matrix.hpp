@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cloth/backward_euler.hpp"
+#include "optimizer/step_problem.hpp"
 #include "optimizer/sparse_cholesky.hpp"
 
 namespace fnopt {
@@ -43,18 +44,47 @@ struct PqnMatrix {
 PqnMatrix build_pqn_matrix(const BackwardEulerObjective& objective, const std::vector<int>& free_index,
                            PqnMatrixKind kind, const VecX& x);
 
-// The Cholesky factor of a PqnMatrix, applied to vectors of 3 dofs per vertex.
+// The Cholesky factor of a PqnMatrix.
 class PqnFactor {
  public:
   // Factorizes `matrix` (kept by value); false if it is not positive definite.
   bool factorize(const PqnMatrix& matrix);
-  // q <- A^-1 q on the free dofs; the fixed dofs of q are set to zero.
+  // q <- A^-1 q for q of 3 dofs per vertex; the fixed dofs of q are set to zero.
   void solve_in_place(VecX& q);
+  // r <- A^-1 r for r of 3 dofs per free vertex (free vertex f at 3f, as the Hessian's rows).
+  void solve_free_in_place(VecX& r);
 
  private:
   PqnMatrix matrix_;
   SparseCholesky cholesky_{SparseCholesky::Method::Simplicial};
   Eigen::VectorXd block_;  // the free dofs, in the factor's layout
+};
+
+// The factor for the cloth step at hand, rebuilt only when what A depends on changes: the grid,
+// dt, the material's stiffnesses, density or damping, or the set of handle vertices.
+class PqnFactorCache {
+ public:
+  explicit PqnFactorCache(PqnMatrixKind kind) : kind_(kind) {}
+  // The factor of A for this step (built at the grid's rest pose). Throws Error if A is not
+  // positive definite (a non-finite material or dt).
+  PqnFactor& prepare(const StepProblem& problem);
+  long factorizations() const { return factorizations_; }
+
+ private:
+  struct Key {
+    int rows = 0, cols = 0;
+    double spacing = 0.0, dt = 0.0;
+    double stretch = 0.0, shear = 0.0, bend = 0.0, density = 0.0, damping = 0.0;
+    std::vector<int> free_index;
+    bool operator==(const Key& other) const;
+  };
+  static Key key_of(const StepProblem& problem);
+
+  PqnMatrixKind kind_;
+  PqnFactor factor_;
+  bool have_factor_ = false;
+  Key key_;
+  long factorizations_ = 0;
 };
 
 }  // namespace fnopt

@@ -55,6 +55,33 @@ TEST(NewtonSolver, ConvergesQuadraticallyOnAStiffStep) {
   for (; k + 1 < r.size(); ++k) EXPECT_LT(r[k + 1], 1e-3 * r[k]);
 }
 
+// CG preconditioned by pqn's fixed matrix reaches the same converged step as plain Newton (it is
+// slower: see NewtonParams::pqn_preconditioner), with no factorization on a step whose Hessian
+// stays definite.
+TEST(NewtonSolver, ThePqnPreconditionerGivesTheSameConvergedStep) {
+  const Grid grid = Grid::make(12, 12, 1.0);
+  BackwardEulerObjective objective(grid, Material{}, 1.0 / 60.0, Vec3(0, 0, -9.81));
+  const DirichletSet handles(grid.vertex_count(), {0, grid.cols - 1});
+  StepProblem problem(objective, handles);
+  NewtonParams exact, pqn;
+  exact.max_cg_iterations = 0;
+  pqn.pqn_preconditioner = true;
+  NewtonOptimizer direct(exact), preconditioned(pqn);
+  VecX x = grid.rest_positions(), v = VecX::Zero(grid.dof_count());
+  for (int step = 0; step < 10; ++step) {  // the cloth falls from rest
+    objective.begin_step(x, v);
+    VecX a_direct = VecX::Zero(grid.dof_count()), a_pqn = a_direct;
+    const auto options = NewtonOptimizer::reference_solve_options();
+    ASSERT_EQ(solve_step(direct, problem, a_direct, options).status, SolveStatus::Converged);
+    ASSERT_EQ(solve_step(preconditioned, problem, a_pqn, options).status, SolveStatus::Converged);
+    EXPECT_LT((a_pqn - a_direct).norm(), 1e-7 * a_direct.norm()) << "step " << step;
+    v += objective.dt() * a_direct;
+    x += objective.dt() * v;
+  }
+  EXPECT_EQ(preconditioned.counters().factorizations, 0);
+  EXPECT_GT(preconditioned.counters().cg_iterations, 0);
+}
+
 TEST(NewtonSolver, ReusedFactorsGiveTheSameStepWithFewerFactorizations) {
   const Grid grid = Grid::make(12, 12, 1.0);
   BackwardEulerObjective objective(grid, Material{}, 1.0 / 60.0, Vec3(0, 0, -9.81));
@@ -211,7 +238,7 @@ TEST(NewtonParams, EveryParameterChangesTheSettingsString) {
       [](NewtonParams& p) { p.max_backtracks = 30; },     [](NewtonParams& p) { p.forcing_cap = 2e-2; },
       [](NewtonParams& p) { p.max_cg_iterations = 10; },  [](NewtonParams& p) { p.max_shift = 1e5; },
       [](NewtonParams& p) { p.shift_growth = 3.0; },      [](NewtonParams& p) { p.max_slow_shifted_iterations = 20; },
-      [](NewtonParams& p) { p.slow_shift_progress = 0.8; }};
+      [](NewtonParams& p) { p.slow_shift_progress = 0.8; }, [](NewtonParams& p) { p.pqn_preconditioner = true; }};
   for (std::size_t i = 0; i < changes.size(); ++i) {
     NewtonParams params;
     changes[i](params);
