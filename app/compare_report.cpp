@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <map>
 
-#include "app/optimizer_flags.hpp"
+#include "methods/registry.hpp"
 #include "io/csv_table.hpp"
 #include "io/markdown_report.hpp"
 #include "util/parse_text.hpp"

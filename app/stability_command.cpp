@@ -49,17 +49,6 @@ struct StabilityFlags {
   CLI::App* command = nullptr;
 };
 
-// The suite's default budgets per time step (0: Newton to its reference tolerance).
-int default_budget(const std::string& method) {
-  static const std::map<std::string, int> budgets = {{"newton", 0},   {"fnopt", 10}, {"lbfgs", 100},
-                                                     {"lbfgs-ls", 100}, {"adam", 500}, {"gd", 500}};
-  const auto found = budgets.find(method);
-  if (found != budgets.end()) return found->second;
-  for (const char* prefix : {"newton", "fnopt"})  // variants such as fnopt-ss, fnopt-interp32
-    if (method.rfind(prefix, 0) == 0) return budgets.at(prefix);
-  return 100;
-}
-
 // The command line as typed (Linux: /proc/self/cmdline), quoted for a shell where needed.
 std::string command_line() {
   std::ifstream in("/proc/self/cmdline", std::ios::binary);
@@ -87,11 +76,10 @@ std::string command_line() {
 // one gradient ~0.35 ms, Newton ~75 ms, fnopt N=10 ~28 ms per frame).
 double frame_cost(const StabilityMethod& m, const Scene& scene) {
   const double size = scene.rows * scene.cols / 1024.0;
-  const int n = std::max(1, m.solve.max_iterations);
-  if (m.method == "newton") return 200.0 * size * std::pow(size, 0.3);
-  if (m.method.rfind("fnopt", 0) == 0) return 8.0 * n * size;
-  if (m.method == "lbfgs-ls") return 1.1 * n * size;
-  return n * size;
+  const MethodTraits traits = method_traits(m.method);
+  if (traits.budget == BudgetKind::ToTolerance && m.solve.relative_tolerance > 0.0)
+    return 200.0 * size * std::pow(size, 0.3);
+  return traits.iteration_cost * std::max(1, m.solve.max_iterations) * size;
 }
 
 std::string row_key(const std::string& case_name, const std::string& method, const std::string& budget) {
@@ -203,7 +191,7 @@ void run_stability(const StabilityFlags& flags) {
   const std::vector<std::string> method_names = name_list("optimizers", flags.optimizers);
   require(!method_names.empty(), "optimizers", "no optimizer given");
   std::map<std::string, int> budgets;
-  for (const auto& m : method_names) budgets[m] = default_budget(m);
+  for (const auto& m : method_names) budgets[m] = method_traits(m).suite_budget;
   for (const std::string& entry : flags.iters_for) {
     const auto equals = entry.find('=');
     require(equals != std::string::npos, "iters-for", "expected METHOD=N, got '" + entry + "'");
@@ -221,7 +209,7 @@ void run_stability(const StabilityFlags& flags) {
     choice.iterations = budgets[name];
     choice.model = flags.model;
     choice.make();
-    methods.push_back({name, choice.solve_options()});
+    methods.push_back({name, choice.solve_options(), method_traits(name).reference});
   }
   const OptimizerFactory factory = [&flags](const std::string& method) {
     OptimizerChoice choice;
@@ -230,9 +218,9 @@ void run_stability(const StabilityFlags& flags) {
     return choice.make();
   };
   // The reference of every case: Newton at the suite's Newton settings.
-  StabilityMethod reference_method{"newton", OptimizerChoice{"newton", 0, 0.0, ""}.solve_options()};
+  StabilityMethod reference_method{"newton", OptimizerChoice{"newton", 0, 0.0, ""}.solve_options(), true};
   for (const auto& m : methods)
-    if (m.method == "newton") reference_method = m;
+    if (m.reference) reference_method = m;
 
   Scene base = flags.scene.scene();
   bool frames_given = flags.command->get_option("--frames")->count() > 0;
@@ -281,8 +269,9 @@ void run_stability(const StabilityFlags& flags) {
       if (is_resumed(c, m)) resumed_cost += cost;
       else all_resumed = false;
     }
-    const bool newton_listed = budgets.count("newton") > 0;
-    if (!newton_listed && !all_resumed) total_cost += s.frames * frame_cost(reference_method, s);
+    const bool reference_listed =
+        std::any_of(methods.begin(), methods.end(), [](const StabilityMethod& m) { return m.reference; });
+    if (!reference_listed && !all_resumed) total_cost += s.frames * frame_cost(reference_method, s);
   }
   const double unit = std::max(1.0, total_cost / 1e6);  // at most ~1e6 units: fits an int
   ProgressBar bar("stability", static_cast<int>(total_cost / unit), static_cast<int>(resumed_cost / unit));
@@ -335,10 +324,11 @@ void run_stability(const StabilityFlags& flags) {
       const auto earlier = resumed.find(row_key(c.name, m.method, budget_text(m.solve)));
       if (earlier != resumed.end()) {
         rows.push_back(stability_row_from_csv(earlier->second));
+        rows.back().reference = m.reference;
         table.add_row(earlier->second);
         continue;
       }
-      const bool is_reference = m.method == "newton" && have_reference;
+      const bool is_reference = m.reference && have_reference;
       StabilityRow row;
       if (is_reference) {
         row = stability_row(c.name, m, reference, &reference);  // its cost is counted above
@@ -351,7 +341,7 @@ void run_stability(const StabilityFlags& flags) {
       table.write(out.csv);
       bar.update(static_cast<int>(done_cost / unit), c.name + " " + m.method + " done");
       print_row(row);
-      if (m.method == "newton" && row.unconverged_steps > 0) {
+      if (m.reference && row.unconverged_steps > 0) {
         clear_bar_line();
         std::fprintf(stderr, "warning: newton on %s: %d step%s did not converge (%s)\n", c.name.c_str(),
                      row.unconverged_steps, row.unconverged_steps == 1 ? "" : "s", row.unconverged_statuses.c_str());

@@ -213,6 +213,7 @@ StabilityRow stability_row(const std::string& case_name, const StabilityMethod& 
   StabilityRow row;
   row.case_name = case_name;
   row.method = method.method;
+  row.reference = method.reference;
   row.solve = method.solve;
   row.frames_requested = run.frames_requested;
   if (run.failed) {
@@ -379,10 +380,10 @@ std::vector<std::string> stability_summary(const std::vector<StabilityRow>& rows
       unconverged.push_back(r.method + " on " + r.case_name + ": " + std::to_string(r.unconverged_steps) + " step" +
                             (r.unconverged_steps == 1 ? "" : "s") + " (" + r.unconverged_statuses + ")");
   const bool has_newton = std::any_of(rows.begin(), rows.end(), [](const StabilityRow& r) {
-    return r.method == "newton" && r.outcome != StabilityOutcome::Error;
+    return r.reference && r.outcome != StabilityOutcome::Error;
   });
   const bool newton_clean = std::none_of(rows.begin(), rows.end(), [](const StabilityRow& r) {
-    return r.method == "newton" && (r.unconverged_steps > 0 || r.outcome != StabilityOutcome::Finished);
+    return r.reference && (r.unconverged_steps > 0 || r.outcome != StabilityOutcome::Finished);
   });
   if (has_newton && newton_clean) lines.push_back("newton converged every step of every case it ran");
   if (!unconverged.empty())
@@ -394,7 +395,7 @@ std::vector<std::string> stability_summary(const std::vector<StabilityRow>& rows
   if (!blowups.empty()) lines.push_back("finished but gained energy (growth > 2): " + joined(blowups));
   const StabilityRow* worst = nullptr;
   for (const StabilityRow& r : rows)
-    if (r.method != "newton" && r.outcome == StabilityOutcome::Finished && std::isfinite(r.e3d) &&
+    if (!r.reference && r.outcome == StabilityOutcome::Finished && std::isfinite(r.e3d) &&
         (!worst || r.e3d > worst->e3d))
       worst = &r;
   if (worst)

@@ -62,6 +62,7 @@ using OptimizerFactory = std::function<std::unique_ptr<InnerOptimizer>(const std
 struct StabilityMethod {
   std::string method;        // the name the factory knows
   InnerSolveOptions solve;   // budget (and tolerance) per time step
+  bool reference = false;    // the exact solver every case is measured against (Newton)
 };
 
 // One rollout of a scene, or the error that stopped it (an exception from the factory, the scene
@@ -82,6 +83,7 @@ const char* to_string(StabilityOutcome outcome);  // "finished", "diverged", "er
 
 struct StabilityRow {
   std::string case_name, method;
+  bool reference = false;        // StabilityMethod::reference (not in the CSV: set by the caller)
   InnerSolveOptions solve;
   StabilityOutcome outcome = StabilityOutcome::Error;
   int frames_done = 0;           // steps finished before a divergence

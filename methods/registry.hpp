@@ -1,0 +1,56 @@
+#pragma once
+// Every inner optimizer by name (a polysolve-style factory), with the traits that commands and
+// studies need instead of comparing names: how its work per step is set, whether it is the
+// reference, whether it takes a learning rate, its default budgets and its relative cost.
+#include <memory>
+#include <string>
+
+#include "baselines/pqn.hpp"
+#include "optimizer/inner_optimizer.hpp"
+
+namespace fnopt {
+
+// How a method's work per time step is set.
+enum class BudgetKind {
+  Iterations,   // N iterations per step (--iters)
+  ToTolerance,  // to its tolerance; an N, where given, caps the iterations (newton)
+  OneSolve,     // one solve per step, no budget (implicit-euler)
+};
+
+// What the commands need to know of a method without comparing its name.
+struct MethodTraits {
+  BudgetKind budget = BudgetKind::Iterations;
+  bool reference = false;      // defines the exact step that every error is measured against
+  bool learning_rate = false;  // takes --lr (compare sweeps it)
+  double iteration_cost = 1.0;  // relative cost of one iteration, for progress ETAs only
+  int suite_budget = 100;       // iterations per step in the stability suite (0: to tolerance)
+};
+
+// Throws Error("optimizer: ...") for an unknown name.
+MethodTraits method_traits(const std::string& name);
+// An interpolation-ablation method (METHOD-interpK).
+bool is_interpolated_method(const std::string& name);
+
+struct OptimizerChoice {
+  // The learned optimizer on the shipped model, with the subspace step over its last eight
+  // proposals (measured against the secant step fnopt-ls: e_CD x 10^3 0.681 -> 0.344 over the
+  // fifteen 32^2 motions, 33.2 -> 9.41 at 100^2 on xy_v2, for 2-10 % more time; README
+  // "Results").
+  std::string name = "fnopt-ss";
+  int iterations = 0;           // budget per step; 0 = the method's default
+  double learning_rate = 0.0;   // 0 = the method's default
+  std::string model;            // learned optimizer weights
+  int pqn_history = PqnParams{}.history;
+  std::string pqn_matrix = to_string(PqnParams{}.matrix);
+
+  // Throws Error("optimizer: ...") for an unknown name or invalid settings.
+  std::unique_ptr<InnerOptimizer> make() const;
+  // Budget and tolerance: Newton runs to its reference tolerance, the others their budget.
+  InnerSolveOptions solve_options() const;
+};
+
+std::string optimizer_names();  // "newton" ... for help texts
+// The trained model shipped in the repository (models/fnopt-32.pt), the default of --model.
+std::string shipped_model_path();
+
+}  // namespace fnopt
