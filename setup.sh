@@ -8,7 +8,7 @@ packages=(
   libeigen3-dev libfftw3-dev libhdf5-dev libcli11-dev libgtest-dev libsuitesparse-dev
   libtorch-dev
   # Debian's libtorch links the reference BLAS through the libblas.so.3 alternative; OpenBLAS
-  # switches that alternative and makes the FNO's dense layers ~5x faster (DESIGN.md §9).
+  # switches that alternative and makes the FNO's dense layers ~5x faster (docs/design.md §9).
   libopenblas0-openmp
 )
 

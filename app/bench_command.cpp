@@ -1,4 +1,4 @@
-// fnopt bench: timing tables measured in one run (DESIGN.md §9): the Newton reference step at
+// fnopt bench: timing tables measured in one run (docs/design.md §9): the Newton reference step at
 // several resolutions, and the FNO's forward/backward passes.
 #include <cstdio>
 #include <sstream>

@@ -1,5 +1,5 @@
-// fnopt compare: every inner optimizer on the same scenes, error against run time (DESIGN.md
-// §8, §10; issue 3). Per scene (resolution x motion): a Newton reference rollout (cached in the
+// fnopt compare: every inner optimizer on the same scenes, error against run time (docs/design.md
+// §8, §10). Per scene (resolution x motion): a Newton reference rollout (cached in the
 // output directory, keyed by a hash of the resolved scene), then one rollout per optimizer and
 // iteration budget, each measured the same way: ms/frame after warm-up at a fixed thread count,
 // e_CD x 10^3 and e_3D x 10^2 against the reference, the mean per-step optimisation error on
@@ -134,7 +134,7 @@ std::string command_line() {
   return text.empty() ? "fnopt compare" : text;
 }
 
-// --preset superres: the zero-shot super-resolution study (issue 6). Explicit flags win.
+// --preset superres: the zero-shot super-resolution study. Explicit flags win.
 struct Preset {
   const char* resolutions;
   const char* optimizers;
@@ -629,8 +629,8 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command
       ->add_option(
           "--preset", flags->preset,
-          "a prepared study; its values give way to the flags given. 'superres': zero-shot super-resolution "
-          "(issue 6): --res " + std::string(kSuperres.resolutions) + " --optimizers " + kSuperres.optimizers +
+          "a prepared study; its values give way to the flags given. 'superres': zero-shot super-resolution: "
+          "--res " + std::string(kSuperres.resolutions) + " --optimizers " + kSuperres.optimizers +
               " --iters " + kSuperres.iters + " --iters-for " + kSuperres.iters_for + " --motions " +
               kSuperres.motions + " --frames " + std::to_string(kSuperres.frames) + " --step-samples " +
               std::to_string(kSuperres.step_samples) + " (the first " + number_text(kSuperres.frames / 60.0) +

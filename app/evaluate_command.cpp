@@ -1,6 +1,6 @@
 // fnopt evaluate: a rollout against a reference trajectory (an fnopt rollout or an ARCSim file),
 // at matching times: e_CD x 10^3, e_3D x 10^2, the rollout's max edge strain, and optionally the
-// per-step optimisation error of an inner optimizer on the reference's states (DESIGN.md §8).
+// per-step optimisation error of an inner optimizer on the reference's states (docs/design.md §8).
 #include <cmath>
 #include <cstdio>
 

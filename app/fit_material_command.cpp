@@ -1,5 +1,5 @@
 // fnopt fit-material: the stretch, shear, bend and damping whose exact (Newton) rollout best
-// reproduces reference rollouts in e_CD (issue 6, part 1; studies/material_fit.hpp). Prints each
+// reproduces reference rollouts in e_CD (studies/material_fit.hpp). Prints each
 // evaluation, the fitted values and their error against the start material's, optionally the
 // error on further references (--check: how the fit transfers to other resolutions), and writes a
 // material file for --material.

@@ -41,7 +41,7 @@ void run_simulate(const SimulateFlags& flags) {
   std::fprintf(stderr, "%s\n", optimizer->settings().c_str());
   const GridUnitStiffness k =
       grid_unit_stiffness(Grid::make(scene.rows, scene.cols, scene.size), scene.material, scene.dt, scene.gravity.norm());
-  std::fprintf(stderr, "grid units: stretch %.4g, shear %.4g, bend %.4g, gravity %.4g (DESIGN.md §2)\n", k.stretch,
+  std::fprintf(stderr, "grid units: stretch %.4g, shear %.4g, bend %.4g, gravity %.4g (docs/design.md §2)\n", k.stretch,
                k.shear, k.bend, k.gravity);
   std::fprintf(stderr, "self-repulsion: %s (repulsion = %s), lambda %.4g N/m, delta %.4g h\n",
                scene.material.repulsion ? "on" : "off", repulsion_mode_name(scene.repulsion).c_str(),

@@ -1,4 +1,4 @@
-// fnopt stability (issue 6, DESIGN.md §8 "Stability", §10): the stiff and extreme cases of
+// fnopt stability (docs/design.md §8 "Stability", §10): the stiff and extreme cases of
 // studies/stability_suite.hpp, every optimizer on every case, one table. Per case: the Newton
 // reference rollout, then every optimizer; per row: finished / diverged (step, why) / error,
 // max strain, energy growth, e_3D against the reference, ms/frame, steps short of convergence.

@@ -1,4 +1,4 @@
-// fnopt train: meta-train a learned optimizer (DESIGN.md §5) with progress, a CSV log,
+// fnopt train: meta-train a learned optimizer (docs/design.md §5) with progress, a CSV log,
 // checkpoints, --resume and, optionally, a validation rollout on a larger grid that keeps the
 // best model (rollout_validation.hpp).
 #include <chrono>

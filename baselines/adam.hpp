@@ -1,5 +1,5 @@
 #pragma once
-// Adam (Kingma & Ba 2015; DESIGN.md §6) on the preconditioned gradient u = P^-1 g of
+// Adam (Kingma & Ba 2015; docs/design.md §6) on the preconditioned gradient u = P^-1 g of
 // first_order.hpp (an acceleration [m/s^2] on the cloth):
 //   m <- b1 m + (1 - b1) u,   v <- b2 v + (1 - b2) u^2,
 //   a <- a - learning_rate * step_unit * m^ / (sqrt(v^) + epsilon),   m^, v^ bias-corrected.

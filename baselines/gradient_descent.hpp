@@ -1,5 +1,5 @@
 #pragma once
-// Gradient descent with a fixed step (DESIGN.md §6), in the mass metric of first_order.hpp:
+// Gradient descent with a fixed step (docs/design.md §6), in the mass metric of first_order.hpp:
 //   a <- a - (learning_rate / lambda) * P^-1 g,      P = dt^2 M,
 // where lambda estimates the largest eigenvalue of P^-1 H (H the Hessian of the step objective)
 // by power iteration when the optimizer first meets an objective (curvature_scaled, default).

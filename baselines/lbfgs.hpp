@@ -1,5 +1,5 @@
 #pragma once
-// L-BFGS (Nocedal 1980; DESIGN.md §6) in the mass metric of first_order.hpp: the two-loop
+// L-BFGS (Nocedal 1980; docs/design.md §6) in the mass metric of first_order.hpp: the two-loop
 // recursion over the last `history` curvature pairs (s, y) with the initial inverse Hessian
 // H0 = gamma P^-1, gamma = s.y / (y.P^-1 y) of the newest pair (the Shanno-Phua scaling, in the
 // metric P = dt^2 M, so a cloth step starts from the inertia-only exact step).

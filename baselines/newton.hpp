@@ -1,5 +1,5 @@
 #pragma once
-// The Newton reference solve (DESIGN.md §6): it defines the exact backward-Euler step of the
+// The Newton reference solve (docs/design.md §6): it defines the exact backward-Euler step of the
 // energy, the ground truth of every error fnopt reports. Each iteration solves
 //   H d = -g,   then   a <- a + alpha d   (backtracking until Armijo's condition holds),
 // run by solve_step() to ||g|| <= 1e-9 ||g_0|| over the free dofs (reference_solve_options()).

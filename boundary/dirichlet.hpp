@@ -1,5 +1,5 @@
 #pragma once
-// Dirichlet elimination of handle vertices (DESIGN.md §3). A handle's position at t+1 is
+// Dirichlet elimination of handle vertices (docs/design.md §3). A handle's position at t+1 is
 // prescribed, so its acceleration is fixed,
 //   a_h = (x_h(t+1) - x_t - dt v_t) / dt^2,
 // and it is removed from every optimizer's unknowns: gradients and updates are masked.

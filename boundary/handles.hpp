@@ -1,5 +1,5 @@
 #pragma once
-// Handle vertex sets (DESIGN.md §3): the vertices whose positions are prescribed.
+// Handle vertex sets (docs/design.md §3): the vertices whose positions are prescribed.
 #include <string>
 #include <utility>
 #include <vector>

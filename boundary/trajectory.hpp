@@ -1,5 +1,5 @@
 #pragma once
-// Handle trajectories: where each handle is at time t (DESIGN.md §3, §7, §10).
+// Handle trajectories: where each handle is at time t (docs/design.md §3, §7, §10).
 #include <memory>
 #include <string>
 #include <vector>

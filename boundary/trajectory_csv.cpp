@@ -1,4 +1,4 @@
-// Replay of a trajectory CSV (DESIGN.md §10), in the layout of ../shared/data/arcsim/motions.csv.
+// Replay of a trajectory CSV (docs/design.md §10), in the layout of ../shared/data/arcsim/motions.csv.
 #include <algorithm>
 #include <array>
 #include <cassert>

@@ -1,5 +1,5 @@
 #pragma once
-// Angle springs on three vertices (DESIGN.md §2): E = (K/2) (theta - theta0)^2, theta the angle
+// Angle springs on three vertices (docs/design.md §2): E = (K/2) (theta - theta0)^2, theta the angle
 // between two edge vectors u and w that are fixed linear combinations of the stencil's vertices.
 //   shear, per quad corner (c; a, b):  u = x_a - x_c, w = x_b - x_c, K = k_sh h^2/4, theta0 = pi/2
 //   bend, per hinge (p, q, r):         u = x_q - x_p, w = x_r - x_q, K = k_b,        theta0 = 0

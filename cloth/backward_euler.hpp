@@ -1,5 +1,5 @@
 #pragma once
-// The backward-Euler objective of one time step (DESIGN.md §2). Unknown: the acceleration a.
+// The backward-Euler objective of one time step (docs/design.md §2). Unknown: the acceleration a.
 //   v(a) = v_t + dt a,   x(a) = x_t + dt v(a) = x^ + dt^2 a,   x^ = x_t + dt v_t,
 //   L(a) = sum_i m_i/2 dt^2 |a_i|^2 + P(x(a)) [+ sum_i c m_i/(2 dt) |x_i(a) - x_t,i|^2],
 // whose minimiser is the implicit-Euler step. The gradient and Hessian w.r.t. a are

@@ -1,5 +1,5 @@
 #pragma once
-// The stencils of a grid cloth and the energy terms a material enables (DESIGN.md §2).
+// The stencils of a grid cloth and the energy terms a material enables (docs/design.md §2).
 // A term whose coefficient is zero is not built and costs nothing.
 #include <array>
 #include <memory>

@@ -1,5 +1,5 @@
 #pragma once
-// One term of the potential energy P(x) of the cloth (DESIGN.md §2).
+// One term of the potential energy P(x) of the cloth (docs/design.md §2).
 #include <string>
 
 #include "cloth/hessian_assembly.hpp"

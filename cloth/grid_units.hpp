@@ -1,6 +1,6 @@
 #pragma once
 // Dimensionless stiffnesses of a scene in grid units: length h, time dt, mass rho h^2
-// (DESIGN.md §2). They say how stiff one time step is for an optimizer:
+// (docs/design.md §2). They say how stiff one time step is for an optimizer:
 //   k~_s = k_s dt^2/(rho h^2),  k~_sh = k_sh dt^2/(rho h^2),  k~_b = k_b dt^2/(rho h^4),
 //   g~ = |g| dt^2/h.
 // For a fixed cloth, k~_s grows like n^2 and k~_b like n^4 with the resolution n.

@@ -1,5 +1,5 @@
 #pragma once
-// Cloth material in physical units (DESIGN.md §2). The energy per stencil:
+// Cloth material in physical units (docs/design.md §2). The energy per stencil:
 //   stretch, per edge:        (stretch/2) * h^2 * (|e|/h - 1)^2        stretch [N/m]
 //   shear, per quad corner:   (shear/2) * (h^2/4) * (theta - pi/2)^2   shear   [N/m]
 //   bend, per hinge:          (bend/2) * beta^2                        bend    [N m]

@@ -1,5 +1,5 @@
 #pragma once
-// Self-repulsion between two non-adjacent vertices (DESIGN.md §2): with d = |x1 - x0| and the
+// Self-repulsion between two non-adjacent vertices (docs/design.md §2): with d = |x1 - x0| and the
 // range delta (default h),
 //   b(d) = -lambda (d - delta)^2 log(d / delta)   for d < delta,   0 for d >= delta.
 // With s = d/delta and u = d - delta (< 0 inside the range):

@@ -1,5 +1,5 @@
 #pragma once
-// Self-repulsion (DESIGN.md §2, issue 6): the barrier of repulsion_kernel.hpp summed over the
+// Self-repulsion (docs/design.md §2): the barrier of repulsion_kernel.hpp summed over the
 // non-adjacent vertex pairs closer than delta (default h). "Adjacent" = the pairs held by
 // stretch and shear: vertices (i,j), (k,l) with |i-k| <= 1 and |j-l| <= 1 (grid edges and quad
 // diagonals). Everything else -- (i,j)-(i,j+2) across a sharp fold included -- repels.

@@ -1,5 +1,5 @@
 #pragma once
-// Edge stretch (DESIGN.md §2): per grid edge e = x1 - x0,
+// Edge stretch (docs/design.md §2): per grid edge e = x1 - x0,
 //   E = (k/2) h^2 (|e|/h - 1)^2 = (k/2) (|e| - h)^2.
 // Gradient w.r.t. e: k (|e| - h) e/|e|. Hessian w.r.t. e:
 //   k [ (1 - h/|e|) (I - e e^T/|e|^2) + e e^T/|e|^2 ],

@@ -1,6 +1,6 @@
 #pragma once
 // The 2-D Fourier Neural Operator of FNOpt (Li et al., ICLR 2021; configuration of Chen et
-// al., "FNOPT", WACV 2026, DESIGN.md §4):
+// al., "FNOPT", WACV 2026, docs/design.md §4):
 //   [x, i/R, j/C] → lifting MLP (in+2 → lifting → width, GELU between)
 //   → L Fourier layers h ← GELU(K h + W h + b) (spectral convolution K, 1×1 skip W, b; no
 //     GELU after the last) → projection MLP (width → projection → out, GELU between),

@@ -166,7 +166,7 @@ void run_fno_bench(std::ostream& out, int threads) {
   out << "\nBest of >= 5 runs. forward: inference, no autograd graph. forward+backward: backward"
          " of sum(field) + sum(scale); speedup = torch.fft / FFTW. Stages: lift = grid channels +"
          " lifting MLP, spect = spectral convolutions, skip = 1x1 skips + sums, proj = projection"
-         " MLP, other = GELU between layers, padding, scale head.\nGoals (DESIGN.md §9), one"
+         " MLP, other = GELU between layers, padding, scale head.\nGoals (docs/design.md §9), one"
          " thread, batch 1: forward <= 3 ms at 32x32 and <= 25 ms at 100x100; FFTW >= 2x"
          " torch.fft for forward+backward at 32x32.\n";
 }

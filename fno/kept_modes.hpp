@@ -1,5 +1,5 @@
 #pragma once
-// Which Fourier modes a spectral convolution keeps on a given grid (DESIGN.md §4).
+// Which Fourier modes a spectral convolution keeps on a given grid (docs/design.md §4).
 //
 // A layer with modes (mx, my) keeps row frequencies kx ∈ [−mx/2, mx/2) and half-spectrum
 // column frequencies ky ∈ [0, my/2], intersected with the frequencies the grid itself has

@@ -1,5 +1,5 @@
 #pragma once
-// A study's report (issue 6): one Markdown file that a person reads without running anything,
+// A study's report: one Markdown file that a person reads without running anything,
 // next to the study's CSV tables and SVG plots in the same folder. Tables are GitHub-flavoured
 // Markdown; '|' in a cell is escaped so a cell never splits a row.
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// Rollout files (DESIGN.md §8), in the layout of the ARCSim reference files
+// Rollout files (docs/design.md §8), in the layout of the ARCSim reference files
 // (../shared/data/arcsim/README.md), so that one reader serves both:
 //   positions          float32 [T, R, C, 3]   vertex (i, j) of frame t
 //   handle_positions   float32 [T, H, 3]      prescribed handle targets

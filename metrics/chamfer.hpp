@@ -1,5 +1,5 @@
 #pragma once
-// The Chamfer distance e_CD of DESIGN.md §8 (the paper's Table 6.1 metric, as pytorch3d's
+// The Chamfer distance e_CD of docs/design.md §8 (the paper's Table 6.1 metric, as pytorch3d's
 // sample_points_from_meshes + chamfer_distance): sample `samples` points uniformly by area on
 // each triangle mesh, then
 //   CD(A, B) = mean_{a in A} min_{b in B} |a - b|^2 + mean_{b in B} min_{a in A} |a - b|^2

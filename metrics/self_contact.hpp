@@ -1,5 +1,5 @@
 #pragma once
-// Self-contact metrics of a rollout (the paper's Table 6.5, issue 6): how much a configuration
+// Self-contact metrics of a rollout (the paper's Table 6.5): how much a configuration
 // interpenetrates, whatever the energy it was simulated with.
 //
 // Per frame, over the non-adjacent vertex pairs (repulsion_term.hpp) found afresh with the

@@ -1,5 +1,5 @@
 #pragma once
-// The per-step optimisation error of DESIGN.md §8, which isolates an inner optimizer from the
+// The per-step optimisation error of docs/design.md §8, which isolates an inner optimizer from the
 // divergence of its own trajectory: from the SAME state,
 //   e_step = (L(a_N) - L(a*)) / (L(a_0) - L(a*)),
 // a_0 the start (a = 0 on the free dofs, the handles' prescribed accelerations), a_N the

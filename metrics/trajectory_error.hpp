@@ -1,5 +1,5 @@
 #pragma once
-// Comparing a rollout with a reference trajectory (DESIGN.md §8), at matching times
+// Comparing a rollout with a reference trajectory (docs/design.md §8), at matching times
 // (frame_matching.hpp):
 //  - e_3D (the paper's Table 6.2 metric, after Sidhu et al. 2020): per frame
 //    ||X - X_ref||_F / ||X_ref||_F over the vertices (vertex k of one is vertex k of the other,

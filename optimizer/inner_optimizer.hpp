@@ -1,5 +1,5 @@
 #pragma once
-// One interface for every inner optimizer, classical and learned (DESIGN.md §4, §6): the
+// One interface for every inner optimizer, classical and learned (docs/design.md §4, §6): the
 // rollout loop, its timing and its metrics are written once, in solve_step() and rollout.hpp.
 #include <memory>
 #include <optional>

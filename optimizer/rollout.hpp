@@ -1,6 +1,6 @@
 #pragma once
 // A rollout: the scene's frames, each one backward-Euler step solved by an inner optimizer
-// (DESIGN.md §4, §8). The same loop, timing and divergence checks serve every optimizer.
+// (docs/design.md §4, §8). The same loop, timing and divergence checks serve every optimizer.
 #include <Eigen/Core>
 #include <functional>
 #include <string>

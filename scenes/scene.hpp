@@ -1,5 +1,5 @@
 #pragma once
-// A scene: everything a rollout needs except the optimizer (DESIGN.md §7). Built from defaults,
+// A scene: everything a rollout needs except the optimizer (docs/design.md §7). Built from defaults,
 // a preset, a scene file and command-line flags, in that order; validated once, then resolved
 // into the grid, handles and trajectory it names.
 #include <memory>

@@ -1,5 +1,5 @@
 #pragma once
-// Fitting fnopt's material to reference rollouts (issue 6, part 1): the stretch, shear, bend and
+// Fitting fnopt's material to reference rollouts: the stretch, shear, bend and
 // damping coefficients whose exact (Newton) rollout reproduces the references best in e_CD, the
 // paper's Table 6.1 metric. The paper fits by grid search; here a compass search (Kolda, Lewis &
 // Torczon 2003, "Optimization by direct search", §3) in the logarithms of the coefficients:

@@ -1,5 +1,5 @@
 #pragma once
-// The stability study (issue 6, DESIGN.md §8 "Stability"; `fnopt stability`): a fixed suite of
+// The stability study (docs/design.md §8 "Stability"; `fnopt stability`): a fixed suite of
 // stiff and extreme cases, each a change of a base scene (the default: 32^2, corner handles,
 // xy_v2, the default material, dt = 1/60), every inner optimizer on every case, one row per
 // case x optimizer. LibTorch-free: optimizers come from a factory, so the learned optimizer

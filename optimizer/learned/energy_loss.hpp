@@ -1,5 +1,5 @@
 #pragma once
-// The meta-training loss (DESIGN.md §5): the backward-Euler energy after the learned update,
+// The meta-training loss (docs/design.md §5): the backward-Euler energy after the learned update,
 // with its analytic gradient handed to LibTorch (a custom autograd Function), so the energy is
 // written once, in cloth/, not again in torch ops. Per environment e, with L* the Newton
 // minimum of its time step,

@@ -1,5 +1,5 @@
 #pragma once
-// The learned inner optimizer (DESIGN.md §4) behind the common interface: a meta-trained FNO
+// The learned inner optimizer (docs/design.md §4) behind the common interface: a meta-trained FNO
 // proposes each update from the gradient (learned_update.hpp). The recurrent state is reset
 // at every time step except the step scale s, which carries over: it adapts to the stiffness
 // of the scene. One instance serves one rollout (or one grid); no autograd at inference.

@@ -1,5 +1,5 @@
 #pragma once
-// The learned update rule (FNOpt's Algorithm 2, DESIGN.md §4), shared by inference and
+// The learned update rule (FNOpt's Algorithm 2, docs/design.md §4), shared by inference and
 // meta-training, in one of two layouts chosen by the model's channels:
 //   per-coordinate (FNOpt; FNO with 3 inputs, 1 output): each coordinate x, y, z of an
 //     environment is one single-channel sample, E environments are 3E samples [3E, 1, R, C];
@@ -12,7 +12,7 @@
 //           d^_prev = 10 tanh(d_prev/(10 sigma_d))            (+ the FNO's grid channels)
 //   outputs u (a field) and d (the scale head's scalar)
 //   update  delta = tanh(u) s,   s <- clamp(s_prev exp(2 tanh(d/2)), 1e-6, 10)
-// (DESIGN.md writes exp(2 tanh(d/2) - 1): with an untrained head, d ~ 0, that shrinks s by e
+// (docs/design.md writes exp(2 tanh(d/2) - 1): with an untrained head, d ~ 0, that shrinks s by e
 // every iteration, and in a 400-step trial the updates vanished before the network learned
 // anything (remaining-error ratio stuck at 0.99). Neutral at d = 0, s only moves as learned.)
 // delta is in grid units (cell widths per step^2: a position change of delta cell widths), so

@@ -1,5 +1,5 @@
 #pragma once
-// Self-supervised meta-training of the learned optimizer (DESIGN.md §5). One training step:
+// Self-supervised meta-training of the learned optimizer (docs/design.md §5). One training step:
 // draw a batch of environments from the pool, take their masked gradients, run the update
 // rule (learned_update.hpp), score the energy after the update (energy_loss.hpp), step AdamW
 // on the FNO's parameters, and write each update back into its environment. Checkpoints hold

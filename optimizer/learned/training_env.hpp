@@ -1,5 +1,5 @@
 #pragma once
-// One environment of the meta-training pool (DESIGN.md §5): a 32^2 cloth with a random material
+// One environment of the meta-training pool (docs/design.md §5): a 32^2 cloth with a random material
 // (log-uniform over grid-unit ranges), random orientation and gravity direction, the two top
 // corners plus 0-2 random extra handles on a random smooth motion, and an iteration budget per
 // time step drawn from {1, 3, 10, 30}. The learned optimizer iterates on its current time step;

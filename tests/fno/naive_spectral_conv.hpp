@@ -1,7 +1,7 @@
 #pragma once
 // An independent, deliberately naive reference for the spectral convolution: direct DFT sums
 // in double precision, written from the definition in fno/spectral_conv2d.hpp and
-// DESIGN.md §4 without sharing any code with fno/.
+// docs/design.md §4 without sharing any code with fno/.
 #include <torch/torch.h>
 
 #include <cmath>

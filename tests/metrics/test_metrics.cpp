@@ -1,4 +1,4 @@
-// The error metrics of DESIGN.md §8: the k-d tree against brute force, e_CD (self, shifts,
+// The error metrics of docs/design.md §8: the k-d tree against brute force, e_CD (self, shifts,
 // the 2 d^2 of a rigid normal shift), e_3D against a hand computation, frame time matching
 // (ARCSim's 1/30 s against fnopt's 1/60 s), and the per-step error on a small Newton rollout.
 #include <gtest/gtest.h>
