@@ -29,6 +29,7 @@
 #include "io/svg_plot.hpp"
 #include "metrics/step_error.hpp"
 #include "metrics/trajectory_error.hpp"
+#include "util/command_line.hpp"
 #include "util/error.hpp"
 #include "util/parse_text.hpp"
 #include "util/progress_bar.hpp"
@@ -121,17 +122,6 @@ std::vector<GridSize> resolution_list(const std::string& text) {
     sizes.push_back(size);
   }
   return sizes;
-}
-
-// The command line of this process, for the report (arguments with spaces quoted).
-std::string command_line() {
-  std::ifstream file("/proc/self/cmdline", std::ios::binary);
-  std::string text, argument;
-  while (std::getline(file, argument, '\0')) {
-    const bool quote = argument.empty() || argument.find_first_of(" \t'\"$;&|<>*?") != std::string::npos;
-    text += (text.empty() ? "" : " ") + (quote ? "'" + argument + "'" : argument);
-  }
-  return text.empty() ? "fnopt compare" : text;
 }
 
 // --preset superres: the zero-shot super-resolution study. Explicit flags win.
@@ -260,8 +250,8 @@ RunResult result_of_row(const RunSpec& spec, const std::vector<std::string>& row
 void run_compare(const CompareFlags& flags) {
   require(!flags.out.empty(), "out", "an output directory is required");
   const std::vector<GridSize> resolutions = resolution_list(flags.resolutions);
-  std::vector<std::string> motions = flags.motions == "eval" ? motion_names() : name_list("motions", flags.motions);
-  if (flags.motions == "eval") motions.resize(15);  // the fifteen benchmark motions, not "static"
+  const std::vector<std::string> motions =
+      flags.motions == "eval" ? benchmark_motion_names() : name_list("motions", flags.motions);
   const std::vector<std::string> methods = name_list("optimizers", flags.optimizers);
   const std::vector<int> default_budgets = int_list("iters", flags.iters);
   std::map<std::string, std::vector<int>> budgets, given_budgets;  // given: by --iters-for
@@ -396,7 +386,7 @@ void run_compare(const CompareFlags& flags) {
   // compare.svg and report.md (and superres.svg), rewritten after every run.
   CompareReport report;
   report.directory = flags.out;
-  report.command_line = command_line();
+  report.command_line = process_command_line("fnopt compare");
   report.scene_text = to_scene_text(scenes.front());
   report.resolutions = resolution_names;
   report.motions = motion_names_used;

@@ -25,6 +25,7 @@
 #include "io/markdown_report.hpp"
 #include "io/svg_plot.hpp"
 #include "studies/stability_suite.hpp"
+#include "util/command_line.hpp"
 #include "util/error.hpp"
 #include "util/parse_text.hpp"
 #include "util/progress_bar.hpp"
@@ -48,29 +49,6 @@ struct StabilityFlags {
   bool list_cases = false;
   CLI::App* command = nullptr;
 };
-
-// The command line as typed (Linux: /proc/self/cmdline), quoted for a shell where needed.
-std::string command_line() {
-  std::ifstream in("/proc/self/cmdline", std::ios::binary);
-  std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::string text;
-  std::size_t start = 0;
-  while (start < all.size()) {
-    std::size_t end = all.find('\0', start);
-    if (end == std::string::npos) end = all.size();
-    std::string arg = all.substr(start, end - start);
-    if (start == 0) arg = fs::path(arg).filename().string();
-    const bool plain = !arg.empty() && arg.find_first_of(" \t\n'\"\\$;&|<>()*?#`") == std::string::npos;
-    if (!plain) {
-      std::string quoted = "'";
-      for (char c : arg) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-      arg = quoted + "'";
-    }
-    text += (text.empty() ? "" : " ") + arg;
-    start = end + 1;
-  }
-  return text.empty() ? "fnopt stability" : text;
-}
 
 // Relative cost of one frame, for the progress bar's ETA only (measured at 32^2, 1 thread:
 // one gradient ~0.35 ms, Newton ~75 ms, fnopt N=10 ~28 ms per frame).
@@ -142,14 +120,11 @@ void write_report(const Outputs& out, const StabilityFlags& flags, const Scene& 
   std::vector<std::vector<std::string>> case_rows;
   for (std::size_t k = 0; k < cases.size(); ++k) {
     const Scene s = cases[k].apply(base);
-    std::string k_text;
-    try {
-      const GridUnitStiffness g =
-          grid_unit_stiffness(Grid::make(s.rows, s.cols, s.size), s.material, s.dt, s.gravity.norm());
-      k_text = CsvTable::number(g.stretch, 3) + " / " + CsvTable::number(g.shear, 3) + " / " +
-               CsvTable::number(g.bend, 3);
-    } catch (const std::exception&) {
-    }
+    // Every case scene was validated before any run: its grid exists.
+    const GridUnitStiffness g =
+        grid_unit_stiffness(Grid::make(s.rows, s.cols, s.size), s.material, s.dt, s.gravity.norm());
+    const std::string k_text = CsvTable::number(g.stretch, 3) + " / " + CsvTable::number(g.shear, 3) + " / " +
+                               CsvTable::number(g.bend, 3);
     case_rows.push_back({std::to_string(k + 1), cases[k].name, cases[k].description,
                          std::to_string(s.rows) + "x" + std::to_string(s.cols), std::to_string(s.frames) + " x " +
                          dt_text(s.dt) + " s", k_text});
@@ -240,7 +215,7 @@ void run_stability(const StabilityFlags& flags) {
           "cannot create the directory '" + flags.out + "'" + (made ? ": " + made.message() : ""));
   const Outputs out{flags.out, (fs::path(flags.out) / "stability.csv").string(),
                     (fs::path(flags.out) / "stability.svg").string(), (fs::path(flags.out) / "report.md").string()};
-  const std::string command = command_line();
+  const std::string command = process_command_line("fnopt stability");
   char started[32];
   const std::time_t now = std::time(nullptr);
   std::strftime(started, sizeof started, "%Y-%m-%d %H:%M", std::localtime(&now));

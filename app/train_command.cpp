@@ -267,7 +267,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--range", flags->ranges,
                       "sampling range of the pool, QUANTITY=LOW:HIGH, log-uniform, in grid units (repeatable): "
                       "stretch k~_s (default 40:8000), shear k~_sh (0.5:600), bend k~_b (0.005:20), gravity g~ "
-                      "(0.03:0.6), damping c dt (0.005:0.3); README, \"The learned optimizer\"");
+                      "(0.03:0.6), damping c dt (0.005:0.3); docs/training.md, \"The training pool in numbers\"");
   command->add_option("--subspace", o.pool.subspace,
                       "how the pool takes each proposal: 0, as it is (the shipped model's training); K, as fnopt-ss "
                       "does: the subspace step over the last K proposals, carried across time steps, and the energy "
@@ -307,7 +307,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
   validation_option("--validate-frames", flags->validation.frames, "time steps of the validation rollout");
   command->add_option("--validate-motions", flags->validation.motions,
                       "motions of the validation scenes, comma-separated (default xyz_v3,rot_h0: not xy_v2, the test "
-                      "scene of the README's 64^2 and 100^2 tables); the score is their mean e_3D")
+                      "scene of the 64^2 and 100^2 tables in docs/results.md); the score is their mean e_3D")
       ->delimiter(',')
       ->needs(validate_res);
   command->add_flag("--keep-validated", flags->keep_validated,

@@ -15,7 +15,6 @@ class DirichletSet {
   DirichletSet(int vertex_count, std::vector<int> fixed_vertices);
 
   const std::vector<int>& fixed_vertices() const { return fixed_; }
-  bool is_fixed(int vertex) const { return free_index_[vertex] < 0; }
   // Index of a vertex among the free ones (the reduced unknowns), -1 for a fixed vertex.
   const std::vector<int>& free_index() const { return free_index_; }
   int free_count() const { return free_count_; }

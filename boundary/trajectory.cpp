@@ -99,10 +99,15 @@ double motion_profile(double t) {
   return 1.0;
 }
 
-std::vector<std::string> motion_names() {
+std::vector<std::string> benchmark_motion_names() {
   std::vector<std::string> names;
   for (const auto& m : kTranslations) names.emplace_back(m.name);
   for (const auto& m : kRotations) names.emplace_back(m.name);
+  return names;
+}
+
+std::vector<std::string> motion_names() {
+  std::vector<std::string> names = benchmark_motion_names();
   names.emplace_back("static");
   return names;
 }

@@ -37,7 +37,8 @@ std::unique_ptr<HandleTrajectory> make_motion(const std::string& name, std::vect
 std::unique_ptr<HandleTrajectory> load_trajectory_csv(const std::string& path, int handle_count,
                                                       double speed = 1.0);
 
-std::vector<std::string> motion_names();  // the fifteen, then "static"
+std::vector<std::string> benchmark_motion_names();  // the fifteen of the benchmark
+std::vector<std::string> motion_names();            // the fifteen, then "static"
 
 // The unit profile p(t) of every benchmark motion, with c(u) = (1 - cos(pi u))/2: 0 until
 // 0.5 s, out by c(t - 0.5) until 1.5 s, back by 1 - c(t - 1.5) until 2.5 s, out again by

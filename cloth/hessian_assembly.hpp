@@ -42,7 +42,6 @@ class HessianAssembly {
   void scale(double factor) { matrix_.coeffs() *= factor; }
 
   const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }
-  int free_dof_count() const { return 3 * free_count_; }
 
  private:
   // Position of a 3x3 block in the value array: entry (r, c) is at base + c*stride + r.

@@ -14,7 +14,7 @@ namespace fnopt {
 
 struct Material {
   // Defaults: fitted to ARCSim's gray-interlock runs (../shared/data/arcsim, N = 32, xy_v2 and
-  // rot_h0, first 3.5 s) by `fnopt fit-material` (README, "Default material"): e_CD x 10^3 of the
+  // rot_h0, first 3.5 s) by `fnopt fit-material` (docs/design.md §7, "Default material"): e_CD x 10^3 of the
   // Newton rollout 3.56 (mean of the two) where the earlier guess (300 / 3 / 2e-5, no damping) gave
   // 92 on xy_v2 alone. Density
   // and bending are ARCSim's own (0.187 kg/m^2, small-curvature 2e-5 N m). The damping stands

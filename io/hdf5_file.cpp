@@ -136,12 +136,4 @@ std::string Hdf5File::string_attribute(const std::string& name) const {
   return value.substr(0, value.find('\0'));
 }
 
-double Hdf5File::number_attribute(const std::string& name) const {
-  Handle attr(H5Aopen(file_, name.c_str(), H5P_DEFAULT), H5Aclose);
-  double value = 0.0;
-  if (!attr.valid() || H5Aread(attr.get(), H5T_NATIVE_DOUBLE, &value) < 0)
-    throw Error(path_ + ": cannot read attribute '" + name + "'");
-  return value;
-}
-
 }  // namespace fnopt

@@ -32,7 +32,6 @@ class Hdf5File {
   void set_attribute(const std::string& name, double value);
   bool has_attribute(const std::string& name) const;
   std::string string_attribute(const std::string& name) const;
-  double number_attribute(const std::string& name) const;
 
  private:
   void write_raw(const std::string& name, const std::vector<hsize_t>& dims, hid_t file_type,

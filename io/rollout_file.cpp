@@ -96,4 +96,10 @@ Scene read_rollout_scene(const std::string& path) {
   return load_scene_text(file.string_attribute("scene"), path + " (scene attribute)");
 }
 
+RolloutProvenance read_rollout_provenance(const std::string& path) {
+  const Hdf5File file(path, Hdf5File::Mode::Read);
+  auto text = [&](const char* name) { return file.has_attribute(name) ? file.string_attribute(name) : std::string(); };
+  return {text("optimizer"), text("fnopt_version")};
+}
+
 }  // namespace fnopt

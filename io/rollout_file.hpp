@@ -39,5 +39,11 @@ TrajectoryFrames frames_of(const RolloutResult& rollout);
 // The scene stored with an fnopt rollout (its `scene` attribute). Throws Error naming the file if
 // it has none (an ARCSim file, say) or the text is not a valid scene.
 Scene read_rollout_scene(const std::string& path);
+// Who wrote an fnopt rollout: its `optimizer` settings and `fnopt_version` attributes ("" where
+// missing). Throws Error naming the file if it cannot be read.
+struct RolloutProvenance {
+  std::string optimizer_settings, version;
+};
+RolloutProvenance read_rollout_provenance(const std::string& path);
 
 }  // namespace fnopt

@@ -32,11 +32,9 @@ MethodTraits method_traits(const std::string& name);
 bool is_interpolated_method(const std::string& name);
 
 struct OptimizerChoice {
-  // The learned optimizer on the shipped model, with the subspace step over its last eight
-  // proposals (measured against the secant step fnopt-ls: e_CD x 10^3 0.681 -> 0.344 over the
-  // fifteen 32^2 motions, 33.2 -> 9.41 at 100^2 on xy_v2, for 2-10 % more time; README
-  // "Results").
-  std::string name = "fnopt-ss";
+  // pqn, the fastest method for its error on one CPU thread at every grid measured (32^2: the
+  // learned fnopt-ss's e_CD at a ninth of its time; docs/results.md, "The error-time frontier").
+  std::string name = "pqn";
   int iterations = 0;           // budget per step; 0 = the method's default
   double learning_rate = 0.0;   // 0 = the method's default
   std::string model;            // learned optimizer weights

@@ -11,7 +11,7 @@
 // reference that stopped early) counts as -1 with no gradient.
 //
 // Without the per-environment normalisation (LossNormalisation::Batch, measured against it,
-// README "The learned optimizer"), the batch is scored as one ratio,
+// docs/design.md §5), the batch is scored as one ratio,
 //   r = sum_e (L_e(a_e + delta_e) - L*_e) / sum_e max(L_e(a_e) - L*_e, ...),
 // whose gradient is FNOpt's plain mean energy up to one detached factor per batch: the
 // environments with the most energy left weigh the most.

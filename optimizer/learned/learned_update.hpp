@@ -12,7 +12,7 @@
 //           d^_prev = 10 tanh(d_prev/(10 sigma_d))            (+ the FNO's grid channels)
 //   outputs u (a field) and d (the scale head's scalar)
 //   update  delta = tanh(u) s,   s <- clamp(s_prev exp(2 tanh(d/2)), 1e-6, 10)
-// (docs/design.md writes exp(2 tanh(d/2) - 1): with an untrained head, d ~ 0, that shrinks s by e
+// (FNOpt writes exp(2 tanh(d/2) - 1): with an untrained head, d ~ 0, that shrinks s by e
 // every iteration, and in a 400-step trial the updates vanished before the network learned
 // anything (remaining-error ratio stuck at 0.99). Neutral at d = 0, s only moves as learned.)
 // delta is in grid units (cell widths per step^2: a position change of delta cell widths), so

@@ -24,7 +24,7 @@ namespace fnopt {
 
 // fnopt-ss keeps the last eight proposals, carried across time steps. Measured at 100^2 on
 // xy_v2, e_CD x 10^3: 9.41 with eight, 14.3 with six, 15.2 with three; at 32^2 twelve were no
-// better than eight (README, "The learned optimizer").
+// better than eight (docs/design.md §4).
 inline constexpr int kFnoptSubspace = 8;
 
 struct LearnedParams {

@@ -28,12 +28,15 @@ void ValidationOptions::validate() const {
 
 namespace {
 
-// The reference file holds this scene if its stored scene text is this scene's; anything else
-// (another scene, an unreadable or partial file) means solving it again.
-bool holds_scene(const std::string& path, const Scene& scene) {
+// The reference file holds this scene's reference if it was solved for this scene, by Newton at
+// these settings, by this version of fnopt; anything else (another scene, solver or version, an
+// unreadable file) means solving it again.
+bool holds_reference(const std::string& path, const Scene& scene, const std::string& newton_settings) {
   if (!std::filesystem::exists(path)) return false;
   try {
-    return to_scene_text(read_rollout_scene(path)) == to_scene_text(scene);
+    const RolloutProvenance provenance = read_rollout_provenance(path);
+    return to_scene_text(read_rollout_scene(path)) == to_scene_text(scene) &&
+           provenance.optimizer_settings == newton_settings && provenance.version == FNOPT_VERSION;
   } catch (const std::exception&) {
     return false;
   }
@@ -69,7 +72,7 @@ RolloutValidation::RolloutValidation(const ValidationOptions& options, const std
     scene.validate();
     scenes_.push_back(scene);
     paths.push_back((std::filesystem::path(reference_directory) / reference_file(options_, motion)).string());
-    cached.push_back(holds_scene(paths.back(), scene));
+    cached.push_back(holds_reference(paths.back(), scene, NewtonOptimizer{}.settings()));
   }
   const int to_solve = static_cast<int>(std::count(cached.begin(), cached.end(), false));
   for (std::size_t i = 0; i < scenes_.size(); ++i) {

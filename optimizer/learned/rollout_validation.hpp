@@ -20,15 +20,15 @@ namespace fnopt {
 struct ValidationOptions {
   int resolution = 100;  // N x N vertices (default material, corner handles)
   // Motion names (boundary/trajectory.hpp), one scene each. Not xy_v2 by default: that is the
-  // test scene of the README's 64^2 and 100^2 tables, and a checkpoint chosen on it would make
+  // test scene of the 64^2 and 100^2 tables in docs/results.md, and a checkpoint chosen on it would make
   // them optimistic. Measured at 100^2, 120 frames, steps 7000-7400: xy_v2 alone moved by up to
   // 50 % between checkpoints 100 steps apart, so one scene is a noisy judge.
   std::vector<std::string> motions = {"xyz_v3", "rot_h0"};
   int frames = 120;     // time steps of each rollout (2 s at dt = 1/60)
   int iterations = 10;  // the learned optimizer's budget per step
   // The rule the rollouts take proposals with: fnopt-ss's subspace step over this many
-  // proposals (the default of `fnopt simulate`), or 0 for fnopt-ls, which the validations in
-  // the README before fnopt-ss used.
+  // proposals (the shipped learned optimizer), or 0 for fnopt-ls, which the validations in
+  // docs/training.md before fnopt-ss used.
   int subspace = kFnoptSubspace;
 
   void validate() const;  // Error("validate.<field>: ...") for a bad value
@@ -47,7 +47,8 @@ struct ValidationScore {
 class RolloutValidation {
  public:
   // Reads each scene's Newton reference from `reference_directory` (reference_file) if the
-  // file there holds that scene, else solves it (to NewtonOptimizer::reference_solve_options,
+  // file there was solved for that scene by Newton at its default settings and by this version
+  // of fnopt, else solves it (to NewtonOptimizer::reference_solve_options,
   // reporting each step to `on_reference_step`, counted over all the scenes to solve) and
   // writes it there.
   RolloutValidation(const ValidationOptions& options, const std::string& reference_directory,

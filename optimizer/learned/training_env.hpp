@@ -24,7 +24,7 @@ namespace fnopt {
 
 // Log-uniform ranges of the grid-unit quantities (cloth/grid_units.hpp) the pool samples, and of
 // the damping c dt (implicit force -c m v; none in `undamped_share` of the environments). They
-// cover the default material at 32^2 up to 100^2 with margin (README, "Training" under "The learned optimizer") and the
+// cover the default material at 32^2 up to 100^2 with margin (docs/training.md, "The training pool in numbers") and the
 // stiffer and softer cases of `fnopt stability`.
 struct TrainingRanges {
   double stretch_min = 40.0, stretch_max = 8000.0;

@@ -1,31 +1,12 @@
 #pragma once
 // Running the fnopt binary as a user does (FNOPT_BINARY, set by CMake for test_app), with
 // passive OpenMP waiting so tests that share the cores do not spin.
-#include <sys/wait.h>
-
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <memory>
 #include <sstream>
 #include <string>
 
-struct CommandResult {
-  int status;
-  std::string output;  // stdout and stderr together
-};
-
-// Runs a shell command line; its exit status and output (stderr joined to stdout).
-inline CommandResult run_shell(const std::string& command_line) {
-  const std::string command = command_line + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-  std::string output;
-  std::array<char, 256> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe.get())) output += buffer.data();
-  const int raw = pclose(pipe.release());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, output};
-}
+#include "tests/util/shell.hpp"
 
 // `environment`: arguments of env(1) before the passive-wait setting, e.g. "OMP_NUM_THREADS=3"
 // or "-u OMP_NUM_THREADS".

@@ -47,14 +47,19 @@ TEST(Cli, SimulateWritesARolloutAndSaysSo) {
   std::filesystem::remove_all(dir);
 }
 
-TEST(Cli, SimulateRunsTheShippedLearnedOptimizerByDefault) {
-  const auto out = (std::filesystem::temp_directory_path() / "fnopt_test_cli_default.h5").string();
+TEST(Cli, SimulateRunsPqnByDefaultAndTheShippedModelOneFlagAway) {
+  const fnopt::testing::TempDir tmp;
+  const auto out = (tmp.path() / "default.h5").string();
   const CommandResult r = run_fnopt("simulate --res 16 --frames 10 --out " + out);
   EXPECT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("fnopt-ss: 10/10 frames"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("subspace=8 carried"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("pqn: history=5 matrix=isotropic"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("pqn: 10/10 frames"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("10.00 iterations/step"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("finite"), std::string::npos) << r.output;
-  std::filesystem::remove(out);
+  const CommandResult learned = run_fnopt("simulate --res 16 --frames 10 --optimizer fnopt-ss --out " + out);
+  EXPECT_EQ(learned.status, 0) << learned.output;
+  EXPECT_NE(learned.output.find("fnopt-ss: 10/10 frames"), std::string::npos) << learned.output;
+  EXPECT_NE(learned.output.find("subspace=8 carried"), std::string::npos) << learned.output;
 }
 
 // Two processes, same scene and model, must write the same rollout to the bit: a comparison
@@ -66,7 +71,7 @@ TEST(Cli, SimulateIsReproducibleAcrossProcesses) {
   std::vector<fnopt::TrajectoryFrames> runs;
   for (const char* name : {"a.h5", "b.h5"}) {
     const auto path = (tmp.path() / name).string();
-    const CommandResult r = run_fnopt("simulate --res 64 --frames 12 --threads 1 --out " + path);
+    const CommandResult r = run_fnopt("simulate --res 64 --frames 12 --threads 1 --optimizer fnopt-ss --out " + path);
     ASSERT_EQ(r.status, 0) << r.output;
     runs.push_back(fnopt::read_trajectory_frames(path));
   }
@@ -76,14 +81,16 @@ TEST(Cli, SimulateIsReproducibleAcrossProcesses) {
 }
 
 // "--threads (default: all cores)" must mean it. Loading a model initialises LibTorch, which
-// leaves OpenMP at one thread; the learned optimizer (simulate's default) is the case to check.
+// leaves OpenMP at one thread; the learned optimizer is the case to check.
 TEST(Cli, ThreadsDefaultToAllCoresOrOmpNumThreads) {
   const fnopt::testing::TempDir tmp;
   const auto path = (tmp.path() / "t.h5").string();
-  const CommandResult given = run_fnopt("simulate --res 8 --frames 1 --out " + path, "OMP_NUM_THREADS=3");
+  const CommandResult given =
+      run_fnopt("simulate --res 8 --frames 1 --optimizer fnopt-ss --out " + path, "OMP_NUM_THREADS=3");
   ASSERT_EQ(given.status, 0) << given.output;
   EXPECT_NE(given.output.find(", 3 threads"), std::string::npos) << given.output;
-  const CommandResult all = run_fnopt("simulate --res 8 --frames 1 --out " + path, "-u OMP_NUM_THREADS");
+  const CommandResult all =
+      run_fnopt("simulate --res 8 --frames 1 --optimizer fnopt-ss --out " + path, "-u OMP_NUM_THREADS");
   ASSERT_EQ(all.status, 0) << all.output;
   const int cores = omp_get_num_procs();
   EXPECT_NE(all.output.find(", " + std::to_string(cores) + (cores == 1 ? " thread\n" : " threads\n")), std::string::npos)

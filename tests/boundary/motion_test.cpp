@@ -2,6 +2,8 @@
 // hand at a few times.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <limits>
 
@@ -47,6 +49,10 @@ TEST(Motions, NamesAreTheFifteenThenStatic) {
   EXPECT_EQ(names.front(), "xy_v2");
   EXPECT_EQ(names[14], "rot_h1_opp");
   EXPECT_EQ(names.back(), "static");
+  const auto benchmark = benchmark_motion_names();  // compare --motions eval
+  ASSERT_EQ(benchmark.size(), 15u);
+  EXPECT_EQ(std::count(benchmark.begin(), benchmark.end(), "static"), 0);
+  EXPECT_TRUE(std::equal(benchmark.begin(), benchmark.end(), names.begin()));
 }
 
 TEST(Motions, XyV2AtOneSecondIsHalfWayAlongTheDiagonal) {
