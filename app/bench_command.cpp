@@ -93,7 +93,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("what", flags->what, "newton, fno or all")->capture_default_str();
   command->add_option("--res", flags->resolutions, "resolutions, comma-separated")->capture_default_str();
   command->add_option("--frames", flags->frames, "frames per resolution (newton)")->capture_default_str();
-  command->add_option("--threads", flags->threads, "threads (default: all cores)");
+  add_threads_flag(*command, flags->threads, "threads (default: all cores)");
   command->add_option("--preconditioner", flags->preconditioner,
                       "newton: CG preconditioned by the factor of an earlier Hessian (factor) or by pqn's matrix (pqn)")
       ->check(CLI::IsMember({"factor", "pqn"}))

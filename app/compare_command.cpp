@@ -31,6 +31,7 @@
 #include "metrics/trajectory_error.hpp"
 #include "util/command_line.hpp"
 #include "util/error.hpp"
+#include "util/output_path.hpp"
 #include "util/parse_text.hpp"
 #include "util/progress_bar.hpp"
 
@@ -273,10 +274,11 @@ void run_compare(const CompareFlags& flags) {
     choice.make();
   }
   require(flags.step_samples >= 1, "step-samples", "must be positive");
+  require(flags.cd_stride >= 1, "cd-stride", "must be at least 1 (every matched frame), got " + std::to_string(flags.cd_stride));
   ChamferOptions chamfer;
   chamfer.samples = flags.cd_samples;
   chamfer.validate();
-  fs::create_directories(flags.out);
+  require_writable_directory(flags.out, "out");
   const int threads = set_thread_count(flags.threads);
 
   Scene base = flags.scene.scene();
@@ -293,6 +295,11 @@ void run_compare(const CompareFlags& flags) {
       }
       if (base.trajectory.empty()) apply_scene_setting(scene, "motion", motion);
       scene.validate();
+      for (const auto& method : methods) {
+        OptimizerChoice choice = flags.settings;
+        choice.name = method;
+        choice.check_grid(scene.rows, scene.cols);
+      }
       scenes.push_back(scene);
       if (!base.trajectory.empty()) break;  // a trajectory file replaces the motion list
     }
@@ -644,7 +651,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->capture_default_str();
   command->add_option("--arcsim-dir", flags->arcsim_dir,
                       "also report e_CD against DIR/arcsim_N{res}_{motion}.h5 where it exists");
-  command->add_option("--threads", flags->threads, "threads for every run (fixed, printed)")->capture_default_str();
+  add_threads_flag(*command, flags->threads, "threads for every run (fixed, printed) (default 1)");
   CLI::Option* step_samples =
       command->add_option("--step-samples", flags->step_samples, "reference states for the per-step error");
   step_samples->capture_default_str();

@@ -13,6 +13,7 @@
 #include "metrics/step_error.hpp"
 #include "metrics/trajectory_error.hpp"
 #include "util/error.hpp"
+#include "util/output_path.hpp"
 
 namespace fnopt::app {
 namespace {
@@ -79,6 +80,14 @@ void write_per_step_table(const std::string& path, const StepErrorSummary& summa
 }
 
 void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
+  // Everything that can be refused is refused before the work.
+  if (!flags.per_frame.empty()) require_writable_file(flags.per_frame, "per-frame");
+  if (!flags.per_step.empty()) require_writable_file(flags.per_step, "per-step");
+  require(flags.step_samples >= 1, "step-samples", "must be at least 1, got " + std::to_string(flags.step_samples));
+  if (with_step_error) {
+    flags.optimizer.make();
+    read_rollout_scene(flags.reference);  // the reference must be an fnopt rollout
+  }
   const int threads = set_thread_count(flags.threads);
   const TrajectoryFrames reference = read_trajectory_frames(flags.reference);
   const TrajectoryFrames rollout = read_trajectory_frames(flags.rollout);
@@ -144,7 +153,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--model", flags->optimizer.model, "learned optimizer weights file");
   command->add_option("--step-samples", flags->step_samples, "reference states for the per-step error")
       ->capture_default_str();
-  command->add_option("--threads", flags->threads, "threads (default: all cores)");
+  add_threads_flag(*command, flags->threads, "threads (default: all cores)");
   command->add_option("--per-frame", flags->per_frame, "also write the errors of every matched frame (CSV)");
   command->add_option("--per-step", flags->per_step,
                       "also write the per-step error of every sampled state, with L at the start, at Newton's step "

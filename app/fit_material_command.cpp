@@ -11,6 +11,7 @@
 #include "app/threads.hpp"
 #include "studies/material_fit.hpp"
 #include "util/error.hpp"
+#include "util/output_path.hpp"
 #include "util/parse_text.hpp"
 #include "util/progress_bar.hpp"
 
@@ -48,6 +49,7 @@ std::vector<FitReference> load_references(const std::vector<std::string>& paths)
 }
 
 void run_fit(FitFlags& flags) {
+  require_writable_file(flags.out, "out");
   const int threads = set_thread_count(flags.threads);
   flags.params.coefficients.clear();
   for (auto name : split(flags.coefficients, ',')) flags.params.coefficients.push_back(material_coefficient(std::string(trim(name))));
@@ -135,7 +137,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--cd-stride", flags->params.chamfer_stride, "e_CD on every k-th matched frame")
       ->capture_default_str();
   command->add_option("--out", flags->out, "material file to write")->capture_default_str();
-  command->add_option("--threads", flags->threads, "threads")->capture_default_str();
+  add_threads_flag(*command, flags->threads, "threads (default 1)");
   command->callback([flags] { run_fit(*flags); });
 });
 

@@ -1,12 +1,21 @@
 #include "app/optimizer_flags.hpp"
 
+#include "util/parse_text.hpp"
+
 namespace fnopt::app {
 
 void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice) {
   command.add_option("--optimizer", choice.name, "inner optimizer: " + optimizer_names())->capture_default_str();
-  command.add_option("--iters", choice.iterations,
-                     "iterations per time step (default 10; newton: at most this many, default 1000 to "
-                     "||g|| <= 1e-9 ||g0||)");
+  command
+      .add_option("--iters", choice.iterations,
+                  "iterations per time step (default 10; newton: at most this many, default 1000 to "
+                  "||g|| <= 1e-9 ||g0||)")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            int value = 0;
+            return parse_int(text, value) && value >= 1 ? "" : "must be a positive iteration budget, got '" + text + "'";
+          },
+          "N >= 1"));
   command.add_option("--lr", choice.learning_rate,
                      "learning rate: gd in units of 1/lambda_max of the mass-scaled Hessian (default 1), adam in "
                      "cell widths per step^2 per iteration (default 0.003)");

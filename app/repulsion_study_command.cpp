@@ -15,6 +15,7 @@
 #include "metrics/self_contact.hpp"
 #include "optimizer/rollout.hpp"
 #include "util/error.hpp"
+#include "util/output_path.hpp"
 #include "util/parse_text.hpp"
 #include "util/progress_bar.hpp"
 
@@ -191,7 +192,7 @@ void run_study(const StudyFlags& flags) {
   apply_scene_setting(base, "motion", flags.motion);
   apply_scene_setting(base, "repulsion-stiffness", number_text(flags.stiffness));
   base.validate();
-  fs::create_directories(flags.out);
+  require_writable_directory(flags.out, "out");
   const int threads = set_thread_count(flags.threads);
   std::fprintf(stderr,
                "fnopt repulsion-study: %dx%d grid, motion %s, %d frames, presets corner-center, single-mid-edge, "
@@ -290,7 +291,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->capture_default_str();
   command->add_option("--iters", flags->iterations, "iterations per step (default: each method's)");
   command->add_option("--model", flags->model, "learned optimizer weights (default: the shipped model)");
-  command->add_option("--threads", flags->threads, "threads")->capture_default_str();
+  add_threads_flag(*command, flags->threads, "threads (default 1)");
   command->callback([flags] { run_study(*flags); });
 });
 

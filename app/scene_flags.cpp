@@ -1,5 +1,8 @@
 #include "app/scene_flags.hpp"
 
+#include "util/error.hpp"
+#include "util/parse_text.hpp"
+
 namespace fnopt::app {
 namespace {
 
@@ -47,14 +50,25 @@ void SceneFlags::add_to(CLI::App& command, bool with_resolution) {
       "enable self-repulsion (default: auto, on for the folding presets corner-center and single-mid-edge)");
   no_repulsion_flag_ = command.add_flag("--no-repulsion", no_repulsion_, "disable self-repulsion");
   repulsion_flag_->excludes(no_repulsion_flag_);
+  // Flags that set the same thing two ways are refused together rather than one silently winning.
+  auto exclusive = [&](const char* a, const char* b) {
+    if (options_.count(a) && options_.count(b)) options_[a]->excludes(options_[b]);
+  };
+  exclusive("res", "rows");
+  exclusive("res", "cols");
+  exclusive("motion", "trajectory");
+  exclusive("handles", "handle-vertices");
 }
 
 Scene SceneFlags::scene() const {
   Scene scene = scene_file_.empty() ? Scene{} : load_scene_file(scene_file_);
   for (const FlagSpec& flag : kFlags) {
     const auto option = options_.find(flag.key);
-    if (option != options_.end() && option->second->count() > 0)
-      apply_scene_setting(scene, flag.key, values_.at(flag.key));
+    if (option == options_.end() || option->second->count() == 0) continue;
+    const std::string& value = values_.at(flag.key);
+    // In a scene file an empty list clears an earlier one; on the command line it is a mistake.
+    require(!trim(value).empty(), flag.key, "is empty: give a value or leave the flag out");
+    apply_scene_setting(scene, flag.key, value);
   }
   if (repulsion_flag_ && repulsion_flag_->count() > 0) apply_scene_setting(scene, "repulsion", "true");
   if (no_repulsion_flag_ && no_repulsion_flag_->count() > 0) apply_scene_setting(scene, "repulsion", "false");

@@ -11,6 +11,7 @@
 #include "io/obj_file.hpp"
 #include "io/rollout_file.hpp"
 #include "util/error.hpp"
+#include "util/output_path.hpp"
 #include "util/progress_bar.hpp"
 
 namespace fnopt::app {
@@ -27,7 +28,11 @@ struct SimulateFlags {
 
 void run_simulate(const SimulateFlags& flags) {
   const Scene scene = flags.scene.scene();
+  resolve(scene);  // handles and trajectory file read now, not after the banner
   const auto optimizer = flags.optimizer.make();
+  flags.optimizer.check_grid(scene.rows, scene.cols);
+  require_writable_file(flags.out, "out");
+  if (!flags.obj_dir.empty()) require_writable_directory(flags.obj_dir, "obj-dir");
   const int threads = set_thread_count(flags.threads);
   RolloutOptions options;
   options.solve = flags.optimizer.solve_options();
@@ -57,7 +62,6 @@ void run_simulate(const SimulateFlags& flags) {
 
   write_rollout_file(flags.out, rollout, to_scene_text(scene), optimizer->settings());
   if (!flags.obj_dir.empty()) {
-    std::filesystem::create_directories(flags.obj_dir);
     for (std::size_t t = 0; t < rollout.positions.size(); ++t) {
       char name[32];
       std::snprintf(name, sizeof name, "frame_%04zu.obj", t);
@@ -95,7 +99,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
   add_optimizer_flags(*command, flags->optimizer);
   command->add_option("--out", flags->out, "rollout file (HDF5)")->capture_default_str();
   command->add_option("--obj-dir", flags->obj_dir, "also write every frame as DIR/frame_NNNN.obj");
-  command->add_option("--threads", flags->threads, "threads (default: all cores)");
+  add_threads_flag(*command, flags->threads, "threads (default: all cores)");
   command->add_flag("--warm-start", flags->warm_start, "start each step from the previous step's acceleration");
   command->callback([flags] { run_simulate(*flags); });
 });

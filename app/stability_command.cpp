@@ -27,6 +27,7 @@
 #include "studies/stability_suite.hpp"
 #include "util/command_line.hpp"
 #include "util/error.hpp"
+#include "util/output_path.hpp"
 #include "util/parse_text.hpp"
 #include "util/progress_bar.hpp"
 
@@ -209,10 +210,7 @@ void run_stability(const StabilityFlags& flags) {
   for (const auto& c : cases) c.apply(base).validate();
 
   const int threads = set_thread_count(flags.threads);
-  std::error_code made;
-  fs::create_directories(flags.out, made);
-  require(!made && fs::is_directory(flags.out), "out",
-          "cannot create the directory '" + flags.out + "'" + (made ? ": " + made.message() : ""));
+  require_writable_directory(flags.out, "out");
   const Outputs out{flags.out, (fs::path(flags.out) / "stability.csv").string(),
                     (fs::path(flags.out) / "stability.svg").string(), (fs::path(flags.out) / "report.md").string()};
   const std::string command = process_command_line("fnopt stability");
@@ -351,7 +349,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
                       "lbfgs-ls 100, adam and gd 500; newton=N caps the reference's iterations, default 1000 to "
                       "||g|| <= 1e-9 ||g0||)");
   command->add_option("--model", flags->model, "learned optimizer weights (default: the shipped models/fnopt-32.pt)");
-  command->add_option("--threads", flags->threads, "threads for every run (fixed, printed)")->capture_default_str();
+  add_threads_flag(*command, flags->threads, "threads for every run (fixed, printed) (default 1)");
   command->add_flag("--resume", flags->resume,
                     "keep the rows already in DIR/stability.csv (same case, method, N) and run the rest");
   command->footer(

@@ -1,6 +1,7 @@
 // fnopt train: meta-train a learned optimizer (docs/design.md §5) with progress, a CSV log,
 // checkpoints, --resume and, optionally, a validation rollout on a larger grid that keeps the
 // best model (rollout_validation.hpp).
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -19,6 +20,7 @@
 #include "optimizer/learned/rollout_validation.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
+#include "util/output_path.hpp"
 #include "util/parse_text.hpp"
 #include "util/progress_bar.hpp"
 
@@ -95,6 +97,15 @@ BestValidation best_of(const std::vector<std::vector<std::string>>& rows, const 
 }
 
 void run_train(TrainFlags& flags) {
+  require(std::isfinite(flags.minutes) && flags.minutes >= 0.0, "minutes",
+          "must be 0 (no limit) or a positive number of minutes");
+  // The model's shape, named by its flags (the model's own checks name its options).
+  require(flags.width >= 1, "width", "must be positive");
+  require(flags.layers >= 2, "layers",
+          "must be at least 2: the step-scale head reads the second Fourier layer's features (docs/design.md §4)");
+  require(flags.modes >= 2 && flags.modes % 2 == 0, "modes", "must be a positive even number");
+  require(flags.lifting >= 1, "lifting", "must be positive");
+  require(flags.projection >= 1, "projection", "must be positive");
   flags.options.model.width(flags.width).fourier_layers(flags.layers).modes_x(flags.modes).modes_y(flags.modes)
       .lifting_channels(flags.lifting).projection_channels(flags.projection)
       .in_channels(flags.combined ? 9 : 3).out_channels(flags.combined ? 3 : 1);
@@ -109,15 +120,17 @@ void run_train(TrainFlags& flags) {
   require(flags.validate_every > 0, "validate-every", "must be positive");
   if (flags.validate) flags.validation.validate();
   const int threads = set_thread_count(flags.threads);
+  require_writable_directory(flags.out, "out");
   const std::filesystem::path out(flags.out);
-  std::filesystem::create_directories(out);
   const std::string checkpoint = (out / "checkpoint.pt").string();
   const std::string model_path = (out / "model.pt").string();
   const std::string log_path = (out / "train_log.csv").string();
   const std::string validation_log_path = (out / "validation.csv").string();
   const std::string best_model_path = (out / "model-best.pt").string();
 
-  const bool resuming = flags.resume && std::filesystem::exists(checkpoint);
+  require(!flags.resume || std::filesystem::exists(checkpoint), "resume",
+          "no checkpoint to resume: " + checkpoint + " does not exist");
+  const bool resuming = flags.resume;
   MetaTrainer trainer(flags.options, resuming ? checkpoint : std::string());
   double seconds_before = 0.0;
   BestValidation best;
@@ -292,7 +305,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
                     "single-channel samples");
   command->add_option("--checkpoint-every", flags->checkpoint_every, "steps between checkpoints")->capture_default_str();
   command->add_option("--minutes", flags->minutes, "stop (with a checkpoint) after this many minutes");
-  command->add_option("--threads", flags->threads, "threads (default: all cores)");
+  add_threads_flag(*command, flags->threads, "threads (default: all cores)");
   command->add_flag("--resume", flags->resume, "continue from OUT/checkpoint.pt");
   CLI::Option* validate_res = command->add_option("--validate-res", flags->validation.resolution,
                       "validate on an N x N grid every --validate-every steps: fnopt-ss rollouts of the benchmark scene "

@@ -146,6 +146,15 @@ std::unique_ptr<InnerOptimizer> OptimizerChoice::make() const {
   throw Error("optimizer: unknown optimizer '" + name + "' (choose from: " + optimizer_names() + ")");
 }
 
+void OptimizerChoice::check_grid(int rows, int cols) const {
+  if (!is_interpolated(name)) return;
+  int coarse = 0;
+  parse_int(name.substr(name.find(kInterpTag) + std::char_traits<char>::length(kInterpTag)), coarse);
+  require(coarse < std::max(rows, cols), "optimizer",
+          "'" + name + "' solves on a grid with " + std::to_string(coarse) + " vertices along its longer edge, not " +
+              "coarser than the " + std::to_string(rows) + "x" + std::to_string(cols) + " grid");
+}
+
 InnerSolveOptions OptimizerChoice::solve_options() const {
   // One iteration gives the interpolated answer.
   if (is_interpolated(name)) return {1, 0.0};

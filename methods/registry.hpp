@@ -45,6 +45,9 @@ struct OptimizerChoice {
   std::unique_ptr<InnerOptimizer> make() const;
   // Budget and tolerance: Newton runs to its reference tolerance, the others their budget.
   InnerSolveOptions solve_options() const;
+  // Throws Error("optimizer: ...") if the method cannot run on a rows x cols grid (a coarse
+  // grid of METHOD-interpK that is not coarser).
+  void check_grid(int rows, int cols) const;
 };
 
 std::string optimizer_names();  // "newton" ... for help texts

@@ -1,5 +1,6 @@
 #include "scenes/scene.hpp"
 
+#include "util/memory_limit.hpp"
 #include "scenes/scene_checks.hpp"
 
 namespace fnopt {
@@ -26,6 +27,7 @@ void Scene::validate() const {
   scene_checks::positive("size", size, "length in metres");
   scene_checks::positive("dt", dt, "time step in seconds");
   scene_checks::frame_count(frames);
+  scene_checks::fits_in_memory(rows, cols, frames, usable_memory_bytes());
   scene_checks::positive("speed", speed, "factor");
   scene_checks::gravity(gravity);
   material.validate();

@@ -20,6 +20,19 @@ inline void grid_extent(const std::string& field, int count) {
                                  std::to_string(count));
 }
 
+// A rollout keeps every frame's positions (12 bytes per vertex) and its solvers work with a few
+// kilobytes per vertex (sparse Hessians and factors: ~1 KB at 100^2; the FNO's hidden
+// channels: ~2 KB). A grid whose estimate exceeds the machine's memory is refused up front, with
+// its size, rather than failing deep inside an allocation.
+inline void fits_in_memory(int rows, int cols, int frames, double memory_bytes) {
+  const double vertices = static_cast<double>(rows) * cols;
+  const double needed = vertices * (12.0 * (frames + 1) + 4096.0);
+  require(needed <= memory_bytes, "res",
+          "a " + std::to_string(rows) + "x" + std::to_string(cols) + " grid (" + number_text(vertices) +
+              " vertices) over " + std::to_string(frames) + " frames needs about " + number_text(needed / 1e9) +
+              " GB, more than this machine's " + number_text(memory_bytes / 1e9) + " GB");
+}
+
 inline void positive(const std::string& field, double value, const std::string& what) {
   require(std::isfinite(value) && value > 0.0, field,
           "must be a positive finite " + what + ", got " + number_text(value));

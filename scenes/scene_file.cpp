@@ -1,4 +1,5 @@
 // The scene file format and single settings: the `fnopt simulate` flag names as keys.
+#include <algorithm>
 #include <charconv>
 #include <filesystem>
 #include <fstream>
@@ -62,7 +63,12 @@ const std::map<std::string, Setter>& setters() {
   auto material_field = [](double Material::*field) {
     return [field](Scene& s, const std::string& key, const std::string& value) {
       s.material.*field = number_value(key, value);
-      s.material.validate();
+      try {
+        s.material.validate();
+      } catch (const Error& e) {  // named as the user set it (repulsion-stiffness, not _)
+        const std::string what = e.what();
+        throw Error(key + what.substr(what.find(':')));
+      }
     };
   };
   static const std::map<std::string, Setter> table = {
@@ -202,17 +208,25 @@ namespace {
 Scene read_scene_lines(std::istream& in, const std::string& name, const fs::path& directory, Scene base) {
   std::string line;
   int number = 0;
+  std::map<std::string, int> seen;  // key -> line
   while (std::getline(in, line)) {
     ++number;
     const std::string where = name + ":" + std::to_string(number) + ": ";
+    // A binary file is refused without echoing its bytes to the terminal.
+    if (!std::all_of(line.begin(), line.end(), [](unsigned char c) { return c >= 32 || c == '\t' || c == '\r'; }))
+      throw Error(where + "not a text scene file (control or binary bytes)");
     const auto content = trim(without_comment(line));
     if (content.empty()) continue;
     const auto equals = content.find('=');
-    if (equals == std::string_view::npos)
-      throw Error(where + "expected 'key = value', got '" + std::string(content) + "'");
+    if (equals == std::string_view::npos) {
+      const std::string shown(content.substr(0, 60));
+      throw Error(where + "expected 'key = value', got '" + shown + (content.size() > 60 ? "...'" : "'"));
+    }
     const std::string key(trim(content.substr(0, equals)));
     std::string value(trim(content.substr(equals + 1)));
     if (key.empty()) throw Error(where + "missing key before '='");
+    if (!seen.emplace(key, number).second)
+      throw Error(where + key + ": given twice (first on line " + std::to_string(seen[key]) + ")");
     if (key == "trajectory" && !value.empty()) value = relative_to(directory, value);
     if (key == "material") value = material_relative_to(directory, value);
     try {

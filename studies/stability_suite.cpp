@@ -118,7 +118,8 @@ std::vector<std::string> stability_case_names() {
 
 std::vector<StabilityCase> select_stability_cases(const std::string& list) {
   const std::string all(trim(list));
-  if (all.empty() || all == "all") return stability_cases();
+  require(!all.empty(), "cases", "is empty: give 'all' or case names (--list-cases)");
+  if (all == "all") return stability_cases();
   std::vector<StabilityCase> chosen;
   for (auto piece : split(all, ',')) {
     const std::string name(trim(piece));

@@ -170,7 +170,7 @@ TEST(Material, RejectsBadValuesNamingTheField) {
     m.validate();
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("material.density"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("density: "), std::string::npos);
   }
   m = Material{};
   m.bend = std::nan("");

@@ -224,8 +224,8 @@ TEST(SceneFile, LineNumberedErrorsNameTheKey) {
   expect_line_error("res = 2\n", 1, "res: the grid needs at least 3");
   expect_line_error("rows = 2\n", 1, "rows: ");
   expect_line_error("cols = -1\n", 1, "cols: ");
-  expect_line_error("density = -0.187\n", 1, "material.density: ");
-  expect_line_error("stretch = inf\n", 1, "material.stretch: ");
+  expect_line_error("density = -0.187\n", 1, "density: ");
+  expect_line_error("stretch = inf\n", 1, "stretch: ");
   expect_line_error("dt = 1/0\n", 1, "dt: ");
   expect_line_error("dt = 1/60/2\n", 1, "dt: expected a number or a fraction");
   expect_line_error("dt = -0.01\n", 1, "dt: must be a positive finite");
@@ -233,8 +233,8 @@ TEST(SceneFile, LineNumberedErrorsNameTheKey) {
   expect_line_error("gravity = 0,-9.81\n", 1, "gravity: expected three numbers");
   expect_line_error("gravity = 0,0,nan\n", 1, "gravity: must be three finite numbers");
   expect_line_error("repulsion = maybe\n", 1, "repulsion: expected auto, true or false");
-  expect_line_error("repulsion-stiffness = 0\n", 1, "material.repulsion_stiffness: ");
-  expect_line_error("repulsion-range = -1\n", 1, "material.repulsion_range: ");
+  expect_line_error("repulsion-stiffness = 0\n", 1, "repulsion-stiffness: ");
+  expect_line_error("repulsion-range = -1\n", 1, "repulsion-range: ");
   expect_line_error("handles = corners\n", 1, "handles: unknown preset 'corners'");
   expect_line_error("handle-vertices = 1;2\n", 1, "handle-vertices: ");
   expect_line_error("motion = spin\n", 1, "motion: unknown motion 'spin'");

@@ -51,18 +51,18 @@ TEST(SceneValidate, RejectsNaNAndInfinityInEveryRealField) {
     expect_invalid([&](Scene& s) { s.speed = bad; }, "speed: ");
     for (int axis = 0; axis < 3; ++axis)
       expect_invalid([&](Scene& s) { s.gravity[axis] = bad; }, "gravity: ");
-    expect_invalid([&](Scene& s) { s.material.stretch = bad; }, "material.stretch: ");
-    expect_invalid([&](Scene& s) { s.material.shear = bad; }, "material.shear: ");
-    expect_invalid([&](Scene& s) { s.material.bend = bad; }, "material.bend: ");
-    expect_invalid([&](Scene& s) { s.material.density = bad; }, "material.density: ");
-    expect_invalid([&](Scene& s) { s.material.damping = bad; }, "material.damping: ");
+    expect_invalid([&](Scene& s) { s.material.stretch = bad; }, "stretch: ");
+    expect_invalid([&](Scene& s) { s.material.shear = bad; }, "shear: ");
+    expect_invalid([&](Scene& s) { s.material.bend = bad; }, "bend: ");
+    expect_invalid([&](Scene& s) { s.material.density = bad; }, "density: ");
+    expect_invalid([&](Scene& s) { s.material.damping = bad; }, "damping: ");
   }
 }
 
 TEST(SceneValidate, RejectsNegativeMaterialValues) {
-  expect_invalid([](Scene& s) { s.material.density = -0.187; }, "material.density: ");
-  expect_invalid([](Scene& s) { s.material.stretch = -1.0; }, "material.stretch: ");
-  expect_invalid([](Scene& s) { s.material.bend = -1e-5; }, "material.bend: ");
+  expect_invalid([](Scene& s) { s.material.density = -0.187; }, "density: ");
+  expect_invalid([](Scene& s) { s.material.stretch = -1.0; }, "stretch: ");
+  expect_invalid([](Scene& s) { s.material.bend = -1e-5; }, "bend: ");
 }
 
 TEST(SceneValidate, RejectsUnknownPresetAndMotionNames) {
