@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -40,6 +41,24 @@ void for_each_stored_option(Options& o, Visit&& visit) {
   visit("padding_fraction", o.padding_fraction());
 }
 
+// FNV-1a (64 bit) over every parameter's values, in the model's parameter order: stored with
+// the weights, so that a file whose bytes changed (a bad copy, a disk error) is refused rather
+// than run with other weights. LibTorch's zip reader does not check its own CRCs.
+std::string parameter_checksum(const FNO2dImpl& model) {
+  std::uint64_t hash = 1469598103934665603ULL;
+  for (const auto& parameter : model.named_parameters()) {
+    const torch::Tensor values = parameter.value().detach().contiguous().to(torch::kFloat);
+    const auto* bytes = static_cast<const unsigned char*>(values.data_ptr());
+    for (std::int64_t k = 0; k < values.numel() * static_cast<std::int64_t>(sizeof(float)); ++k) {
+      hash ^= bytes[k];
+      hash *= 1099511628211ULL;
+    }
+  }
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
+  return text;
+}
+
 std::string shape_text(torch::IntArrayRef sizes) {
   std::ostringstream s;
   s << sizes;
@@ -74,9 +93,9 @@ torch::serialize::InputArchive open_archive(const std::string& path) {
     fail(path, std::string("not an fnopt FNO weights file (no \"") + kFormat + "\" format tag)");
   if (!archive.try_read("version", value) || !value.isInt())
     fail(path, "FNO weights file without a format version");
-  if (value.toInt() != kFnoFileVersion)
-    fail(path, "FNO weights format version " + std::to_string(value.toInt()) +
-                   ", this build reads version " + std::to_string(kFnoFileVersion));
+  if (value.toInt() < kFnoFirstReadableVersion || value.toInt() > kFnoFileVersion)
+    fail(path, "FNO weights format version " + std::to_string(value.toInt()) + ", this build reads versions " +
+                   std::to_string(kFnoFirstReadableVersion) + " to " + std::to_string(kFnoFileVersion));
   if (!archive.try_read("architecture", value) || !value.isString())
     fail(path, "FNO weights file without an architecture");
   if (value.toStringRef() != kArchitecture)
@@ -146,6 +165,14 @@ void read_parameters(torch::serialize::InputArchive& archive, const std::string&
                      shape_text(parameter.value().sizes()));
     parameter.value().copy_(value);
   }
+  // Version 2 on: the parameters must hash to the stored checksum.
+  c10::IValue version, checksum;
+  archive.try_read("version", version);
+  if (version.toInt() < 2) return;
+  if (!archive.try_read("checksum", checksum) || !checksum.isString())
+    fail(path, "FNO weights file without its checksum");
+  if (checksum.toStringRef() != parameter_checksum(model))
+    fail(path, "corrupt FNO weights file: the parameters do not match their checksum");
 }
 
 // Runs a read of `path`, turning any LibTorch error into one fnopt::Error.
@@ -173,6 +200,7 @@ void save_fno(const std::string& path, const FNO2d& model) {
   torch::serialize::OutputArchive parameters(archive.compilation_unit());
   model->save(parameters);
   archive.write("parameters", parameters);
+  archive.write("checksum", c10::IValue(parameter_checksum(*model)));
 
   // Readers never see a half-written file: write a sibling, then rename over the target.
   const std::string temporary = path + ".tmp." + std::to_string(::getpid());

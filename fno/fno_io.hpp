@@ -14,7 +14,10 @@
 
 namespace fnopt {
 
-inline constexpr int64_t kFnoFileVersion = 1;
+// Version 2 stores a checksum of the parameters, checked on load; version 1 files (no
+// checksum) are still read.
+inline constexpr int64_t kFnoFileVersion = 2;
+inline constexpr int64_t kFnoFirstReadableVersion = 1;
 
 void save_fno(const std::string& path, const FNO2d& model);
 

@@ -142,10 +142,47 @@ TEST_F(FnoWeightsFile, OtherLibTorchArchiveIsRejected) {
 }
 
 TEST_F(FnoWeightsFile, OtherFormatVersionIsRejected) {
+  const std::string file = path("v3.pt");
+  FNO2d model(small_options());
+  write_archive(file, "fnopt-fno", 3, "fno2d", model, model);
+  expect_rejected(file, "FNO weights format version 3, this build reads versions 1 to 2");
+}
+
+TEST_F(FnoWeightsFile, VersionOneFilesWithoutAChecksumStillLoad) {
+  const std::string file = path("v1.pt");
+  torch::manual_seed(3);
+  FNO2d model(small_options());
+  write_archive(file, "fnopt-fno", 1, "fno2d", model, model);
+  const FNO2d loaded = load_fno(file);
+  EXPECT_TRUE(torch::equal(loaded->parameters()[0], model->parameters()[0]));
+}
+
+TEST_F(FnoWeightsFile, AVersionTwoFileWithoutItsChecksumIsRejected) {
   const std::string file = path("v2.pt");
   FNO2d model(small_options());
   write_archive(file, "fnopt-fno", 2, "fno2d", model, model);
-  expect_rejected(file, "FNO weights format version 2, this build reads version 1");
+  expect_rejected(file, "FNO weights file without its checksum", false);
+}
+
+// Bytes changed inside the shipped model's weights (a bad copy): LibTorch's zip reader loads
+// them without a complaint; the stored checksum refuses them.
+TEST_F(FnoWeightsFile, ChangedBytesInTheShippedModelAreRejected) {
+  const std::string shipped = std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt";
+  ASSERT_NO_THROW(load_fno(shipped));
+  const std::string file = path("flipped.pt");
+  fs::copy_file(shipped, file);
+  std::fstream bytes(file, std::ios::in | std::ios::out | std::ios::binary);
+  const auto size = static_cast<std::streamoff>(fs::file_size(file));
+  for (std::streamoff at = size / 2; at < size / 2 + 4096; at += 64) {  // 64 bytes in the weights
+    char c = 0;
+    bytes.seekg(at);
+    bytes.read(&c, 1);
+    c = static_cast<char>(c ^ 0x5a);
+    bytes.seekp(at);
+    bytes.write(&c, 1);
+  }
+  bytes.close();
+  expect_rejected(file, "corrupt FNO weights file", false);
 }
 
 TEST_F(FnoWeightsFile, OtherArchitectureIsRejected) {
