@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "app/commands.hpp"
+#include "app/flag_errors.hpp"
 #include "app/scene_flags.hpp"
 #include "app/threads.hpp"
 #include "studies/material_fit.hpp"
@@ -60,7 +61,18 @@ void run_fit(FitFlags& flags) {
             "expected COEFFICIENT=LOW:HIGH, got '" + text + "'");
     flags.params.range(material_coefficient(name)) = range;
   }
-  flags.params.validate();
+  with_flag_names({{"fit.coefficients", "fit"},
+                   {"fit.initial_step", "initial-step"},
+                   {"fit.final_step", "final-step"},
+                   {"fit.max_evaluations", "max-evaluations"},
+                   {"fit.frames", "frames"},
+                   {"fit.chamfer_stride", "cd-stride"},
+                   {"chamfer.samples", "cd-samples"},
+                   {"fit.stretch_range", "range"},
+                   {"fit.shear_range", "range"},
+                   {"fit.bend_range", "range"},
+                   {"fit.damping_range", "range"}},
+                  [&] { flags.params.validate(); });
   const Material start = material_preset(flags.start);
   const auto references = load_references(flags.references);
   for (const auto& r : references)

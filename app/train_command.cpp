@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "app/commands.hpp"
+#include "app/flag_errors.hpp"
 #include "app/threads.hpp"
 #include "fno/fno_io.hpp"
 #include "optimizer/learned/meta_trainer.hpp"
@@ -114,11 +115,36 @@ void run_train(TrainFlags& flags) {
     double low = 0.0, high = 0.0;
     require(parse_named_interval(text, quantity, low, high), "range",
             "expected QUANTITY=LOW:HIGH, got '" + text + "'");
-    flags.options.pool.ranges.set(quantity, low, high);
+    with_flag_names({{"train.range", "range"}}, [&] { flags.options.pool.ranges.set(quantity, low, high); });
   }
-  flags.options.validate();
+  with_flag_names({{"train.steps", "steps"},
+                   {"train.batch", "batch"},
+                   {"train.environments", "envs"},
+                   {"train.resolution", "res"},
+                   {"train.max_age", "env-lifetime"},
+                   {"train.learning_rate", "lr"},
+                   {"train.decay_every", "decay-every"},
+                   {"train.clip_norm", "clip"},
+                   {"train.newton_weight", "newton-weight"},
+                   {"train.average_decay", "average-decay"},
+                   {"train.score_after_subspace_step", "score"},
+                   {"train.subspace", "subspace"},
+                   {"train.ranges.undamped_share", "undamped-share"},
+                   {"train.range", "range"},
+                   {"train.ranges.stretch", "range"},
+                   {"train.ranges.shear", "range"},
+                   {"train.ranges.bend", "range"},
+                   {"train.ranges.gravity", "range"},
+                   {"train.ranges.damping", "range"}},
+                  [&] { flags.options.validate(); });
   require(flags.validate_every > 0, "validate-every", "must be positive");
-  if (flags.validate) flags.validation.validate();
+  if (flags.validate)
+    with_flag_names({{"validate.resolution", "validate-res"},
+                     {"validate.frames", "validate-frames"},
+                     {"validate.iterations", "validate-iters"},
+                     {"validate.motions", "validate-motions"},
+                     {"validate.subspace", "validate-subspace"}},
+                    [&] { flags.validation.validate(); });
   const int threads = set_thread_count(flags.threads);
   require_writable_directory(flags.out, "out");
   const std::filesystem::path out(flags.out);
