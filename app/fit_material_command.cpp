@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "app/commands.hpp"
-#include "app/flag_errors.hpp"
+#include "util/flag_names.hpp"
 #include "app/scene_flags.hpp"
 #include "app/threads.hpp"
 #include "studies/material_fit.hpp"

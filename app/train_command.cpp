@@ -14,7 +14,7 @@
 #include <sstream>
 
 #include "app/commands.hpp"
-#include "app/flag_errors.hpp"
+#include "util/flag_names.hpp"
 #include "app/threads.hpp"
 #include "fno/fno_io.hpp"
 #include "optimizer/learned/meta_trainer.hpp"

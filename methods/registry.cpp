@@ -14,6 +14,7 @@
 #include "optimizer/interpolated_optimizer.hpp"
 #include "optimizer/learned/learned_optimizer.hpp"
 #include "util/error.hpp"
+#include "util/flag_names.hpp"
 #include "util/parse_text.hpp"
 
 namespace fnopt {
@@ -47,10 +48,14 @@ const std::vector<OptimizerEntry>& optimizer_table() {
   static const std::vector<OptimizerEntry> table = {
       {"pqn", {BudgetKind::Iterations, false, false, 1.5, 10},
        [](const OptimizerChoice& c) {
-         PqnParams params;
-         params.history = c.pqn_history;
-         params.matrix = parse_pqn_matrix_kind(c.pqn_matrix);
-         return std::make_unique<PqnOptimizer>(params);
+         std::unique_ptr<InnerOptimizer> pqn;
+         with_flag_names({{"pqn.history", "pqn-history"}, {"pqn.matrix", "pqn-matrix"}}, [&] {
+           PqnParams params;
+           params.history = c.pqn_history;
+           params.matrix = parse_pqn_matrix_kind(c.pqn_matrix);
+           pqn = std::make_unique<PqnOptimizer>(params);
+         });
+         return pqn;
        }},
       {"newton", {BudgetKind::ToTolerance, true, false, 8.0, 0},
        [](const OptimizerChoice&) { return std::make_unique<NewtonOptimizer>(); }},

@@ -6,7 +6,7 @@
 
 #include "util/error.hpp"
 
-namespace fnopt::app {
+namespace fnopt {
 
 // Runs check(); an Error whose field (the text before the first ':') is a key of `flag_of`
 // is re-thrown with that field replaced by the flag's name.
@@ -23,4 +23,4 @@ void with_flag_names(const std::map<std::string, std::string>& flag_of, Check&& 
   }
 }
 
-}  // namespace fnopt::app
+}  // namespace fnopt
