@@ -9,6 +9,8 @@
 #include "baselines/newton.hpp"
 #include "optimizer/rollout.hpp"
 #include "fno/fno_bench.hpp"
+#include "fno/fno_io.hpp"
+#include "methods/registry.hpp"
 #include "util/error.hpp"
 #include "util/parse_text.hpp"
 #include "util/progress_bar.hpp"
@@ -23,6 +25,7 @@ struct BenchFlags {
   int threads = 0;
   bool warm_start = false;
   std::string preconditioner = "factor";
+  std::string model;
 };
 
 std::vector<int> parse_resolutions(const std::string& list) {
@@ -80,7 +83,9 @@ void run_bench(const BenchFlags& flags) {
   if (flags.what == "newton" || flags.what == "all") bench_newton(flags, threads);
   if (flags.what == "fno" || flags.what == "all") {
     std::ostringstream table;
-    run_fno_bench(table, threads);
+    const std::string model = flags.model.empty() ? shipped_model_path() : flags.model;
+    std::printf("FNO of %s\n", model.c_str());
+    run_fno_bench(table, threads, load_fno_options(model), parse_resolutions(flags.resolutions));
     std::printf("%s", table.str().c_str());
   }
   if (flags.what != "newton" && flags.what != "fno" && flags.what != "all")
@@ -92,6 +97,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
   CLI::App* command = app.add_subcommand("bench", "timing tables: the Newton step, the FNO passes");
   command->add_option("what", flags->what, "newton, fno or all")->capture_default_str();
   command->add_option("--res", flags->resolutions, "resolutions, comma-separated")->capture_default_str();
+  command->add_option("--model", flags->model, "fno: the model whose shape is timed (default: the shipped model)");
   command->add_option("--frames", flags->frames, "frames per resolution (newton)")->capture_default_str();
   add_threads_flag(*command, flags->threads, "threads (default: all cores)");
   command->add_option("--preconditioner", flags->preconditioner,

@@ -186,11 +186,12 @@ std::string run_key(const std::string& method, const std::string& budget, const 
 
 const std::vector<std::string> kColumns = {
     "method", "N", "lr", "lr_source", "resolution", "motion", "frames", "threads", "ms_per_frame",
-    "cpu_share", "ms_per_frame_cpu", "iterations_per_frame", "e_cd_x1e3", "e_3d_x1e2", "step_error_mean", "step_error_median", "max_strain",
+    "cpu_share", "ms_per_frame_cpu", "iterations_per_frame", "e_cd_x1e3", "e_3d_x1e2", "step_error_mean", "step_error_median", "max_strain_pct",
     "diverged", "frontier", "e_cd_arcsim_x1e3", "note"};
 
 std::vector<std::string> csv_row(const RunResult& r, int threads) {
-  auto num = [](double v, int digits = 4) { return CsvTable::number(v, digits); };
+  // Undefined values (a diverged run's errors) are empty cells, not "nan".
+  auto num = [](double v, int digits = 4) { return std::isnan(v) ? std::string() : CsvTable::number(v, digits); };
   return {r.spec.method,
           budget_text(r.spec),
           uses_learning_rate(r.spec.method) ? num(r.lr) : "",
@@ -207,7 +208,7 @@ std::vector<std::string> csv_row(const RunResult& r, int threads) {
           num(1e2 * r.e_3d),
           num(r.step_mean),
           num(r.step_median),
-          num(r.strain),
+          num(100.0 * r.strain),
           r.failed ? "error" : (r.diverged ? "yes" : "no"),
           r.frontier ? "yes" : "no",
           std::isnan(r.e_cd_arcsim) ? "" : num(1e3 * r.e_cd_arcsim),
@@ -237,7 +238,7 @@ RunResult result_of_row(const RunSpec& spec, const std::vector<std::string>& row
   r.e_3d = 1e-2 * num("e_3d_x1e2");
   r.step_mean = num("step_error_mean");
   r.step_median = num("step_error_median");
-  r.strain = num("max_strain");
+  r.strain = 1e-2 * num("max_strain_pct");
   r.e_cd_arcsim = 1e-3 * num("e_cd_arcsim_x1e3");
   r.diverged = cell("diverged") == "yes";
   r.failed = cell("diverged") == "error";
@@ -405,10 +406,19 @@ void run_compare(const CompareFlags& flags) {
                     (std::count(methods.begin(), methods.end(), "fnopt") > 0 &&
                      std::any_of(methods.begin(), methods.end(), is_interpolated_method));
   const std::size_t total_runs = runs.size() * scenes.size();
+  std::set<std::size_t> reference_states;  // per-step samples of the references, as drawn
   auto write_outputs = [&](const std::string& status) {
+    // Frames and reference states as the rows have them, which a --resume may mix.
+    std::set<int> frames;
+    for (const RunResult& r : results) frames.insert(r.frames_requested);
+    if (frames.empty()) frames.insert(base.frames);
+    std::vector<std::string> frame_texts, state_texts;
+    for (int f : frames) frame_texts.push_back(std::to_string(f));
+    for (std::size_t n : reference_states) state_texts.push_back(std::to_string(n));
     std::vector<std::string> notes = {
-        std::to_string(base.frames) + " frames at dt = " + dt_text(base.dt) + " s; N = iterations per time step; " +
-            "errors vs a Newton rollout converged to 1e-9; per-step error on " + std::to_string(flags.step_samples) +
+        joined(frame_texts, " or ") + " frames" + (frames.size() > 1 ? " (see each row)" : "") + " at dt = " +
+            dt_text(base.dt) + " s; N = iterations per time step; errors vs a Newton rollout converged to 1e-9; " +
+            "per-step error on " + (state_texts.empty() ? std::to_string(flags.step_samples) : joined(state_texts, " or ")) +
             " reference states; e_CD with " + std::to_string(chamfer.samples) + " points per mesh",
         "motions: " + joined(motion_names_used)};
     if (!lr_notes.empty()) notes.push_back("learning rates (swept on the first scene): " + joined(lr_notes));
@@ -468,6 +478,7 @@ void run_compare(const CompareFlags& flags) {
                        fresh_reference->rollout.divergence.c_str());
       }
       bench_storage = std::make_unique<StepErrorBench>(scene, reference, flags.step_samples);
+      reference_states.insert(bench_storage->steps().size());
     } else if (!fs::exists(cache)) {
       done_units += static_cast<long long>(scene.frames * cost_weight("newton", 0, 0));
     }
@@ -560,10 +571,12 @@ void run_compare(const CompareFlags& flags) {
         r.diverged = rollout.diverged;
         if (rollout.diverged) r.note = rollout.divergence;
         const TrajectoryFrames frames = frames_of(rollout);
+        // A diverged run has no error to report: over its first frames (the start is exact) it
+        // would look better than every run that finished. Its error columns stay empty.
         const TrajectoryComparison c = compare_trajectories(reference, frames, -1.0, comparison_options);
-        r.e_cd = c.chamfer;
-        r.e_3d = c.e3d;
-        if (arcsim) {
+        r.e_cd = rollout.diverged ? NAN : c.chamfer;
+        r.e_3d = rollout.diverged ? NAN : c.e3d;
+        if (arcsim && !rollout.diverged) {
           TrajectoryComparisonOptions o = comparison_options;
           r.e_cd_arcsim = compare_trajectories(*arcsim, frames, -1.0, o).chamfer;
         }

@@ -132,7 +132,7 @@ PlotFigure make_compare_plot(const std::vector<RunResult>& results, const std::v
   figure.title = "fnopt compare: error against run time (log-log; mean over " + std::to_string(motions.size()) +
                  " motion" + (motions.size() == 1 ? "" : "s") + ")";
   figure.notes = notes;
-  figure.marked_meaning = "diverged (in at least one motion; error over the frames before it)";
+  figure.marked_meaning = "diverged in at least one motion (error: the mean over the motions it finished)";
   const bool have_arcsim = std::any_of(results.begin(), results.end(), [](const RunResult& r) {
     return std::isfinite(r.e_cd_arcsim);
   });
@@ -293,7 +293,7 @@ PlotFigure superres_figure(const std::vector<RunResult>& results, const std::vec
                  "interpolate)";
   figure.notes = report.notes;
   figure.notes.push_back("x: vertices of the fine grid (log); labels: the resolution (RxC = rows x columns)");
-  figure.marked_meaning = "diverged (error over the frames before it)";
+  figure.marked_meaning = "diverged (no error: it did not finish)";
   figure.columns = 2;
   struct Metric {
     std::string title, y_label;

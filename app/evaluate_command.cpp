@@ -99,6 +99,9 @@ void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
 
   std::printf("reference: %s\n", describe(flags.reference, reference).c_str());
   std::printf("rollout:   %s\n", describe(flags.rollout, rollout).c_str());
+  const std::string divergence = read_rollout_provenance(flags.rollout).divergence;
+  if (!divergence.empty())
+    std::printf("diverged:  %s; the errors and the strain below cover the frames before it\n", divergence.c_str());
   std::printf("matched:   %s\n", c.describe_matching().c_str());
   if (c.matches.empty()) throw Error("evaluate: the two trajectories have no frames at matching times");
   if (options.chamfer_enabled)
@@ -111,7 +114,7 @@ void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
   else
     std::printf("e_3D x 10^2 = n/a      (no vertex correspondence: %dx%d against %dx%d)\n", rollout.rows,
                 rollout.cols, reference.rows, reference.cols);
-  std::printf("max edge strain of the rollout = %.2f %%\n", 100 * c.max_strain);
+  std::printf("max edge strain of the rollout's frames = %.2f %%\n", 100 * c.max_strain);
   if (!flags.per_frame.empty()) {
     write_per_frame_table(flags.per_frame, c);
     std::printf("per-frame errors: %s\n", flags.per_frame.c_str());

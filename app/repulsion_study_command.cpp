@@ -66,7 +66,7 @@ const std::vector<std::string>& csv_columns() {
       "preset", "repulsion", "optimizer", "res", "frames", "frames_done", "ms_per_frame", "iterations_per_step",
       "converged_steps", "mean_energy_J", "max_energy_J", "share_above_1e-5J", "share_above_1e-4J",
       "share_above_1e-3J", "max_pairs_half_delta", "max_pairs_quarter_delta", "share_frames_quarter_delta",
-      "min_distance_over_delta", "max_strain", "diverged"};
+      "min_distance_over_delta", "max_strain_pct", "diverged"};
   return columns;
 }
 
@@ -91,7 +91,7 @@ std::vector<std::string> csv_row(const StudyRun& r, const StudyFlags& flags) {
           std::to_string(s.max_pairs_quarter),
           CsvTable::number(s.frames_with_quarter, 4),
           CsvTable::number(s.min_distance, 4),
-          CsvTable::number(r.rollout.max_strain(), 4),
+          CsvTable::number(100.0 * r.rollout.max_strain(), 4),
           r.rollout.diverged ? "yes" : "no"};
 }
 

@@ -85,13 +85,14 @@ FNO2dStageTimes stage_times(FNO2d& model, const torch::Tensor& x) {
   return best;
 }
 
-// Forward+backward of one spectral convolution with FNOpt's width and modes, in ms.
-double spectral_layer_ms(const BenchClock& clock, int64_t batch, int64_t n,
+// Forward+backward of one spectral convolution with the model's width and modes, in ms.
+double spectral_layer_ms(const BenchClock& clock, const FNO2dOptions& options, int64_t batch, int64_t n,
                          SpectralBackend backend) {
   torch::manual_seed(0);
-  SpectralConv2d layer(SpectralConv2dOptions(64, 64));
-  const torch::Tensor x = torch::randn({batch, 64, n, n}).requires_grad_(true);
-  const torch::Tensor probe = torch::randn({batch, 64, n, n});
+  const int64_t width = options.width();
+  SpectralConv2d layer(SpectralConv2dOptions(width, width).modes_x(options.modes_x()).modes_y(options.modes_y()));
+  const torch::Tensor x = torch::randn({batch, width, n, n}).requires_grad_(true);
+  const torch::Tensor probe = torch::randn({batch, width, n, n});
   return best_ms(clock, [&] {
     x.mutable_grad() = torch::Tensor();
     layer->zero_grad();
@@ -107,10 +108,9 @@ std::string percent(double part, double whole) {
 
 }  // namespace
 
-void run_fno_bench(std::ostream& out, int threads) {
+void run_fno_bench(std::ostream& out, int threads, const FNO2dOptions& options, const std::vector<int>& grids) {
   torch::set_num_threads(std::max(1, threads));
   const BenchClock clock(torch::get_num_threads() == 1);
-  const FNO2dOptions options;
   out << "FNO2d forward / forward+backward, float32, " << options.fourier_layers()
       << " Fourier layers, width " << options.width() << ", modes " << options.modes_x() << "x"
       << options.modes_y() << ", lifting " << options.lifting_channels() << ", projection "
@@ -126,7 +126,7 @@ void run_fno_bench(std::ostream& out, int threads) {
                 "grid", "batch", "FFTW", "torch.fft", "FFTW", "torch.fft", "speedup", "lift",
                 "spect", "skip", "proj", "other");
   out << line;
-  for (const int64_t n : {32, 64, 100}) {
+  for (const int64_t n : grids) {
     for (const int64_t batch : {1, 3}) {
       torch::manual_seed(0);
       FNO2d model(options);
@@ -148,14 +148,15 @@ void run_fno_bench(std::ostream& out, int threads) {
     }
   }
 
-  out << "\nOne spectral convolution alone (64 -> 64 channels, modes 8x8), forward+backward ms\n";
+  out << "\nOne spectral convolution alone (" << options.width() << " -> " << options.width() << " channels, modes "
+      << options.modes_x() << "x" << options.modes_y() << "), forward+backward ms\n";
   std::snprintf(line, sizeof line, "%-8s %5s | %9s %9s %8s\n", "grid", "batch", "FFTW",
                 "torch.fft", "speedup");
   out << line;
-  for (const int64_t n : {32, 64, 100}) {
+  for (const int64_t n : grids) {
     for (const int64_t batch : {1, 3}) {
-      const double fftw = spectral_layer_ms(clock, batch, n, SpectralBackend::fftw);
-      const double tfft = spectral_layer_ms(clock, batch, n, SpectralBackend::torch_fft);
+      const double fftw = spectral_layer_ms(clock, options, batch, n, SpectralBackend::fftw);
+      const double tfft = spectral_layer_ms(clock, options, batch, n, SpectralBackend::torch_fft);
       const std::string grid = std::to_string(n) + "x" + std::to_string(n);
       std::snprintf(line, sizeof line, "%-8s %5lld | %9.2f %9.2f %7.2fx\n", grid.c_str(),
                     static_cast<long long>(batch), fftw, tfft, tfft / fftw);

@@ -100,26 +100,43 @@ std::vector<int> Hdf5File::read_ints(const std::string& name) const {
   return v;
 }
 
-void Hdf5File::set_attribute(const std::string& name, const std::string& value) {
-  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-  H5Tset_size(type.get(), std::max<std::size_t>(1, value.size()));
+void Hdf5File::write_attribute(const std::string& name, hid_t file_type, hid_t memory_type, const void* value,
+                               const std::string& object) {
+  Handle target(H5Oopen(file_, object.c_str(), H5P_DEFAULT), H5Oclose);
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-  Handle attr(H5Acreate2(file_, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-  if (!attr.valid() || H5Awrite(attr.get(), type.get(), value.c_str()) < 0)
-    throw Error(path_ + ": cannot write attribute '" + name + "'");
+  Handle attr(target.valid() ? H5Acreate2(target.get(), name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT)
+                             : -1,
+              H5Aclose);
+  if (!attr.valid() || H5Awrite(attr.get(), memory_type, value) < 0)
+    throw Error(path_ + ": cannot write attribute '" + name + "' of '" + object + "'");
 }
 
-void Hdf5File::set_attribute(const std::string& name, double value) {
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-  Handle attr(H5Acreate2(file_, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-  if (!attr.valid() || H5Awrite(attr.get(), H5T_NATIVE_DOUBLE, &value) < 0)
-    throw Error(path_ + ": cannot write attribute '" + name + "'");
+void Hdf5File::set_attribute(const std::string& name, const std::string& value, const std::string& object) {
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type.get(), std::max<std::size_t>(1, value.size()));
+  write_attribute(name, type.get(), type.get(), value.c_str(), object);
+}
+
+void Hdf5File::set_attribute(const std::string& name, double value, const std::string& object) {
+  write_attribute(name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value, object);
+}
+
+void Hdf5File::set_attribute(const std::string& name, int value, const std::string& object) {
+  write_attribute(name, H5T_STD_I32LE, H5T_NATIVE_INT, &value, object);
+}
+
+int Hdf5File::int_attribute(const std::string& name) const {
+  Handle attr(H5Aopen(file_, name.c_str(), H5P_DEFAULT), H5Aclose);
+  int value = 0;
+  if (!attr.valid() || H5Aread(attr.get(), H5T_NATIVE_INT, &value) < 0)
+    throw Error(path_ + ": cannot read attribute '" + name + "'");
+  return value;
 }
 
 bool Hdf5File::has_attribute(const std::string& name) const { return H5Aexists(file_, name.c_str()) > 0; }
 
-std::string Hdf5File::string_attribute(const std::string& name) const {
-  Handle attr(H5Aopen(file_, name.c_str(), H5P_DEFAULT), H5Aclose);
+std::string Hdf5File::string_attribute(const std::string& name, const std::string& object) const {
+  Handle attr(H5Aopen_by_name(file_, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
   if (!attr.valid()) throw Error(path_ + ": missing attribute '" + name + "'");
   Handle type(H5Aget_type(attr.get()), H5Tclose);
   if (H5Tget_class(type.get()) != H5T_STRING) throw Error(path_ + ": attribute '" + name + "' is not a string");

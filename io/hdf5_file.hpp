@@ -28,15 +28,20 @@ class Hdf5File {
   std::vector<double> read_doubles(const std::string& name) const;  // converts on read
   std::vector<int> read_ints(const std::string& name) const;
 
-  void set_attribute(const std::string& name, const std::string& value);
-  void set_attribute(const std::string& name, double value);
+  // Attributes of the root group, or of the dataset `object` (e.g. a unit).
+  void set_attribute(const std::string& name, const std::string& value, const std::string& object = "/");
+  void set_attribute(const std::string& name, double value, const std::string& object = "/");
+  void set_attribute(const std::string& name, int value, const std::string& object = "/");
   bool has_attribute(const std::string& name) const;
-  std::string string_attribute(const std::string& name) const;
+  std::string string_attribute(const std::string& name, const std::string& object = "/") const;
+  int int_attribute(const std::string& name) const;  // converts on read
 
  private:
   void write_raw(const std::string& name, const std::vector<hsize_t>& dims, hid_t file_type,
                  hid_t memory_type, const void* data);
   void read_raw(const std::string& name, hid_t memory_type, void* data) const;
+  void write_attribute(const std::string& name, hid_t file_type, hid_t memory_type, const void* value,
+                       const std::string& object);
   std::size_t element_count(const std::string& name) const;
 
   std::string path_;

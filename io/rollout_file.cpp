@@ -1,5 +1,8 @@
 #include "io/rollout_file.hpp"
 
+#include <utility>
+#include <vector>
+
 #include "io/hdf5_file.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
@@ -31,10 +34,12 @@ void write_rollout_file(const std::string& path, const RolloutResult& rollout, c
     file.write("faces", {static_cast<hsize_t>(faces.rows()), 3}, faces.data());
     file.write("times_s", {T}, rollout.times.data());
 
-    const hsize_t S = rollout.steps.size();
+    // One entry per step that produced a kept frame (S = T - 1). A step that diverged kept no
+    // frame: it is described by the attributes diverged_step and divergence, not by NaNs here.
+    const hsize_t S = T - 1;
     auto column = [&](auto member) {
       std::vector<double> values;
-      for (const auto& s : rollout.steps) values.push_back(s.*member);
+      for (hsize_t k = 0; k < S; ++k) values.push_back(rollout.steps[k].*member);
       return values;
     };
     file.write("step_wall_ms", {S}, column(&StepRecord::wall_ms).data());
@@ -45,20 +50,39 @@ void write_rollout_file(const std::string& path, const RolloutResult& rollout, c
     file.write("step_max_strain", {S}, column(&StepRecord::max_strain).data());
     file.write("step_energy", {S}, column(&StepRecord::energy).data());
     std::vector<int> iterations, status;
-    for (const auto& s : rollout.steps) {
-      iterations.push_back(s.iterations);
-      status.push_back(static_cast<int>(s.status));
+    for (hsize_t k = 0; k < S; ++k) {
+      iterations.push_back(rollout.steps[k].iterations);
+      status.push_back(static_cast<int>(rollout.steps[k].status));
     }
     file.write("step_iterations", {S}, iterations.data());
     file.write("step_status", {S}, status.data());
+    std::string legend;
+    for (int k = 0; k <= static_cast<int>(SolveStatus::PrecisionLimit); ++k)
+      legend += (k ? ", " : "") + std::to_string(k) + " " + to_string(static_cast<SolveStatus>(k));
+    file.set_attribute("legend", legend, "step_status");
+    for (const auto& [dataset, unit] : std::vector<std::pair<const char*, const char*>>{
+             {"positions", "m"},
+             {"handle_positions", "m"},
+             {"rest_positions", "m"},
+             {"times_s", "s"},
+             {"step_wall_ms", "ms"},
+             {"step_loss", "J (L(a) of the step's objective, relative to x^)"},
+             {"step_initial_loss", "J"},
+             {"step_gradient_norm", "J s^2/m (|dL/da| over the free dofs)"},
+             {"step_initial_gradient_norm", "J s^2/m"},
+             {"step_max_strain", "fraction (|e|/h - 1 of the longest edge)"},
+             {"step_energy", "J (kinetic + potential after the step)"}})
+      file.set_attribute("unit", std::string(unit), dataset);
 
-    file.set_attribute("rows", static_cast<double>(g.rows));
-    file.set_attribute("cols", static_cast<double>(g.cols));
+    file.set_attribute("rows", g.rows);
+    file.set_attribute("cols", g.cols);
     file.set_attribute("dt", rollout.dt);
+    file.set_attribute("dt_unit", std::string("s"));
     file.set_attribute("scene", scene_text);
     file.set_attribute("optimizer", optimizer_settings);
     file.set_attribute("fnopt_version", std::string(FNOPT_VERSION));
-    file.set_attribute("diverged", rollout.diverged ? 1.0 : 0.0);
+    file.set_attribute("diverged", rollout.diverged ? 1 : 0);
+    file.set_attribute("diverged_step", rollout.diverged ? static_cast<int>(rollout.steps.size()) : 0);
     file.set_attribute("divergence", rollout.divergence);
   });
 }
@@ -99,7 +123,7 @@ Scene read_rollout_scene(const std::string& path) {
 RolloutProvenance read_rollout_provenance(const std::string& path) {
   const Hdf5File file(path, Hdf5File::Mode::Read);
   auto text = [&](const char* name) { return file.has_attribute(name) ? file.string_attribute(name) : std::string(); };
-  return {text("optimizer"), text("fnopt_version")};
+  return {text("optimizer"), text("fnopt_version"), text("divergence")};
 }
 
 }  // namespace fnopt

@@ -6,11 +6,13 @@
 //   rest_positions     float32 [R, C, 3]
 //   faces              int32   [2(R-1)(C-1), 3]
 //   times_s            float64 [T]
-// plus, for fnopt rollouts: handle_vertices int32 [H] and per step (T-1 of them, or fewer if
-// it diverged) step_wall_ms, step_loss, step_initial_loss, step_gradient_norm,
-// step_initial_gradient_norm, step_max_strain, step_energy (float64), step_iterations and
-// step_status (int32, SolveStatus order); attributes rows, cols, dt, scene (the resolved scene
-// file text), optimizer (its settings), fnopt_version, diverged, divergence.
+// plus, for fnopt rollouts: handle_vertices int32 [H] and per step that produced a frame (T-1)
+// step_wall_ms, step_loss, step_initial_loss, step_gradient_norm, step_initial_gradient_norm,
+// step_max_strain, step_energy (float64), step_iterations and step_status (int32, SolveStatus
+// order, spelled out in its `legend` attribute); every dataset with a physical value has a
+// `unit` attribute. Root attributes: rows, cols (int), dt [s], scene (the resolved scene file
+// text), optimizer (its settings), fnopt_version, diverged (0/1), diverged_step (the step that
+// diverged, 1-based, 0 if none: it kept no frame) and divergence (why, with its strain).
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -43,6 +45,7 @@ Scene read_rollout_scene(const std::string& path);
 // missing). Throws Error naming the file if it cannot be read.
 struct RolloutProvenance {
   std::string optimizer_settings, version;
+  std::string divergence;  // why it diverged, "" if it did not
 };
 RolloutProvenance read_rollout_provenance(const std::string& path);
 

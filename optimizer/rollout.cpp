@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <chrono>
+#include <cstdio>
 #include <sstream>
 
 #include "boundary/dirichlet.hpp"
@@ -32,6 +33,17 @@ int RolloutResult::total_iterations() const {
 int RolloutResult::converged_steps() const {
   return static_cast<int>(std::count_if(steps.begin(), steps.end(), [](const StepRecord& s) { return is_converged(s.status); }));
 }
+
+namespace {
+
+// A strain as on the console: "318 %".
+std::string percent_text(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.0f %%", 100.0 * fraction);
+  return text;
+}
+
+}  // namespace
 
 double ms_per_frame(const RolloutResult& rollout) {
   const int n = static_cast<int>(rollout.steps.size());
@@ -98,8 +110,8 @@ RolloutResult run_rollout(const Scene& scene, InnerOptimizer& optimizer, const R
     if (!finite || record.max_strain > options.divergence_strain) {
       std::ostringstream why;
       why << "diverged at step " << step + 1 << " (t = " << t_next << " s): "
-          << (finite ? "edge strain " + std::to_string(record.max_strain) + " above the limit "
-                           + std::to_string(options.divergence_strain)
+          << (finite ? "edge strain " + percent_text(record.max_strain) + " above the limit " +
+                           percent_text(options.divergence_strain)
                      : std::string("non-finite state"));
       result.diverged = true;
       result.divergence = why.str();

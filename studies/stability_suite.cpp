@@ -255,7 +255,7 @@ StabilityRow stability_row(const std::string& case_name, const StabilityMethod& 
 const std::vector<std::string>& stability_columns() {
   static const std::vector<std::string> columns = {
       "case",          "method",         "N",          "outcome",      "frames",           "diverged_step",
-      "max_strain",    "energy_growth",  "e_3d_x1e2",  "ms_per_frame", "iterations_per_frame",
+      "max_strain_pct", "energy_growth",  "e_3d_x1e2",  "ms_per_frame", "iterations_per_frame",
       "unconverged_steps", "unconverged_statuses", "reason"};
   return columns;
 }
@@ -274,7 +274,7 @@ std::vector<std::string> stability_csv_row(const StabilityRow& r) {
           to_string(r.outcome),
           std::to_string(r.frames_done) + "/" + std::to_string(r.frames_requested),
           r.diverged_step > 0 ? std::to_string(r.diverged_step) : "",
-          cell(r.max_strain),
+          cell(100.0 * r.max_strain),
           cell(r.energy_growth),
           cell(1e2 * r.e3d),
           cell(r.ms_per_frame),
@@ -305,7 +305,7 @@ StabilityRow stability_row_from_csv(const std::vector<std::string>& cells) {
   const auto frames = split(cells[4], '/');
   if (frames.size() == 2) parse_int(frames[0], r.frames_done), parse_int(frames[1], r.frames_requested);
   if (!cells[5].empty()) parse_int(cells[5], r.diverged_step);
-  r.max_strain = number_or_nan(cells[6]);
+  r.max_strain = 1e-2 * number_or_nan(cells[6]);
   r.energy_growth = number_or_nan(cells[7]);
   r.e3d = 1e-2 * number_or_nan(cells[8]);
   r.ms_per_frame = number_or_nan(cells[9]);
@@ -419,10 +419,13 @@ PlotFigure stability_plot(const std::vector<StabilityRow>& rows, const std::vect
   struct Metric {
     std::string title, y_label;
     double StabilityRow::*value;
+    double scale;
   };
+  // Strain in percent, as on the console and in report.md.
   const std::vector<Metric> metrics = {
-      {"max edge strain (a rollout stops above 300 %)", "max edge strain (|e|/h - 1)", &StabilityRow::max_strain},
-      {"energy growth (1 = the Newton reference)", "energy growth", &StabilityRow::energy_growth}};
+      {"max edge strain (a rollout stops above 300 %)", "max edge strain [%] (100 (|e|/h - 1))", &StabilityRow::max_strain,
+       100.0},
+      {"energy growth (1 = the Newton reference)", "energy growth", &StabilityRow::energy_growth, 1.0}};
   for (const Metric& metric : metrics) {
     PlotPanel panel;
     panel.title = metric.title;
@@ -436,7 +439,7 @@ PlotFigure stability_plot(const std::vector<StabilityRow>& rows, const std::vect
       for (std::size_t k = 0; k < cases.size(); ++k)
         for (const StabilityRow& r : rows)
           if (r.method == method && r.case_name == cases[k].name)
-            series.points.push_back({static_cast<double>(k + 1), r.*metric.value, "",
+            series.points.push_back({static_cast<double>(k + 1), metric.scale * (r.*metric.value), "",
                                      r.outcome != StabilityOutcome::Finished});
       if (!series.points.empty()) panel.series.push_back(series);
     }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/app/run_fnopt.hpp"
+#include "tests/boundary/temp_dir.hpp"
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -12,8 +13,19 @@
 #include <fstream>
 #include <memory>
 #include <sstream>
+#include <string>
+#include <vector>
 
 namespace {
+
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  std::istringstream in(line);
+  while (std::getline(in, cell, ',')) cells.push_back(cell);
+  if (!line.empty() && line.back() == ',') cells.push_back("");
+  return cells;
+}
 
 TEST(CompareCli, ANonSquareComparisonWritesCsvPlotAndReport) {
   const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_compare_cli";
@@ -56,6 +68,47 @@ TEST(CompareCli, ANonSquareComparisonWritesCsvPlotAndReport) {
   EXPECT_EQ(std::count(last.begin(), last.end(), '\n'), 4) << last;
   for (const char* row : {"newton,", "gd,5,", "lbfgs,5,"}) EXPECT_NE(last.find(row), std::string::npos) << row << "\n" << last;
   std::filesystem::remove_all(dir);
+}
+
+// A run that diverged has no error to show (over its first frames it would look better than
+// every run that finished), is not on the frontier, and is marked; strain is in percent.
+TEST(CompareCli, ADivergedRunLeavesItsErrorsEmptyAndIsOffTheFrontier) {
+  const fnopt::testing::TempDir tmp;
+  const auto dir = tmp.path() / "c";
+  const CommandResult r = run_fnopt("compare --res 8 --frames 6 --optimizers adam,pqn,newton --iters 5 --lr-adam 1000 "
+                                    "--threads 1 --step-samples 2 --cd-samples 200 --out " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string csv = read_text(dir / "compare.csv");
+  EXPECT_NE(csv.find(",max_strain_pct,diverged,frontier,"), std::string::npos) << csv;
+  std::istringstream lines(csv);
+  std::string line;
+  std::getline(lines, line);
+  const std::vector<std::string> header = split_csv(line);
+  auto cell = [&](const std::vector<std::string>& row, const std::string& column) {
+    return row.at(std::find(header.begin(), header.end(), column) - header.begin());
+  };
+  bool saw_adam = false;
+  while (std::getline(lines, line)) {
+    const std::vector<std::string> row = split_csv(line);
+    if (row[0] == "adam") {
+      saw_adam = true;
+      EXPECT_EQ(cell(row, "frames"), "1/6") << line;  // the frames it kept
+      EXPECT_EQ(cell(row, "e_cd_x1e3"), "") << line;
+      EXPECT_EQ(cell(row, "e_3d_x1e2"), "") << line;
+      EXPECT_EQ(cell(row, "diverged"), "yes") << line;
+      EXPECT_EQ(cell(row, "frontier"), "no") << line;
+      EXPECT_GT(std::stod(cell(row, "max_strain_pct")), 300.0) << line;
+    }
+    if (row[0] == "pqn") {
+      EXPECT_EQ(cell(row, "frontier"), "yes") << line;
+    }
+  }
+  EXPECT_TRUE(saw_adam) << csv;
+  const std::string report = read_text(dir / "report.md");
+  EXPECT_NE(report.find("The error-time frontier"), std::string::npos) << report;
+  EXPECT_NE(report.find("6 frames at dt"), std::string::npos) << report;
+  EXPECT_NE(report.find("per-step error on 2 reference states"), std::string::npos) << report;
+  EXPECT_NE(r.output.find("fastest at 8^2"), std::string::npos) << r.output;
 }
 
 TEST(CompareCli, AMalformedResolutionIsOneClearErrorLine) {

@@ -71,4 +71,19 @@ TEST(EvaluateCli, PerStepNeedsAnOptimizer) {
   EXPECT_NE(r.output.find("--per-step requires --optimizer"), std::string::npos) << r.output;
 }
 
+// A rollout that diverged: evaluate says so, and where its numbers come from.
+TEST(EvaluateCli, SaysThatARolloutDivergedAndWhatItsNumbersCover) {
+  const fnopt::testing::TempDir tmp;
+  const auto rollout = (tmp.path() / "adam.h5").string();
+  const CommandResult sim =
+      run_fnopt("simulate --optimizer adam --lr 1000 --res 8 --frames 6 --threads 1 --out " + rollout);
+  ASSERT_EQ(sim.status, 2) << sim.output;  // simulate reports the divergence as its error
+  EXPECT_NE(sim.output.find("edge strain"), std::string::npos) << sim.output;
+  EXPECT_NE(sim.output.find("% above the limit 300 %"), std::string::npos) << sim.output;
+  const CommandResult r = run_fnopt("evaluate --no-chamfer --reference " + rollout + " " + rollout);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("diverged:  diverged at step 1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("max edge strain of the rollout's frames"), std::string::npos) << r.output;
+}
+
 }  // namespace

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <cmath>
 #include <fstream>
 
 #include "io/hdf5_file.hpp"
@@ -63,6 +64,35 @@ TEST(RolloutFile, WriteReadRoundTrip) {
   EXPECT_EQ(file.read_floats("handle_positions")[16], 2.0f);  // frame 2, handle 1, y
   // Only the final file is left: the temporary name was renamed.
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator{}), 1);
+}
+
+// A rollout stopped by a divergence: the step that diverged kept no frame, so the per-step
+// datasets end with the last kept frame (finite everywhere) and the attributes say why.
+TEST(RolloutFile, ADivergedRolloutStoresNoNaNAndSaysWhereItStopped) {
+  const auto dir = temp_dir("diverged");
+  const std::string path = (dir / "r.h5").string();
+  RolloutResult r = small_rollout();
+  StepRecord blown;
+  blown.status = SolveStatus::NonFinite;
+  blown.loss = blown.energy = NAN;
+  blown.max_strain = INFINITY;
+  r.steps.push_back(blown);
+  r.diverged = true;
+  r.divergence = "diverged at step 3 (t = 0.03 s): non-finite state";
+  write_rollout_file(path, r, "res = 3\n", "pqn: test");
+  const Hdf5File file(path, Hdf5File::Mode::Read);
+  for (const char* name : {"step_loss", "step_energy", "step_max_strain", "step_wall_ms"}) {
+    const std::vector<double> values = file.read_doubles(name);
+    ASSERT_EQ(values.size(), 2u) << name;
+    for (double v : values) EXPECT_TRUE(std::isfinite(v)) << name;
+  }
+  EXPECT_EQ(file.int_attribute("rows"), 3);
+  EXPECT_EQ(file.int_attribute("diverged"), 1);
+  EXPECT_EQ(file.int_attribute("diverged_step"), 3);
+  EXPECT_EQ(file.string_attribute("divergence"), r.divergence);
+  EXPECT_EQ(file.string_attribute("unit", "positions"), "m");
+  EXPECT_EQ(file.string_attribute("unit", "step_max_strain").rfind("fraction", 0), 0u);
+  EXPECT_NE(file.string_attribute("legend", "step_status").find("4 non-finite"), std::string::npos);
 }
 
 TEST(RolloutFile, RejectsMissingAndForeignFiles) {
