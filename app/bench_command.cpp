@@ -7,7 +7,7 @@
 #include "app/scene_flags.hpp"
 #include "app/threads.hpp"
 #include "baselines/newton.hpp"
-#include "optimizer/rollout.hpp"
+#include "simulation/rollout.hpp"
 #include "fno/fno_bench.hpp"
 #include "fno/fno_io.hpp"
 #include "methods/registry.hpp"
@@ -57,7 +57,7 @@ void bench_newton(const BenchFlags& flags, int threads) {
     options.solve = NewtonOptimizer::reference_solve_options();
     options.warm_start = flags.warm_start;
     ProgressBar bar("bench " + std::to_string(n) + "^2", scene.frames);
-    const RolloutResult r = run_rollout(scene, newton, options, [&](int done, int, const StepRecord&) { bar.update(done); });
+    const RolloutResult r = run_rollout(resolve(scene), newton, options, [&](int done, int, const StepRecord&) { bar.update(done); });
     bar.finish();
     const int converged = r.converged_steps();
     int max_iterations = 0;

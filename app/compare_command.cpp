@@ -428,7 +428,7 @@ void run_compare(const CompareFlags& flags) {
     write_compare_report(report, results);
   };
 
-  auto rollout_with_progress = [&](const Scene& scene, InnerOptimizer& optimizer, const RolloutOptions& options,
+  auto rollout_with_progress = [&](const ResolvedScene& scene, InnerOptimizer& optimizer, const RolloutOptions& options,
                                    double weight, const std::string& label) {
     const long long start_units = done_units;
     const double cpu_start = process_cpu_seconds();
@@ -442,11 +442,12 @@ void run_compare(const CompareFlags& flags) {
     });
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     timed.cpu_share = wall > 0.0 ? (process_cpu_seconds() - cpu_start) / wall : NAN;
-    done_units = start_units + static_cast<long long>(scene.frames * weight);
+    done_units = start_units + static_cast<long long>(scene.scene.frames * weight);
     return timed;
   };
 
   for (const Scene& scene : scenes) {
+    const ResolvedScene resolved = resolve(scene);  // once, for the reference and every run
     const std::string res = resolution_text(scene), motion = motion_text(scene);
     for (const auto& run : runs) {  // learning rates of resumed runs
       const auto row = resumed.find(run_key(run.method, budget_text(run), res, motion));
@@ -469,7 +470,7 @@ void run_compare(const CompareFlags& flags) {
         NewtonOptimizer newton;
         RolloutOptions options;
         options.solve = reference_options;
-        fresh_reference = rollout_with_progress(scene, newton, options, cost_weight("newton", 0, 0),
+        fresh_reference = rollout_with_progress(resolved, newton, options, cost_weight("newton", 0, 0),
                                                 "reference " + res + "/" + motion);
         write_rollout_file(cache, fresh_reference->rollout, to_scene_text(scene), newton.settings());
         reference = frames_of(fresh_reference->rollout);
@@ -554,7 +555,7 @@ void run_compare(const CompareFlags& flags) {
           done_units += static_cast<long long>(scene.frames * weight);
           r.note = "the reference rollout itself";
         } else {
-          timed = rollout_with_progress(scene, *optimizer, options, weight, label);
+          timed = rollout_with_progress(resolved, *optimizer, options, weight, label);
         }
         const RolloutResult& rollout = timed.rollout;
         r.cpu_share = timed.cpu_share;

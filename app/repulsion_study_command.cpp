@@ -13,7 +13,7 @@
 #include "io/markdown_report.hpp"
 #include "io/svg_plot.hpp"
 #include "metrics/self_contact.hpp"
-#include "optimizer/rollout.hpp"
+#include "simulation/rollout.hpp"
 #include "util/error.hpp"
 #include "util/output_path.hpp"
 #include "util/parse_text.hpp"
@@ -221,7 +221,7 @@ void run_study(const StudyFlags& flags) {
         options.solve = choice.solve_options();
         run.tolerance = options.solve.relative_tolerance > 0.0;
         const std::string label = std::string(preset) + (repulsion ? " on " : " off ") + choice.name;
-        run.rollout = run_rollout(scene, *optimizer, options, [&](int done, int, const StepRecord& s) {
+        run.rollout = run_rollout(resolve(scene), *optimizer, options, [&](int done, int, const StepRecord& s) {
           char status[128];
           std::snprintf(status, sizeof status, "%s: %.1f ms/step, %d it", label.c_str(), s.wall_ms, s.iterations);
           bar.update(done_before + done, status);

@@ -28,7 +28,7 @@ struct SimulateFlags {
 
 void run_simulate(const SimulateFlags& flags) {
   const Scene scene = flags.scene.scene();
-  resolve(scene);  // handles and trajectory file read now, not after the banner
+  const ResolvedScene resolved = resolve(scene);  // handles and trajectory read now, not after the banner
   const auto optimizer = flags.optimizer.make();
   flags.optimizer.check_grid(scene.rows, scene.cols);
   require_writable_file(flags.out, "out");
@@ -52,7 +52,7 @@ void run_simulate(const SimulateFlags& flags) {
                scene.material.repulsion ? "on" : "off", repulsion_mode_name(scene.repulsion).c_str(),
                scene.material.repulsion_stiffness, scene.material.repulsion_range);
   ProgressBar bar("simulate", scene.frames);
-  const RolloutResult rollout = run_rollout(scene, *optimizer, options, [&](int done, int, const StepRecord& s) {
+  const RolloutResult rollout = run_rollout(resolved, *optimizer, options, [&](int done, int, const StepRecord& s) {
     char status[96];
     std::snprintf(status, sizeof status, "%.1f ms/step, %d it, strain %.1f%%", s.wall_ms, s.iterations,
                   100 * s.max_strain);

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "optimizer/rollout.hpp"
+#include "simulation/rollout.hpp"
 
 namespace fnopt {
 

@@ -13,7 +13,7 @@ StepErrorBench::~StepErrorBench() = default;
 
 StepErrorBench::StepErrorBench(const Scene& scene, const TrajectoryFrames& reference, int samples) {
   require(samples >= 1, "step-error samples", "must be positive");
-  const SceneSetup setup = resolve(scene);
+  const ResolvedScene setup = resolve(scene);
   grid_ = setup.grid;
   require(reference.rows == grid_.rows && reference.cols == grid_.cols, "step error",
           "the reference trajectory's grid differs from the scene's");

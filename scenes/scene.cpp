@@ -63,9 +63,9 @@ std::string repulsion_mode_name(RepulsionMode mode) {
 
 void resolve_repulsion(Scene& scene) { scene.material.repulsion = repulsion_enabled(scene); }
 
-SceneSetup resolve(const Scene& scene) {
+ResolvedScene resolve(const Scene& scene) {
   scene.validate();
-  SceneSetup setup{Grid::make(scene.rows, scene.cols, scene.size), {}, nullptr};
+  ResolvedScene setup{scene, Grid::make(scene.rows, scene.cols, scene.size), {}, nullptr};
   setup.handles = scene_handles(scene, setup.grid);
   const int handle_count = static_cast<int>(setup.handles.vertices.size());
   setup.trajectory =

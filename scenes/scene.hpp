@@ -76,15 +76,18 @@ void resolve_repulsion(Scene& scene);
 // (numbers are written exactly; trajectory and material-file paths are made absolute).
 std::string to_scene_text(const Scene& scene);
 
-// The scene's grid, handles and trajectory, ready for a rollout. Validates first; an explicit
-// handle-vertices list beats the handles preset, a trajectory CSV beats the motion (whose rest
-// positions are the handle vertices' in grid.rest_positions()). Throws Error("trajectory: ...")
-// for a CSV that cannot be replayed on this scene's handles.
-struct SceneSetup {
+// A scene resolved once, at the edge (a command, a study), into what a rollout needs: the grid,
+// the handle vertices and the trajectory, with the scene's physical settings beside them.
+// Cheap to copy: the trajectory (possibly read from a CSV) is shared and immutable.
+struct ResolvedScene {
+  Scene scene;
   Grid grid;
   HandleSet handles;
-  std::unique_ptr<HandleTrajectory> trajectory;
+  std::shared_ptr<const HandleTrajectory> trajectory;
 };
-SceneSetup resolve(const Scene& scene);
+// Validates first; an explicit handle-vertices list beats the handles preset, a trajectory CSV
+// beats the motion (whose rest positions are the handle vertices' in grid.rest_positions()).
+// Throws Error("trajectory: ...") for a CSV that cannot be replayed on this scene's handles.
+ResolvedScene resolve(const Scene& scene);
 
 }  // namespace fnopt

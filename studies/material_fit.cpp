@@ -9,7 +9,7 @@
 #include "baselines/newton.hpp"
 #include "io/hdf5_file.hpp"
 #include "metrics/trajectory_error.hpp"
-#include "optimizer/rollout.hpp"
+#include "simulation/rollout.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
 
@@ -24,7 +24,7 @@ double rollout_error(const FitReference& reference, const Material& material, co
   NewtonOptimizer newton;
   RolloutOptions options;
   options.solve = {NewtonOptimizer::reference_solve_options().max_iterations, params.newton_tolerance};
-  const RolloutResult rollout = run_rollout(scene, newton, options);
+  const RolloutResult rollout = run_rollout(resolve(scene), newton, options);
   if (rollout.diverged) return std::numeric_limits<double>::infinity();
   TrajectoryComparisonOptions comparison;
   comparison.chamfer = params.chamfer;

@@ -140,8 +140,8 @@ StabilityRun run_stability_rollout(const Scene& scene, const StabilityMethod& me
   StabilityRun run;
   run.frames_requested = scene.frames;
   try {
+    const ResolvedScene setup = resolve(scene);  // validates the scene
     {
-      const SceneSetup setup = resolve(scene);  // validates the scene
       const BackwardEulerObjective objective(setup.grid, scene.material, scene.dt, scene.gravity);
       run.initial_energy = objective.potential(setup.grid.rest_positions());
     }
@@ -149,7 +149,7 @@ StabilityRun run_stability_rollout(const Scene& scene, const StabilityMethod& me
     if (!optimizer) throw Error("optimizer: the factory made no optimizer for '" + method.method + "'");
     RolloutOptions options = base_options;
     options.solve = method.solve;
-    run.rollout = run_rollout(scene, *optimizer, options, on_step);
+    run.rollout = run_rollout(setup, *optimizer, options, on_step);
   } catch (const std::exception& e) {
     run.failed = true;
     run.error = e.what();

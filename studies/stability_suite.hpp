@@ -28,7 +28,7 @@
 #include "io/rollout_file.hpp"
 #include "io/svg_plot.hpp"
 #include "optimizer/inner_optimizer.hpp"
-#include "optimizer/rollout.hpp"
+#include "simulation/rollout.hpp"
 #include "scenes/scene.hpp"
 
 namespace fnopt {

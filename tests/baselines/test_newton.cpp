@@ -13,7 +13,7 @@
 #include "baselines/newton.hpp"
 #include "cloth/backward_euler.hpp"
 #include "optimizer/inner_optimizer.hpp"
-#include "optimizer/rollout.hpp"
+#include "simulation/rollout.hpp"
 
 namespace fnopt {
 namespace {
@@ -213,7 +213,7 @@ TEST(NewtonSolver, StallGuardFinishesAStepWhereTheShiftCrawls) {
   unguarded_params.max_slow_shifted_iterations = 0;
   NewtonOptimizer unguarded(unguarded_params);
   TwinOnOneStep solvers(guarded, unguarded, 113, options.solve);
-  const RolloutResult r = run_rollout(scene, solvers, options);
+  const RolloutResult r = run_rollout(resolve(scene), solvers, options);
   ASSERT_FALSE(r.diverged) << r.divergence;
   ASSERT_EQ(r.steps.size(), 114u);
   const int unconverged = static_cast<int>(r.steps.size()) - r.converged_steps();

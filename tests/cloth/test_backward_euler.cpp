@@ -10,6 +10,7 @@
 #include "cloth/grid_units.hpp"
 #include "cloth/lumped_mass.hpp"
 #include "util/error.hpp"
+#include "tests/util/finite_difference.hpp"
 
 namespace fnopt {
 namespace {
@@ -41,14 +42,8 @@ TEST(BackwardEulerObjective, GradientMatchesFiniteDifferences) {
   const double value = f.objective.value_gradient(f.a, g);
   EXPECT_NEAR(value, f.objective.value(f.a), 1e-14 * std::abs(value));
   ASSERT_GT(g.norm(), 0.0);
-  const double eps = 1e-4;
-  for (int i = 0; i < f.a.size(); ++i) {
-    VecX ap = f.a, am = f.a;
-    ap[i] += eps;
-    am[i] -= eps;
-    const double fd = (f.objective.value(ap) - f.objective.value(am)) / (2 * eps);
-    EXPECT_NEAR(g[i], fd, 1e-6 * g.norm()) << "dof " << i;
-  }
+  const VecX fd = testing::central_gradient([&](const VecX& a) { return f.objective.value(a); }, f.a, 1e-4);
+  for (int i = 0; i < f.a.size(); ++i) EXPECT_NEAR(g[i], fd[i], 1e-6 * g.norm()) << "dof " << i;
 }
 
 TEST(BackwardEulerObjective, SparseHessianMatchesFiniteDifferencesOfTheGradient) {
@@ -56,17 +51,13 @@ TEST(BackwardEulerObjective, SparseHessianMatchesFiniteDifferencesOfTheGradient)
   std::vector<int> all_free(f.grid.vertex_count());
   for (int v = 0; v < f.grid.vertex_count(); ++v) all_free[v] = v;
   const Eigen::MatrixXd H = Eigen::MatrixXd(f.objective.hessian(f.a, all_free, false));
-  Eigen::MatrixXd H_fd(H.rows(), H.cols());
-  const double eps = 1e-3;
-  VecX gp, gm;
-  for (int i = 0; i < f.a.size(); ++i) {
-    VecX ap = f.a, am = f.a;
-    ap[i] += eps;
-    am[i] -= eps;
-    f.objective.value_gradient(ap, gp);
-    f.objective.value_gradient(am, gm);
-    H_fd.col(i) = (gp - gm) / (2 * eps);
-  }
+  const Eigen::MatrixXd H_fd = testing::central_jacobian(
+      [&](const VecX& a) {
+        VecX g;
+        f.objective.value_gradient(a, g);
+        return g;
+      },
+      f.a, 1e-3);
   EXPECT_LT((H - H_fd).norm(), 1e-6 * H.norm());
 }
 

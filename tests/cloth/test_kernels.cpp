@@ -7,6 +7,7 @@
 
 #include "cloth/angle_kernel.hpp"
 #include "cloth/stretch_kernel.hpp"
+#include "tests/util/finite_difference.hpp"
 
 namespace fnopt {
 namespace {
@@ -33,18 +34,14 @@ void check_derivatives(const Kernel& kernel, const typename Kernel::Vec& x) {
   kernel.hessian(x, H, false);
   ASSERT_GT(g.norm(), 1e-8) << "test state must be deformed";
   const double eps = 1e-6;
-  Vec g_fd;
-  Mat H_fd;
-  for (int i = 0; i < x.size(); ++i) {
-    Vec xp = x, xm = x;
-    xp[i] += eps;
-    xm[i] -= eps;
-    g_fd[i] = (kernel.energy(xp) - kernel.energy(xm)) / (2 * eps);
-    Vec gp, gm;
-    kernel.gradient(xp, gp);
-    kernel.gradient(xm, gm);
-    H_fd.col(i) = (gp - gm) / (2 * eps);
-  }
+  const Vec g_fd = testing::central_gradient([&](const Vec& y) { return kernel.energy(y); }, x, eps);
+  const Mat H_fd = testing::central_jacobian(
+      [&](const Vec& y) {
+        Vec gy;
+        kernel.gradient(y, gy);
+        return Eigen::VectorXd(gy);
+      },
+      x, eps);
   EXPECT_LT((g - g_fd).norm(), 1e-6 * g.norm()) << "gradient\n" << g.transpose() << "\n" << g_fd.transpose();
   EXPECT_LT((H - H_fd).norm(), 1e-5 * H.norm()) << "hessian";
   EXPECT_LT((H - H.transpose()).norm(), 1e-12 * H.norm());
@@ -95,17 +92,15 @@ TEST(BendKernel, DerivativesNearFlatUseTheSeriesConsistently) {
     AngleKernel::Vec x = perturbed<AngleKernel>(hinge_rest(), amplitude, rng);
     AngleKernel::Vec g;
     bend().gradient(x, g);
-    AngleKernel::Mat H, H_fd;
+    AngleKernel::Mat H;
     bend().hessian(x, H, false);
-    const double eps = 1e-7 * kH;
-    for (int i = 0; i < 9; ++i) {
-      AngleKernel::Vec xp = x, xm = x, gp, gm;
-      xp[i] += eps;
-      xm[i] -= eps;
-      bend().gradient(xp, gp);
-      bend().gradient(xm, gm);
-      H_fd.col(i) = (gp - gm) / (2 * eps);
-    }
+    const AngleKernel::Mat H_fd = testing::central_jacobian(
+        [](const AngleKernel::Vec& y) {
+          AngleKernel::Vec gy;
+          bend().gradient(y, gy);
+          return Eigen::VectorXd(gy);
+        },
+        x, 1e-7 * kH);
     EXPECT_LT((H - H_fd).norm(), 1e-5 * H.norm()) << "amplitude " << amplitude;
   }
 }

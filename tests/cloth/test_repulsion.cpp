@@ -16,6 +16,7 @@
 #include "cloth/repulsion_term.hpp"
 #include "cloth/spatial_hash.hpp"
 #include "metrics/self_contact.hpp"
+#include "tests/util/finite_difference.hpp"
 
 namespace fnopt {
 namespace {
@@ -46,17 +47,15 @@ TEST(RepulsionKernel, DerivativesMatchFiniteDifferencesInsideTheRange) {
     kKernel.hessian(x, H, false);
     kKernel.hessian(x, P, true);
     const double eps = 1e-7 * kDelta;
-    RepulsionKernel::Vec g_fd;
-    RepulsionKernel::Mat H_fd;
-    for (int i = 0; i < 6; ++i) {
-      RepulsionKernel::Vec xp = x, xm = x, gp, gm;
-      xp[i] += eps;
-      xm[i] -= eps;
-      g_fd[i] = (kKernel.energy(xp) - kKernel.energy(xm)) / (2 * eps);
-      kKernel.gradient(xp, gp);
-      kKernel.gradient(xm, gm);
-      H_fd.col(i) = (gp - gm) / (2 * eps);
-    }
+    const RepulsionKernel::Vec g_fd =
+        testing::central_gradient([](const RepulsionKernel::Vec& y) { return kKernel.energy(y); }, x, eps);
+    const RepulsionKernel::Mat H_fd = testing::central_jacobian(
+        [](const RepulsionKernel::Vec& y) {
+          RepulsionKernel::Vec gy;
+          kKernel.gradient(y, gy);
+          return Eigen::VectorXd(gy);
+        },
+        x, eps);
     EXPECT_LT((g - g_fd).norm(), 1e-6 * g.norm()) << "s = " << s;
     EXPECT_LT((H - H_fd).norm(), 1e-5 * H.norm()) << "s = " << s;
     EXPECT_LT((H - H.transpose()).norm(), 1e-12 * H.norm());
@@ -191,19 +190,15 @@ TEST(RepulsionTerm, GradientAndHessianMatchFiniteDifferences) {
   ASSERT_GT(value, 0.0);
   ASSERT_GT(g.norm(), 0.0);
   const double eps = 1e-7 * grid.spacing;
-  VecX gp, gm;
-  Eigen::MatrixXd H_fd(x.size(), x.size());
-  for (int i = 0; i < x.size(); ++i) {
-    VecX xp = x, xm = x;
-    xp[i] += eps;
-    xm[i] -= eps;
-    EXPECT_NEAR(g[i], (term.energy(xp) - term.energy(xm)) / (2 * eps), 1e-6 * g.norm()) << "dof " << i;
-    gp.setZero(x.size());
-    gm.setZero(x.size());
-    term.accumulate_gradient(xp, gp);
-    term.accumulate_gradient(xm, gm);
-    H_fd.col(i) = (gp - gm) / (2 * eps);
-  }
+  const VecX g_fd = testing::central_gradient([&](const VecX& y) { return term.energy(y); }, x, eps);
+  for (int i = 0; i < x.size(); ++i) EXPECT_NEAR(g[i], g_fd[i], 1e-6 * g.norm()) << "dof " << i;
+  const Eigen::MatrixXd H_fd = testing::central_jacobian(
+      [&](const VecX& y) {
+        VecX gy = VecX::Zero(y.size());
+        term.accumulate_gradient(y, gy);
+        return gy;
+      },
+      x, eps);
   std::vector<int> all_free(grid.vertex_count());
   for (int v = 0; v < grid.vertex_count(); ++v) all_free[v] = v;
   HessianAssembly assembly(all_free);
@@ -336,26 +331,19 @@ TEST(BackwardEulerObjective, GradientWithRepulsionMatchesFiniteDifferences) {
   VecX g;
   objective.value_gradient(a, g);
   const double eps = 1e-3;
-  for (int i = 0; i < a.size(); ++i) {
-    VecX ap = a, am = a;
-    ap[i] += eps;
-    am[i] -= eps;
-    EXPECT_NEAR(g[i], (objective.value(ap) - objective.value(am)) / (2 * eps), 1e-6 * g.norm()) << "dof " << i;
-  }
+  const VecX g_fd = testing::central_gradient([&](const VecX& y) { return objective.value(y); }, a, eps);
+  for (int i = 0; i < a.size(); ++i) EXPECT_NEAR(g[i], g_fd[i], 1e-6 * g.norm()) << "dof " << i;
   // And the Hessian against differences of the gradient.
   std::vector<int> all_free(grid.vertex_count());
   for (int k = 0; k < grid.vertex_count(); ++k) all_free[k] = k;
   const Eigen::MatrixXd H(objective.hessian(a, all_free, false));
-  Eigen::MatrixXd H_fd(H.rows(), H.cols());
-  VecX gp, gm;
-  for (int i = 0; i < a.size(); ++i) {
-    VecX ap = a, am = a;
-    ap[i] += eps;
-    am[i] -= eps;
-    objective.value_gradient(ap, gp);
-    objective.value_gradient(am, gm);
-    H_fd.col(i) = (gp - gm) / (2 * eps);
-  }
+  const Eigen::MatrixXd H_fd = testing::central_jacobian(
+      [&](const VecX& y) {
+        VecX gy;
+        objective.value_gradient(y, gy);
+        return gy;
+      },
+      a, eps);
   EXPECT_LT((H - H_fd).norm(), 1e-6 * H.norm());
 }
 

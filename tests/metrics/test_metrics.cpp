@@ -15,7 +15,7 @@
 #include "metrics/kd_tree.hpp"
 #include "metrics/step_error.hpp"
 #include "metrics/trajectory_error.hpp"
-#include "optimizer/rollout.hpp"
+#include "simulation/rollout.hpp"
 
 namespace fnopt {
 namespace {
@@ -188,7 +188,7 @@ TEST(StepError, IsZeroForNewtonAndBetweenZeroAndOneForAFewGdIterations) {
   NewtonOptimizer newton;
   RolloutOptions options;
   options.solve = NewtonOptimizer::reference_solve_options();
-  const RolloutResult rollout = run_rollout(scene, newton, options);
+  const RolloutResult rollout = run_rollout(resolve(scene), newton, options);
   TrajectoryFrames reference;
   reference.rows = reference.cols = 8;
   reference.times = rollout.times;

@@ -8,7 +8,7 @@
 #include "baselines/newton.hpp"
 #include "cloth/backward_euler.hpp"
 #include "optimizer/interpolated_optimizer.hpp"
-#include "optimizer/rollout.hpp"
+#include "simulation/rollout.hpp"
 #include "util/error.hpp"
 
 namespace fnopt {
@@ -104,7 +104,7 @@ TEST(InterpolatedOptimizer, RunsARolloutLikeAnyOtherMethod) {
   InterpolatedOptimizer interp = interpolated_newton(10);
   RolloutOptions options;
   options.solve = {1, 0.0};
-  const RolloutResult r = run_rollout(scene, interp, options);
+  const RolloutResult r = run_rollout(resolve(scene), interp, options);
   EXPECT_FALSE(r.diverged) << r.divergence;
   EXPECT_EQ(r.steps.size(), 10u);
   EXPECT_EQ(r.total_iterations(), 10);

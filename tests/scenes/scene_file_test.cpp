@@ -203,7 +203,9 @@ TEST(SceneFile, RepulsionIsResolvedAfterEverySettingInAnyOrder) {
   // A material line resets the material but not the decision.
   EXPECT_TRUE(load_scene_file(dir.write("c.txt", "repulsion = true\nmaterial = default\n")).material.repulsion);
   EXPECT_FALSE(load_scene_file(dir.write("d.txt", "handles = corner-center\nrepulsion = off\n")).material.repulsion);
-  EXPECT_EQ(load_scene_file(dir.write("e.txt", "repulsion = on\nrepulsion = auto\n")).repulsion, RepulsionMode::Auto);
+  // A key given twice is a mistake, not an override: the file says where.
+  const auto twice = dir.write("e.txt", "repulsion = on\nrepulsion = auto\n");
+  EXPECT_TRUE(throws_error([&] { load_scene_file(twice); }, twice + ":2: repulsion: given twice (first on line 1)"));
 }
 
 // A scene file whose line `line` is bad fails with "<path>:<line>: <expected>".

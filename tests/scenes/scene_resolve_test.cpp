@@ -20,7 +20,7 @@ void expect_near(const Vec3& actual, const Vec3& expected) {
 }
 
 TEST(SceneResolve, TheDefaultSceneIsTheBenchmark) {
-  const SceneSetup setup = resolve(Scene());
+  const ResolvedScene setup = resolve(Scene());
   EXPECT_EQ(setup.grid.rows, 32);
   EXPECT_EQ(setup.grid.cols, 32);
   EXPECT_DOUBLE_EQ(setup.grid.spacing, 1.0 / 31);
@@ -38,7 +38,7 @@ TEST(SceneResolve, MotionsStartAtTheHandlesRestPositions) {
   scene.size = 2.0;
   scene.handles = "mid-edge";  // (2,0) and (2,4): rest (0,0,-1) and (2,0,-1)
   scene.motion = "rot_h0";
-  const SceneSetup setup = resolve(scene);
+  const ResolvedScene setup = resolve(scene);
   EXPECT_EQ(setup.handles.vertices, (std::vector<int>{10, 14}));
   expect_near(setup.trajectory->position(0, 0.0), Vec3(0, 0, -1));
   expect_near(setup.trajectory->position(1, 0.0), Vec3(2, 0, -1));
@@ -49,7 +49,7 @@ TEST(SceneResolve, AnExplicitListBeatsThePreset) {
   Scene scene;
   scene.handle_vertices = "31,31;0,0;5,7";
   scene.motion = "static";
-  const SceneSetup setup = resolve(scene);
+  const ResolvedScene setup = resolve(scene);
   EXPECT_EQ(setup.handles.name, "vertices");
   EXPECT_EQ(setup.handles.vertices, (std::vector<int>{31 * 32 + 31, 0, 5 * 32 + 7}));
   ASSERT_EQ(setup.trajectory->handle_count(), 3);
@@ -64,7 +64,7 @@ TEST(SceneResolve, ATrajectoryCsvBeatsTheMotionAndSpeedApplies) {
                                "0,0,0,0,1,0,0\n"
                                "2,0,0,2,1,0,2\n");
   scene.speed = 2.0;
-  const SceneSetup setup = resolve(scene);
+  const ResolvedScene setup = resolve(scene);
   expect_near(setup.trajectory->position(0, 0.5), Vec3(0, 0, 1));
   expect_near(setup.trajectory->position(1, 0.5), Vec3(1, 0, 1));
 }

@@ -10,7 +10,7 @@
 
 #include "baselines/newton.hpp"
 #include "io/hdf5_file.hpp"
-#include "optimizer/rollout.hpp"
+#include "simulation/rollout.hpp"
 #include "util/error.hpp"
 
 namespace fnopt {
@@ -38,7 +38,7 @@ std::string write_reference(const std::filesystem::path& dir, const Scene& scene
   NewtonOptimizer newton;
   RolloutOptions options;
   options.solve = NewtonOptimizer::reference_solve_options();
-  const RolloutResult rollout = run_rollout(scene, newton, options);
+  const RolloutResult rollout = run_rollout(resolve(scene), newton, options);
   EXPECT_FALSE(rollout.diverged);
   const std::string path = (dir / "reference.h5").string();
   write_rollout_file(path, rollout, to_scene_text(scene), newton.settings());

@@ -8,7 +8,7 @@
 #include "baselines/newton.hpp"
 #include "fno/fno_io.hpp"
 #include "optimizer/learned/learned_optimizer.hpp"
-#include "optimizer/rollout.hpp"
+#include "simulation/rollout.hpp"
 #include "util/error.hpp"
 
 namespace fnopt {
@@ -177,7 +177,7 @@ TEST(LearnedOptimizer, SubspaceStepLeavesLessErrorThanTheSecantStepAlongANewtonT
   scene.frames = 40;
   RolloutOptions options;
   options.solve = NewtonOptimizer::reference_solve_options();
-  const RolloutResult r = run_rollout(scene, shadows, options);
+  const RolloutResult r = run_rollout(resolve(scene), shadows, options);
   ASSERT_EQ(r.steps.size(), 40u);
   double mean[3] = {0.0, 0.0, 0.0};
   for (std::size_t t = 0; t < r.steps.size(); ++t) {

@@ -6,7 +6,7 @@
 #include "baselines/newton.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
 #include "optimizer/learned/proposal_rule.hpp"
-#include "optimizer/rollout.hpp"
+#include "simulation/rollout.hpp"
 #include "tests/optimizer/learned/falling_cloth_step.hpp"
 #include "util/error.hpp"
 

@@ -12,7 +12,7 @@
 #include "fno/fno2d.hpp"
 #include "io/rollout_file.hpp"
 #include "optimizer/learned/proposal_rule.hpp"
-#include "optimizer/rollout.hpp"
+#include "simulation/rollout.hpp"
 #include "scenes/scene.hpp"
 
 namespace fnopt {
@@ -66,6 +66,7 @@ class RolloutValidation {
  private:
   ValidationOptions options_;
   std::vector<Scene> scenes_;
+  std::vector<ResolvedScene> resolved_;  // scenes_, resolved once
   std::vector<TrajectoryFrames> references_;
   int references_solved_ = 0;
 };

@@ -23,7 +23,7 @@
 
 #include <vector>
 
-#include "optimizer/learned/training_env.hpp"
+#include "training/training_env.hpp"
 
 namespace fnopt {
 

@@ -9,7 +9,7 @@
 #include "baselines/newton.hpp"
 #include "fno/fno_io.hpp"
 #include "io/rollout_file.hpp"
-#include "optimizer/learned/rollout_validation.hpp"
+#include "training/rollout_validation.hpp"
 #include "tests/boundary/temp_dir.hpp"
 #include "util/error.hpp"
 
@@ -61,7 +61,7 @@ TEST(RolloutValidation, SolvesEachReferenceOnceAndOnlyReusesItForItsOwnScene) {
   // The right scene solved by another solver (its settings differ) is solved anew too.
   const std::string path = (dir / RolloutValidation::reference_file(two, "xy_v2")).string();
   NewtonOptimizer newton;
-  const RolloutResult other = run_rollout(changed.scenes()[0], newton, {});
+  const RolloutResult other = run_rollout(resolve(changed.scenes()[0]), newton, {});
   write_rollout_file(path, other, to_scene_text(changed.scenes()[0]), "newton: other settings");
   RolloutValidation resolved(two, dir.string());
   EXPECT_EQ(resolved.references_solved(), 1);

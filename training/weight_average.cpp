@@ -1,4 +1,4 @@
-#include "optimizer/learned/weight_average.hpp"
+#include "training/weight_average.hpp"
 
 #include "util/error.hpp"
 

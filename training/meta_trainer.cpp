@@ -1,4 +1,4 @@
-#include "optimizer/learned/meta_trainer.hpp"
+#include "training/meta_trainer.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "cloth/grid_units.hpp"
-#include "optimizer/learned/energy_loss.hpp"
+#include "training/energy_loss.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
 #include "optimizer/learned/learned_update.hpp"
 #include "util/atomic_file.hpp"

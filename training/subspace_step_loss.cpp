@@ -1,4 +1,4 @@
-#include "optimizer/learned/subspace_step_loss.hpp"
+#include "training/subspace_step_loss.hpp"
 
 #include <cmath>
 

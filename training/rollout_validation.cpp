@@ -1,4 +1,4 @@
-#include "optimizer/learned/rollout_validation.hpp"
+#include "training/rollout_validation.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -71,6 +71,7 @@ RolloutValidation::RolloutValidation(const ValidationOptions& options, const std
     scene.frames = options_.frames;
     scene.validate();
     scenes_.push_back(scene);
+    resolved_.push_back(resolve(scene));
     paths.push_back((std::filesystem::path(reference_directory) / reference_file(options_, motion)).string());
     cached.push_back(holds_reference(paths.back(), scene, NewtonOptimizer{}.settings()));
   }
@@ -84,7 +85,7 @@ RolloutValidation::RolloutValidation(const ValidationOptions& options, const std
       NewtonOptimizer newton;
       RolloutOptions rollout_options;
       rollout_options.solve = NewtonOptimizer::reference_solve_options();
-      const RolloutResult reference = run_rollout(scenes_[i], newton, rollout_options, progress);
+      const RolloutResult reference = run_rollout(resolved_[i], newton, rollout_options, progress);
       require(!reference.diverged, "validate",
               "the Newton reference of " + scenes_[i].motion + " diverged: " + reference.divergence);
       write_rollout_file(paths[i], reference, to_scene_text(scenes_[i]), newton.settings());
@@ -114,7 +115,7 @@ ValidationScore RolloutValidation::score(const FNO2d& model) const {
   for (std::size_t i = 0; i < scenes_.size(); ++i) {
     // One optimizer per rollout: its step scale carries across steps, not across scenes.
     LearnedOptimizer optimizer(weights, "training snapshot", params);
-    const RolloutResult rollout = run_rollout(scenes_[i], optimizer, rollout_options);
+    const RolloutResult rollout = run_rollout(resolved_[i], optimizer, rollout_options);
     s.max_strain = std::max(s.max_strain, rollout.max_strain());
     if (rollout.diverged) {
       s.diverged = true;

@@ -54,9 +54,10 @@ double ms_per_frame(const RolloutResult& rollout);
 // Called after every step with (steps done, steps in all, the step's record).
 using StepCallback = std::function<void(int, int, const StepRecord&)>;
 
-// Runs scene.frames steps from rest. A step whose solve ends non-finite or whose strain exceeds
-// the divergence limit stops the rollout, marked diverged; the frames before it are kept.
-RolloutResult run_rollout(const Scene& scene, InnerOptimizer& optimizer, const RolloutOptions& options,
+// Runs scene.frames steps from rest on a scene resolved by resolve() (scenes/scene.hpp). A step
+// whose solve ends non-finite or whose strain exceeds the divergence limit stops the rollout,
+// marked diverged; the frames before it are kept.
+RolloutResult run_rollout(const ResolvedScene& resolved, InnerOptimizer& optimizer, const RolloutOptions& options,
                           const StepCallback& on_step = {});
 
 }  // namespace fnopt

@@ -1,4 +1,4 @@
-#include "optimizer/learned/energy_loss.hpp"
+#include "training/energy_loss.hpp"
 
 #include <cmath>
 #include <utility>
@@ -7,7 +7,7 @@
 #include "cloth/grid_units.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
 #include "optimizer/learned/learned_update.hpp"
-#include "optimizer/learned/subspace_step_loss.hpp"
+#include "training/subspace_step_loss.hpp"
 
 namespace fnopt {
 

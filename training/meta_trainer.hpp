@@ -11,9 +11,9 @@
 #include <string>
 
 #include "fno/fno2d.hpp"
-#include "optimizer/learned/energy_loss.hpp"
-#include "optimizer/learned/training_env.hpp"
-#include "optimizer/learned/weight_average.hpp"
+#include "training/energy_loss.hpp"
+#include "training/training_env.hpp"
+#include "training/weight_average.hpp"
 
 namespace fnopt {
 

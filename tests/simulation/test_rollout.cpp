@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "baselines/newton.hpp"
-#include "optimizer/rollout.hpp"
+#include "simulation/rollout.hpp"
 
 namespace fnopt {
 namespace {
@@ -21,7 +21,7 @@ TEST(Rollout, CountsTheConvergedSteps) {
   NewtonOptimizer newton;
   RolloutOptions options;
   options.solve = {3, 1e-9};
-  const RolloutResult r = run_rollout(small_scene(), newton, options);
+  const RolloutResult r = run_rollout(resolve(small_scene()), newton, options);
   int converged = 0;
   for (const auto& s : r.steps) converged += is_converged(s.status);
   EXPECT_EQ(r.converged_steps(), converged);
@@ -33,7 +33,7 @@ TEST(Rollout, NewtonConvergesEveryStepAndHandlesFollowTheirTargets) {
   NewtonOptimizer newton;
   RolloutOptions options;
   options.solve = NewtonOptimizer::reference_solve_options();
-  const RolloutResult r = run_rollout(small_scene(), newton, options);
+  const RolloutResult r = run_rollout(resolve(small_scene()), newton, options);
   ASSERT_FALSE(r.diverged) << r.divergence;
   ASSERT_EQ(r.steps.size(), 40u);
   ASSERT_EQ(r.positions.size(), 41u);
@@ -63,7 +63,7 @@ TEST(Rollout, DivergenceIsDetectedStoppedAndExplained) {
   Exploding exploding;
   RolloutOptions options;
   options.solve = {5, 0.0};
-  const RolloutResult r = run_rollout(small_scene(), exploding, options);
+  const RolloutResult r = run_rollout(resolve(small_scene()), exploding, options);
   EXPECT_TRUE(r.diverged);
   EXPECT_NE(r.divergence.find("diverged at step"), std::string::npos) << r.divergence;
   EXPECT_LT(r.steps.size(), 40u);

@@ -4,10 +4,10 @@
 
 #include <filesystem>
 
-#include "optimizer/learned/energy_loss.hpp"
+#include "training/energy_loss.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
 #include "optimizer/learned/learned_update.hpp"
-#include "optimizer/learned/meta_trainer.hpp"
+#include "training/meta_trainer.hpp"
 #include "util/error.hpp"
 
 namespace fnopt {

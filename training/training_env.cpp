@@ -1,4 +1,4 @@
-#include "optimizer/learned/training_env.hpp"
+#include "training/training_env.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -6,7 +6,7 @@
 #include <random>
 
 #include "optimizer/learned/proposal_rule.hpp"
-#include "optimizer/learned/subspace_step_loss.hpp"
+#include "training/subspace_step_loss.hpp"
 #include "tests/optimizer/learned/falling_cloth_step.hpp"
 
 namespace fnopt {

@@ -3,8 +3,8 @@
 // survives a checkpoint, and starts at the trained weights of a checkpoint saved without one.
 #include <gtest/gtest.h>
 
-#include "optimizer/learned/meta_trainer.hpp"
-#include "optimizer/learned/weight_average.hpp"
+#include "training/meta_trainer.hpp"
+#include "training/weight_average.hpp"
 #include "tests/boundary/temp_dir.hpp"
 #include "util/error.hpp"
 

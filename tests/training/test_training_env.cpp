@@ -5,7 +5,7 @@
 
 #include "cloth/grid_units.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
-#include "optimizer/learned/training_env.hpp"
+#include "training/training_env.hpp"
 #include "util/error.hpp"
 
 namespace fnopt {

@@ -1,4 +1,4 @@
-#include "optimizer/rollout.hpp"
+#include "simulation/rollout.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -53,9 +53,9 @@ double ms_per_frame(const RolloutResult& rollout) {
   return n > warmup ? total / (n - warmup) : std::nan("");
 }
 
-RolloutResult run_rollout(const Scene& scene, InnerOptimizer& optimizer, const RolloutOptions& options,
+RolloutResult run_rollout(const ResolvedScene& setup, InnerOptimizer& optimizer, const RolloutOptions& options,
                           const StepCallback& on_step) {
-  const SceneSetup setup = resolve(scene);
+  const Scene& scene = setup.scene;
   const Grid& grid = setup.grid;
   BackwardEulerObjective objective(grid, scene.material, scene.dt, scene.gravity);
   const DirichletSet dirichlet(grid.vertex_count(), setup.handles.vertices);
