@@ -22,7 +22,7 @@ struct BenchFlags {
   std::string what = "newton";
   std::string resolutions = "32,64,100";
   int frames = 390;
-  int threads = 0;
+  int threads = 0;  // the default: set_thread_count
   bool warm_start = false;
   std::string preconditioner = "factor";
   std::string model;
@@ -99,7 +99,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--res", flags->resolutions, "resolutions, comma-separated")->capture_default_str();
   command->add_option("--model", flags->model, "fno: the model whose shape is timed (default: the shipped model)");
   command->add_option("--frames", flags->frames, "frames per resolution (newton)")->capture_default_str();
-  add_threads_flag(*command, flags->threads, "threads (default: all cores)");
+  add_threads_flag(*command, flags->threads);
   command->add_option("--preconditioner", flags->preconditioner,
                       "newton: CG preconditioned by the factor of an earlier Hessian (factor) or by pqn's matrix (pqn)")
       ->check(CLI::IsMember({"factor", "pqn"}))

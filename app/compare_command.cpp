@@ -55,7 +55,7 @@ struct CompareFlags {
   std::string error_levels = "1,0.3,0.1";  // e_CD x 10^3
   std::string preset;
   int preset_frames = 0;  // the preset's frame count, where --frames was not given
-  int threads = 1;
+  int threads = 0;  // the default: set_thread_count
   int step_samples = 16;
   int cd_samples = 10000;
   int cd_stride = 2;
@@ -665,7 +665,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->capture_default_str();
   command->add_option("--arcsim-dir", flags->arcsim_dir,
                       "also report e_CD against DIR/arcsim_N{res}_{motion}.h5 where it exists");
-  add_threads_flag(*command, flags->threads, "threads for every run (fixed, printed) (default 1)");
+  add_threads_flag(*command, flags->threads);
   CLI::Option* step_samples =
       command->add_option("--step-samples", flags->step_samples, "reference states for the per-step error");
   step_samples->capture_default_str();

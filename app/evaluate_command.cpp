@@ -25,7 +25,7 @@ struct EvaluateFlags {
   bool no_chamfer = false;
   OptimizerChoice optimizer;
   int step_samples = 16;
-  int threads = 0;
+  int threads = 0;  // the default: set_thread_count
   std::string per_frame;
   std::string per_step;
 };
@@ -156,7 +156,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--model", flags->optimizer.model, "learned optimizer weights file");
   command->add_option("--step-samples", flags->step_samples, "reference states for the per-step error")
       ->capture_default_str();
-  add_threads_flag(*command, flags->threads, "threads (default: all cores)");
+  add_threads_flag(*command, flags->threads);
   command->add_option("--per-frame", flags->per_frame, "also write the errors of every matched frame (CSV)");
   command->add_option("--per-step", flags->per_step,
                       "also write the per-step error of every sampled state, with L at the start, at Newton's step "

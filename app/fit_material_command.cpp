@@ -27,7 +27,7 @@ struct FitFlags {
   std::vector<std::string> ranges;
   std::string out = "fitted-material.txt";
   MaterialFitParams params;
-  int threads = 1;
+  int threads = 0;  // the default: set_thread_count
 };
 
 std::string material_text(const Material& m) {
@@ -149,7 +149,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--cd-stride", flags->params.chamfer_stride, "e_CD on every k-th matched frame")
       ->capture_default_str();
   command->add_option("--out", flags->out, "material file to write")->capture_default_str();
-  add_threads_flag(*command, flags->threads, "threads (default 1)");
+  add_threads_flag(*command, flags->threads);
   command->callback([flags] { run_fit(*flags); });
 });
 

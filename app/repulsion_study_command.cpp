@@ -35,7 +35,7 @@ struct StudyFlags {
   double stiffness = Material{}.repulsion_stiffness;
   int iterations = 0;
   std::string model;
-  int threads = 1;
+  int threads = 0;  // the default: set_thread_count
 };
 
 struct StudyRun {
@@ -291,7 +291,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->capture_default_str();
   command->add_option("--iters", flags->iterations, "iterations per step (default: each method's)");
   command->add_option("--model", flags->model, "learned optimizer weights (default: the shipped model)");
-  add_threads_flag(*command, flags->threads, "threads (default 1)");
+  add_threads_flag(*command, flags->threads);
   command->callback([flags] { run_study(*flags); });
 });
 

@@ -22,7 +22,7 @@ struct SimulateFlags {
   OptimizerChoice optimizer;
   std::string out = "rollout.h5";
   std::string obj_dir;
-  int threads = 0;
+  int threads = 0;  // the default: set_thread_count
   bool warm_start = false;
 };
 
@@ -99,7 +99,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
   add_optimizer_flags(*command, flags->optimizer);
   command->add_option("--out", flags->out, "rollout file (HDF5)")->capture_default_str();
   command->add_option("--obj-dir", flags->obj_dir, "also write every frame as DIR/frame_NNNN.obj");
-  add_threads_flag(*command, flags->threads, "threads (default: all cores)");
+  add_threads_flag(*command, flags->threads);
   command->add_flag("--warm-start", flags->warm_start, "start each step from the previous step's acceleration");
   command->callback([flags] { run_simulate(*flags); });
 });

@@ -45,7 +45,7 @@ struct StabilityFlags {
   std::string optimizers = "newton,fnopt,fnopt-ls,fnopt-ss,lbfgs,lbfgs-ls,adam,gd";
   std::vector<std::string> iters_for;  // METHOD=N
   std::string model;
-  int threads = 1;
+  int threads = 0;  // the default: set_thread_count
   bool resume = false;
   bool list_cases = false;
   CLI::App* command = nullptr;
@@ -349,7 +349,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
                       "lbfgs-ls 100, adam and gd 500; newton=N caps the reference's iterations, default 1000 to "
                       "||g|| <= 1e-9 ||g0||)");
   command->add_option("--model", flags->model, "learned optimizer weights (default: the shipped models/fnopt-32.pt)");
-  add_threads_flag(*command, flags->threads, "threads for every run (fixed, printed) (default 1)");
+  add_threads_flag(*command, flags->threads);
   command->add_flag("--resume", flags->resume,
                     "keep the rows already in DIR/stability.csv (same case, method, N) and run the rest");
   command->footer(

@@ -33,7 +33,7 @@ struct TrainFlags {
   std::string out;
   int checkpoint_every = 100;
   double minutes = 0.0;
-  int threads = 0;
+  int threads = 0;  // the default: set_thread_count
   bool resume = false;
   int64_t width = 32, layers = 4, modes = 8, lifting = 64, projection = 32;
   bool combined = false;
@@ -331,7 +331,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
                     "single-channel samples");
   command->add_option("--checkpoint-every", flags->checkpoint_every, "steps between checkpoints")->capture_default_str();
   command->add_option("--minutes", flags->minutes, "stop (with a checkpoint) after this many minutes");
-  add_threads_flag(*command, flags->threads, "threads (default: all cores)");
+  add_threads_flag(*command, flags->threads);
   command->add_flag("--resume", flags->resume, "continue from OUT/checkpoint.pt");
   CLI::Option* validate_res = command->add_option("--validate-res", flags->validation.resolution,
                       "validate on an N x N grid every --validate-every steps: fnopt-ss rollouts of the benchmark scene "
