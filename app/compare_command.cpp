@@ -27,6 +27,8 @@
 #include "io/csv_table.hpp"
 #include "io/rollout_file.hpp"
 #include "io/svg_plot.hpp"
+#include "studies/newton_reference.hpp"
+#include "studies/resumed_rows.hpp"
 #include "metrics/step_error.hpp"
 #include "metrics/trajectory_error.hpp"
 #include "util/command_line.hpp"
@@ -88,16 +90,6 @@ std::vector<double> number_list(const std::string& flag, const std::string& text
 }
 
 
-std::string hex_hash(const std::string& text) {
-  std::uint64_t hash = 1469598103934665603ULL;  // FNV-1a, 64 bit
-  for (unsigned char c : text) {
-    hash ^= c;
-    hash *= 1099511628211ULL;
-  }
-  char out[17];
-  std::snprintf(out, sizeof out, "%016llx", static_cast<unsigned long long>(hash));
-  return out;
-}
 
 // --res: "N" (N x N) or "RxC" (R rows x C columns), comma-separated.
 struct GridSize {
@@ -166,12 +158,9 @@ struct TimedRollout {
   double cpu_share = NAN;
 };
 
-// Relative cost of one frame, for the progress bar's ETA only.
+// Relative cost of one frame of a run (methods/registry.hpp), for the progress bar's ETA.
 double cost_weight(const std::string& method, int budget, int vertices) {
-  if (is_interpolated_method(method)) return 1.0 + budget * std::min(1.0, 1024.0 / std::max(1, vertices));
-  const MethodTraits& traits = method_traits(method);
-  if (traits.budget == BudgetKind::ToTolerance && budget == 0) return 5.0 * traits.iteration_cost;  // ~5 per step
-  return traits.iteration_cost * std::max(1, budget);
+  return 1000.0 * frame_cost(method, budget, is_converged_run({method, budget}), vertices);  // whole units
 }
 
 struct LearningRate {
@@ -179,9 +168,12 @@ struct LearningRate {
   std::string source;
 };
 
+// compare.csv's rows are keyed by method, N, resolution and motion (ResumedRows).
+const std::vector<std::string> kKeyColumns = {"method", "N", "resolution", "motion"};
+
 std::string run_key(const std::string& method, const std::string& budget, const std::string& res,
                     const std::string& motion) {
-  return method + "|" + budget + "|" + res + "|" + motion;
+  return ResumedRows::key({method, budget, res, motion});
 }
 
 const std::vector<std::string> kColumns = {
@@ -327,21 +319,15 @@ void run_compare(const CompareFlags& flags) {
         break;
     }
   }
-  NewtonOptimizer reference_solver;
   const InnerSolveOptions reference_options = NewtonOptimizer::reference_solve_options();
   auto reference_file = [&](const Scene& scene) {
-    const std::string key = to_scene_text(scene) + "\n" + reference_solver.settings() + "\ntol=" +
-                            number_text(reference_options.relative_tolerance) +
-                            " max=" + std::to_string(reference_options.max_iterations) + "\n" + FNOPT_VERSION;
-    return (fs::path(flags.out) / ("newton_reference_" + resolution_text(scene) + "_" + motion_text(scene) + "_" +
-                                   hex_hash(key) + ".h5"))
-        .string();
+    return newton_reference_path(flags.out, resolution_text(scene) + "_" + motion_text(scene), scene);
   };
 
   // Progress in frame-cost units (budget x frames), so that the ETA weighs Adam-500 over L-BFGS-10.
   long long total_units = 0;
   for (const auto& scene : scenes) {
-    if (!fs::exists(reference_file(scene))) total_units += static_cast<long long>(scene.frames * cost_weight("newton", 0, 0));
+    if (!fs::exists(reference_file(scene))) total_units += static_cast<long long>(scene.frames * cost_weight("newton", 0, scene.rows * scene.cols));
     for (const auto& run : runs) total_units += static_cast<long long>(scene.frames * cost_weight(run.method, run.budget, scene.rows * scene.cols));
   }
   const double unit_scale = total_units > 1'000'000'000LL ? 1e-3 : 1.0;
@@ -358,24 +344,18 @@ void run_compare(const CompareFlags& flags) {
   std::vector<RunResult> results;  // every row of compare.csv, in its order
   const std::string csv_path = (fs::path(flags.out) / "compare.csv").string();
   // --resume: the rows of an earlier run with the same columns are kept and not run again.
-  std::map<std::string, std::vector<std::string>> resumed;
-  if (flags.resume && fs::exists(csv_path)) {
-    const CsvTable earlier = CsvTable::read(csv_path);
-    require(earlier.columns() == kColumns, csv_path, "written by another version of compare: cannot resume");
-    for (const auto& row : earlier.rows()) resumed[run_key(row[0], row[1], row[4], row[5])] = row;
-    std::fprintf(stderr, "resuming: %zu finished runs in %s\n", resumed.size(), csv_path.c_str());
-  }
+  const ResumedRows resumed(csv_path, kColumns, kKeyColumns, flags.resume, "compare");
+  if (resumed.size() > 0) std::fprintf(stderr, "resuming: %zu finished runs in %s\n", resumed.size(), csv_path.c_str());
   // Rows of the earlier CSV that this run does not redo (other methods, budgets, resolutions
   // or motions) stay in it: resuming with a subset never drops finished work.
   std::set<std::string> planned;
   for (const Scene& scene : scenes)
     for (const auto& run : runs) planned.insert(run_key(run.method, budget_text(run), resolution_text(scene), motion_text(scene)));
-  for (const auto& [key, row] : resumed)
-    if (!planned.count(key)) {
-      int budget = 0;
-      parse_int(row[1], budget);  // "tol1e-9": 0, a converged run
-      results.push_back(result_of_row({row[0], budget}, row));
-    }
+  for (const auto& row : resumed.unplanned(planned)) {
+    int budget = 0;
+    parse_int(row[1], budget);  // "tol1e-9": 0, a converged run
+    results.push_back(result_of_row({row[0], budget}, row));
+  }
   const std::string svg_path = (fs::path(flags.out) / "compare.svg").string();
   // compare.csv from `results`, the frontier marked anew over every row.
   auto write_table = [&] {
@@ -450,12 +430,12 @@ void run_compare(const CompareFlags& flags) {
     const ResolvedScene resolved = resolve(scene);  // once, for the reference and every run
     const std::string res = resolution_text(scene), motion = motion_text(scene);
     for (const auto& run : runs) {  // learning rates of resumed runs
-      const auto row = resumed.find(run_key(run.method, budget_text(run), res, motion));
-      if (row != resumed.end() && uses_learning_rate(run.method) && !chosen_lr.count({run.method, run.budget}))
-        chosen_lr[{run.method, run.budget}] = {result_of_row(run, row->second).lr, row->second[3]};
+      const auto* row = resumed.find(run_key(run.method, budget_text(run), res, motion));
+      if (row && uses_learning_rate(run.method) && !chosen_lr.count({run.method, run.budget}))
+        chosen_lr[{run.method, run.budget}] = {result_of_row(run, *row).lr, (*row)[3]};
     }
     const bool all_resumed = std::all_of(runs.begin(), runs.end(), [&](const RunSpec& run) {
-      return resumed.count(run_key(run.method, budget_text(run), res, motion)) > 0;
+      return resumed.find(run_key(run.method, budget_text(run), res, motion)) != nullptr;
     });
     // 1. The Newton reference: cached, or computed now (and then also used as the newton run).
     const std::string cache = reference_file(scene);
@@ -470,7 +450,7 @@ void run_compare(const CompareFlags& flags) {
         NewtonOptimizer newton;
         RolloutOptions options;
         options.solve = reference_options;
-        fresh_reference = rollout_with_progress(resolved, newton, options, cost_weight("newton", 0, 0),
+        fresh_reference = rollout_with_progress(resolved, newton, options, cost_weight("newton", 0, scene.rows * scene.cols),
                                                 "reference " + res + "/" + motion);
         write_rollout_file(cache, fresh_reference->rollout, to_scene_text(scene), newton.settings());
         reference = frames_of(fresh_reference->rollout);
@@ -481,7 +461,7 @@ void run_compare(const CompareFlags& flags) {
       bench_storage = std::make_unique<StepErrorBench>(scene, reference, flags.step_samples);
       reference_states.insert(bench_storage->steps().size());
     } else if (!fs::exists(cache)) {
-      done_units += static_cast<long long>(scene.frames * cost_weight("newton", 0, 0));
+      done_units += static_cast<long long>(scene.frames * cost_weight("newton", 0, scene.rows * scene.cols));
     }
     StepErrorBench* bench = bench_storage.get();
 
@@ -524,9 +504,8 @@ void run_compare(const CompareFlags& flags) {
       const std::string label = run.method + (run.budget ? " N=" + std::to_string(run.budget) : "") + " " + res +
                                 "/" + motion;
       const double weight = cost_weight(run.method, run.budget, scene.rows * scene.cols);
-      const auto earlier = resumed.find(run_key(run.method, budget_text(run), res, motion));
-      if (earlier != resumed.end()) {
-        results.push_back(result_of_row(run, earlier->second));
+      if (const auto* earlier = resumed.find(run_key(run.method, budget_text(run), res, motion))) {
+        results.push_back(result_of_row(run, *earlier));
         done_units += static_cast<long long>(scene.frames * weight);
         std::fprintf(stderr, "%-26s resumed from %s\n", label.c_str(), csv_path.c_str());
         continue;

@@ -24,6 +24,7 @@
 #include "io/csv_table.hpp"
 #include "io/markdown_report.hpp"
 #include "io/svg_plot.hpp"
+#include "studies/resumed_rows.hpp"
 #include "studies/stability_suite.hpp"
 #include "util/command_line.hpp"
 #include "util/error.hpp"
@@ -51,18 +52,14 @@ struct StabilityFlags {
   CLI::App* command = nullptr;
 };
 
-// Relative cost of one frame, for the progress bar's ETA only (measured at 32^2, 1 thread:
-// one gradient ~0.35 ms, Newton ~75 ms, fnopt N=10 ~28 ms per frame).
+// Relative cost of one frame (methods/registry.hpp), for the progress bar's ETA only.
 double frame_cost(const StabilityMethod& m, const Scene& scene) {
-  const double size = scene.rows * scene.cols / 1024.0;
-  const MethodTraits traits = method_traits(m.method);
-  if (traits.budget == BudgetKind::ToTolerance && m.solve.relative_tolerance > 0.0)
-    return 200.0 * size * std::pow(size, 0.3);
-  return traits.iteration_cost * std::max(1, m.solve.max_iterations) * size;
+  return fnopt::frame_cost(m.method, m.solve.max_iterations, m.reference && m.solve.relative_tolerance > 0.0,
+                           scene.rows * scene.cols);
 }
 
 std::string row_key(const std::string& case_name, const std::string& method, const std::string& budget) {
-  return case_name + "|" + method + "|" + budget;
+  return ResumedRows::key({case_name, method, budget});
 }
 
 // Before a line on stderr: on a terminal the progress bar's line is cleared first.
@@ -219,16 +216,10 @@ void run_stability(const StabilityFlags& flags) {
   std::strftime(started, sizeof started, "%Y-%m-%d %H:%M", std::localtime(&now));
 
   // --resume: rows of an earlier run with the same columns are kept and not run again.
-  std::map<std::string, std::vector<std::string>> resumed;
-  if (flags.resume && fs::exists(out.csv)) {
-    const CsvTable earlier = CsvTable::read(out.csv);
-    require(earlier.columns() == stability_columns(), out.csv,
-            "written by another version of stability: cannot resume");
-    for (const auto& row : earlier.rows()) resumed[row_key(row[0], row[1], row[2])] = row;
-    std::fprintf(stderr, "resuming: %zu finished rows in %s\n", resumed.size(), out.csv.c_str());
-  }
+  const ResumedRows resumed(out.csv, stability_columns(), {"case", "method", "N"}, flags.resume, "stability");
+  if (resumed.size() > 0) std::fprintf(stderr, "resuming: %zu finished rows in %s\n", resumed.size(), out.csv.c_str());
   auto is_resumed = [&](const StabilityCase& c, const StabilityMethod& m) {
-    return resumed.count(row_key(c.name, m.method, budget_text(m.solve))) > 0;
+    return resumed.find(row_key(c.name, m.method, budget_text(m.solve))) != nullptr;
   };
 
   // Progress in frame-cost units.
@@ -262,8 +253,7 @@ void run_stability(const StabilityFlags& flags) {
   std::set<std::string> planned;
   for (const StabilityCase& c : cases)
     for (const StabilityMethod& m : methods) planned.insert(row_key(c.name, m.method, budget_text(m.solve)));
-  for (const auto& [key, row] : resumed)
-    if (!planned.count(key)) table.add_row(row);
+  for (const auto& row : resumed.unplanned(planned)) table.add_row(row);
   std::vector<StabilityRow> rows;
   auto run_with_progress = [&](const Scene& scene, const StabilityMethod& m, const std::string& label) {
     const double start = done_cost, weight = frame_cost(m, scene);
@@ -294,11 +284,10 @@ void run_stability(const StabilityFlags& flags) {
       }
     }
     for (const StabilityMethod& m : methods) {
-      const auto earlier = resumed.find(row_key(c.name, m.method, budget_text(m.solve)));
-      if (earlier != resumed.end()) {
-        rows.push_back(stability_row_from_csv(earlier->second));
+      if (const auto* earlier = resumed.find(row_key(c.name, m.method, budget_text(m.solve)))) {
+        rows.push_back(stability_row_from_csv(*earlier));
         rows.back().reference = m.reference;
-        table.add_row(earlier->second);
+        table.add_row(*earlier);
         continue;
       }
       const bool is_reference = m.reference && have_reference;

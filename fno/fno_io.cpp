@@ -12,6 +12,7 @@
 #include <type_traits>
 
 #include "util/error.hpp"
+#include "util/fnv_hash.hpp"
 
 namespace fnopt {
 namespace {
@@ -45,18 +46,12 @@ void for_each_stored_option(Options& o, Visit&& visit) {
 // the weights, so that a file whose bytes changed (a bad copy, a disk error) is refused rather
 // than run with other weights. LibTorch's zip reader does not check its own CRCs.
 std::string parameter_checksum(const FNO2dImpl& model) {
-  std::uint64_t hash = 1469598103934665603ULL;
+  Fnv1aHash hash;
   for (const auto& parameter : model.named_parameters()) {
     const torch::Tensor values = parameter.value().detach().contiguous().to(torch::kFloat);
-    const auto* bytes = static_cast<const unsigned char*>(values.data_ptr());
-    for (std::int64_t k = 0; k < values.numel() * static_cast<std::int64_t>(sizeof(float)); ++k) {
-      hash ^= bytes[k];
-      hash *= 1099511628211ULL;
-    }
+    hash.add(values.data_ptr(), static_cast<std::size_t>(values.numel()) * sizeof(float));
   }
-  char text[17];
-  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
-  return text;
+  return hash.hex();
 }
 
 std::string shape_text(torch::IntArrayRef sizes) {

@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <vector>
@@ -141,6 +143,14 @@ MethodTraits method_traits(const std::string& name) {
 }
 
 bool is_interpolated_method(const std::string& name) { return is_interpolated(name); }
+
+double frame_cost(const std::string& method, int iterations, bool converged, int vertices) {
+  const double size = vertices / 1024.0;
+  const MethodTraits traits = method_traits(method);
+  if (converged) return 200.0 * size * std::pow(size, 0.3);  // ~6 iterations per step
+  if (is_interpolated(method)) return size + traits.iteration_cost * std::max(1, iterations) * std::min(1.0, size);
+  return traits.iteration_cost * std::max(1, iterations) * size;
+}
 
 std::unique_ptr<InnerOptimizer> OptimizerChoice::make() const {
   require(iterations >= 0, "iters", "must be a positive iteration budget");

@@ -28,6 +28,11 @@ struct MethodTraits {
 
 // Throws Error("optimizer: ...") for an unknown name.
 MethodTraits method_traits(const std::string& name);
+
+// Relative cost of one frame, for the ETAs of progress bars only (compare, stability): one
+// L-BFGS iteration at 32^2 is 1; cost grows with the grid's vertices, a converged Newton step
+// as (vertices/1024)^1.3 (sparse factorizations); METHOD-interpK iterates on its coarse grid.
+double frame_cost(const std::string& method, int iterations, bool converged, int vertices);
 // An interpolation-ablation method (METHOD-interpK).
 bool is_interpolated_method(const std::string& name);
 

@@ -1,5 +1,7 @@
 #include "training/rollout_validation.hpp"
 
+#include "studies/newton_reference.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <exception>
@@ -53,9 +55,19 @@ FNO2d snapshot(const FNO2d& model) {
 
 }  // namespace
 
-std::string RolloutValidation::reference_file(const ValidationOptions& options, const std::string& motion) {
-  return "validation_reference_" + std::to_string(options.resolution) + "_" + motion + "_" +
-         std::to_string(options.frames) + ".h5";
+Scene RolloutValidation::scene_of(const ValidationOptions& options, const std::string& motion) {
+  Scene scene;
+  scene.rows = scene.cols = options.resolution;
+  scene.motion = motion;
+  scene.frames = options.frames;
+  scene.validate();
+  return scene;
+}
+
+std::string RolloutValidation::reference_file(const std::string& directory, const ValidationOptions& options,
+                                              const std::string& motion) {
+  return newton_reference_path(directory, "validation_" + std::to_string(options.resolution) + "_" + motion,
+                               scene_of(options, motion));
 }
 
 RolloutValidation::RolloutValidation(const ValidationOptions& options, const std::string& reference_directory,
@@ -65,14 +77,10 @@ RolloutValidation::RolloutValidation(const ValidationOptions& options, const std
   std::vector<std::string> paths;
   std::vector<bool> cached;
   for (const std::string& motion : options_.motions) {
-    Scene scene;
-    scene.rows = scene.cols = options_.resolution;
-    scene.motion = motion;
-    scene.frames = options_.frames;
-    scene.validate();
+    const Scene scene = scene_of(options_, motion);
     scenes_.push_back(scene);
     resolved_.push_back(resolve(scene));
-    paths.push_back((std::filesystem::path(reference_directory) / reference_file(options_, motion)).string());
+    paths.push_back(reference_file(reference_directory, options_, motion));
     cached.push_back(holds_reference(paths.back(), scene, NewtonOptimizer{}.settings()));
   }
   const int to_solve = static_cast<int>(std::count(cached.begin(), cached.end(), false));

@@ -54,8 +54,11 @@ class RolloutValidation {
   RolloutValidation(const ValidationOptions& options, const std::string& reference_directory,
                     const StepCallback& on_reference_step = {});
 
-  // validation_reference_<resolution>_<motion>_<frames>.h5
-  static std::string reference_file(const ValidationOptions& options, const std::string& motion);
+  // The cache file of a motion's reference in `directory` (studies/newton_reference.hpp).
+  static std::string reference_file(const std::string& directory, const ValidationOptions& options,
+                                    const std::string& motion);
+  // The validation scene of a motion: default material, corner handles.
+  static Scene scene_of(const ValidationOptions& options, const std::string& motion);
 
   // Scores a snapshot of `model` (its parameters are copied; the model is not touched).
   ValidationScore score(const FNO2d& model) const;

@@ -52,14 +52,14 @@ TEST(RolloutValidation, SolvesEachReferenceOnceAndOnlyReusesItForItsOwnScene) {
   EXPECT_EQ(steps_reported, 0);
   // A file of the same name holding another scene (here: a Newton rollout of another motion
   // copied over it) is solved anew, not compared against the wrong frames.
-  std::filesystem::copy_file(dir / RolloutValidation::reference_file(two, "rot_h0"),
-                             dir / RolloutValidation::reference_file(two, "xy_v2"),
+  std::filesystem::copy_file(RolloutValidation::reference_file(dir.string(), two, "rot_h0"),
+                             RolloutValidation::reference_file(dir.string(), two, "xy_v2"),
                              std::filesystem::copy_options::overwrite_existing);
   RolloutValidation changed(two, dir.string(), count);
   EXPECT_EQ(changed.references_solved(), 1);
   EXPECT_EQ(steps_reported, 20);
   // The right scene solved by another solver (its settings differ) is solved anew too.
-  const std::string path = (dir / RolloutValidation::reference_file(two, "xy_v2")).string();
+  const std::string path = RolloutValidation::reference_file(dir.string(), two, "xy_v2");
   NewtonOptimizer newton;
   const RolloutResult other = run_rollout(resolve(changed.scenes()[0]), newton, {});
   write_rollout_file(path, other, to_scene_text(changed.scenes()[0]), "newton: other settings");

@@ -1,0 +1,20 @@
+#include "studies/newton_reference.hpp"
+
+#include <filesystem>
+
+#include "baselines/newton.hpp"
+#include "util/fnv_hash.hpp"
+#include "util/parse_text.hpp"
+
+namespace fnopt {
+
+std::string newton_reference_path(const std::string& directory, const std::string& label, const Scene& scene) {
+  const InnerSolveOptions options = NewtonOptimizer::reference_solve_options();
+  Fnv1aHash hash;
+  hash.add(to_scene_text(scene) + "\n" + NewtonOptimizer{}.settings() + "\ntol=" +
+           number_text(options.relative_tolerance) + " max=" + std::to_string(options.max_iterations) + "\n" +
+           FNOPT_VERSION);
+  return (std::filesystem::path(directory) / ("newton_reference_" + label + "_" + hash.hex() + ".h5")).string();
+}
+
+}  // namespace fnopt
