@@ -1,4 +1,4 @@
-#include "app/compare_report.hpp"
+#include "studies/compare_report.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -9,7 +9,7 @@
 #include "io/markdown_report.hpp"
 #include "util/parse_text.hpp"
 
-namespace fnopt::app {
+namespace fnopt {
 
 bool is_converged_run(const RunSpec& spec) {
   return spec.budget == 0 && method_traits(spec.method).budget == BudgetKind::ToTolerance;
@@ -458,4 +458,4 @@ void write_compare_report(const CompareReport& report, const std::vector<RunResu
   md.write((fs::path(report.directory) / "report.md").string());
 }
 
-}  // namespace fnopt::app
+}  // namespace fnopt

@@ -2,14 +2,14 @@
 // What `fnopt compare` reports besides its CSV: the error-time plot (compare.svg), the
 // zero-shot super-resolution plot (superres.svg: error and ms/frame against vertex count, the
 // learned optimizer run on each grid against the same optimizer solving at 32^2 and
-// interpolating), and DIR/report.md tying them together. Internal to app/compare_*.cpp.
+// interpolating), and DIR/report.md tying them together. Used by studies/compare_study.cpp.
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "io/svg_plot.hpp"
 
-namespace fnopt::app {
+namespace fnopt {
 
 struct RunSpec {
   std::string method;
@@ -86,4 +86,4 @@ struct CompareReport {
 // interpolation method, DIR/superres.svg. Safe to call after every run (partial results).
 void write_compare_report(const CompareReport& report, const std::vector<RunResult>& results);
 
-}  // namespace fnopt::app
+}  // namespace fnopt
