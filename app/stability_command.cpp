@@ -1,41 +1,21 @@
-// fnopt stability (docs/design.md §8 "Stability", §10): the stiff and extreme cases of
-// studies/stability_suite.hpp, every optimizer on every case, one table. Per case: the Newton
-// reference rollout, then every optimizer; per row: finished / diverged (step, why) / error,
-// max strain, energy growth, e_3D against the reference, ms/frame, steps short of convergence.
-// Writes DIR/stability.csv (after every row), DIR/stability.svg and DIR/report.md (after every
-// case), and prints the table at the end.
-#include <time.h>
-#include <unistd.h>
-
+// fnopt stability: its flags, turned into a StabilityStudy (studies/stability_study.hpp) that runs
+// the stiff and extreme cases, every optimizer on every case (docs/design.md §8 "Stability").
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
-#include <ctime>
-#include <filesystem>
-#include <fstream>
 #include <map>
-#include <set>
 
 #include "app/commands.hpp"
 #include "app/optimizer_flags.hpp"
 #include "app/scene_flags.hpp"
 #include "app/threads.hpp"
-#include "cloth/grid_units.hpp"
-#include "io/csv_table.hpp"
-#include "io/markdown_report.hpp"
-#include "io/svg_plot.hpp"
-#include "studies/resumed_rows.hpp"
-#include "studies/stability_suite.hpp"
+#include "studies/stability_study.hpp"
 #include "util/command_line.hpp"
 #include "util/error.hpp"
 #include "util/output_path.hpp"
 #include "util/parse_text.hpp"
-#include "util/progress_bar.hpp"
 
 namespace fnopt::app {
 namespace {
-
-namespace fs = std::filesystem;
 
 constexpr int kDefaultFrames = 150;  // 2.5 s at dt = 1/60: rest, out and back of the xy_v2 motion
 
@@ -51,105 +31,6 @@ struct StabilityFlags {
   bool list_cases = false;
   CLI::App* command = nullptr;
 };
-
-// Relative cost of one frame (methods/registry.hpp), for the progress bar's ETA only.
-double frame_cost(const StabilityMethod& m, const Scene& scene) {
-  return fnopt::frame_cost(m.method, m.solve.max_iterations, m.reference && m.solve.relative_tolerance > 0.0,
-                           scene.rows * scene.cols);
-}
-
-std::string row_key(const std::string& case_name, const std::string& method, const std::string& budget) {
-  return ResumedRows::key({case_name, method, budget});
-}
-
-// Before a line on stderr: on a terminal the progress bar's line is cleared first.
-void clear_bar_line() {
-  if (::isatty(STDERR_FILENO)) std::fprintf(stderr, "\r\033[K");
-}
-
-void print_row(const StabilityRow& r) {
-  clear_bar_line();
-  std::fprintf(stderr, "%-22s %-9s %-20s %-8s %4d/%-4d strain %7.1f%%  growth %7.3g  e3D %7.3g  %8.2f ms/frame%s%s\n",
-               r.case_name.c_str(), r.method.c_str(), budget_text(r.solve).c_str(), to_string(r.outcome),
-               r.frames_done, r.frames_requested, 100 * r.max_strain, r.energy_growth, 100 * r.e3d, r.ms_per_frame,
-               r.reason.empty() ? "" : "  ", r.reason.c_str());
-}
-
-struct Outputs {
-  std::string dir, csv, svg, report;
-};
-
-void write_report(const Outputs& out, const StabilityFlags& flags, const Scene& base,
-                  const std::vector<StabilityCase>& cases, const std::vector<StabilityMethod>& methods,
-                  const std::vector<std::string>& method_names, const std::vector<StabilityRow>& rows,
-                  const CsvTable& table, int threads, const std::string& command, const std::string& started,
-                  bool complete) {
-  std::vector<std::string> notes = {
-      std::to_string(base.frames) + " frames at dt = " + dt_text(base.dt) + " s on the base scene; " +
-          std::to_string(threads) + " thread" + (threads == 1 ? "" : "s") +
-          "; marked: diverged (strain > 300 % or non-finite) or error"};
-  write_svg(out.svg, stability_plot(rows, cases, method_names, notes));
-
-  MarkdownReport report("fnopt stability");
-  report.paragraph(std::string(complete ? "" : "**Partial: the study is still running or was stopped.** ") +
-                   "Stiff and extreme cases, every inner optimizer on each, against the case's Newton reference "
-                   "(run to ||g|| <= 1e-9 ||g0|| each step; steps that stop short are counted below). fnopt " FNOPT_VERSION ", started " + started +
-                   ", " + std::to_string(threads) + " thread" + (threads == 1 ? "" : "s") + ".");
-  report.code(command);
-  std::vector<std::string> setup = {
-      "base scene: " + std::to_string(base.rows) + "x" + std::to_string(base.cols) + " grid, " +
-          (base.handle_vertices.empty() ? base.handles : "explicit") + " handles, " +
-          (base.trajectory.empty() ? "motion " + base.motion : "trajectory " + base.trajectory) + ", speed " +
-          number_text(base.speed) + ", material " + base.material_name + " (stretch " +
-          number_text(base.material.stretch) + " N/m, shear " + number_text(base.material.shear) + " N/m, bend " +
-          number_text(base.material.bend) + " N m, density " + number_text(base.material.density) + " kg/m^2), dt " +
-          dt_text(base.dt) + " s, " + std::to_string(base.frames) + " frames (" +
-          number_text(base.frames * base.dt) + " s)"};
-  std::string optimizers;
-  for (const auto& m : methods)
-    optimizers += (optimizers.empty() ? "" : ", ") + m.method + " (" +
-                  (m.solve.relative_tolerance > 0 ? budget_text(m.solve) : "N=" + std::to_string(m.solve.max_iterations)) + ")";
-  setup.push_back("optimizers (iterations per time step): " + optimizers +
-                  "; gd and adam at their default learning rates (gd 1/lambda_max, adam 0.003)" +
-                  (flags.model.empty() ? "" : "; fnopt model " + flags.model));
-  report.bullets(setup);
-
-  report.heading("Cases");
-  std::vector<std::vector<std::string>> case_rows;
-  for (std::size_t k = 0; k < cases.size(); ++k) {
-    const Scene s = cases[k].apply(base);
-    // Every case scene was validated before any run: its grid exists.
-    const GridUnitStiffness g =
-        grid_unit_stiffness(Grid::make(s.rows, s.cols, s.size), s.material, s.dt, s.gravity.norm());
-    const std::string k_text = CsvTable::number(g.stretch, 3) + " / " + CsvTable::number(g.shear, 3) + " / " +
-                               CsvTable::number(g.bend, 3);
-    case_rows.push_back({std::to_string(k + 1), cases[k].name, cases[k].description,
-                         std::to_string(s.rows) + "x" + std::to_string(s.cols), std::to_string(s.frames) + " x " +
-                         dt_text(s.dt) + " s", k_text});
-  }
-  report.table({"#", "case", "what it changes", "grid", "frames", "k~ stretch / shear / bend (grid units)"},
-               case_rows);
-
-  report.heading("What fails where");
-  report.bullets(stability_summary(rows, method_names));
-
-  report.heading("Results");
-  report.paragraph(
-      "One row per case and optimizer (also in stability.csv). outcome: finished, diverged (the rollout stops at "
-      "the step whose edge strain exceeds 300 % or whose state is not finite; diverged_step and reason say where "
-      "and why) or error (the optimizer or scene threw; the suite went on). max_strain: largest edge strain "
-      "|e|/h - 1 over the finite steps. energy_growth: (max E - E_min)/(max E_ref - E_min), E the total energy "
-      "(kinetic + potential) over the run including the rest state, E_ref the case's Newton reference and E_min "
-      "its lowest energy: 1 for the reference, ~1 for a healthy run, >> 1 for a blow-up, < 1 for a run that "
-      "loses energy. e_3d_x1e2: e_3D x 10^2 against the Newton reference of the same case, over the frames "
-      "before a divergence. ms_per_frame: mean wall time of the inner solve after warm-up. "
-      "unconverged_steps: steps that stopped for a reason other than convergence (for Newton every step short "
-      "of its tolerance; for fixed-budget methods, reasons other than using the budget), with their "
-      "SolveStatus.");
-  report.table(table);
-  report.image("stability.svg", "max edge strain and energy growth per case and optimizer");
-  report.write(out.report);
-}
 
 void run_stability(const StabilityFlags& flags) {
   if (flags.list_cases) {
@@ -184,17 +65,6 @@ void run_stability(const StabilityFlags& flags) {
     choice.make();
     methods.push_back({name, choice.solve_options(), method_traits(name).reference});
   }
-  const OptimizerFactory factory = [&flags](const std::string& method) {
-    OptimizerChoice choice;
-    choice.name = method;
-    choice.model = flags.model;
-    return choice.make();
-  };
-  // The reference of every case: Newton at the suite's Newton settings.
-  StabilityMethod reference_method{"newton", OptimizerChoice{"newton", 0, 0.0, ""}.solve_options(), true};
-  for (const auto& m : methods)
-    if (m.reference) reference_method = m;
-
   Scene base = flags.scene.scene();
   bool frames_given = flags.command->get_option("--frames")->count() > 0;
   if (!frames_given && flags.command->get_option("--scene")->count() > 0) {
@@ -208,117 +78,18 @@ void run_stability(const StabilityFlags& flags) {
 
   const int threads = set_thread_count(flags.threads);
   require_writable_directory(flags.out, "out");
-  const Outputs out{flags.out, (fs::path(flags.out) / "stability.csv").string(),
-                    (fs::path(flags.out) / "stability.svg").string(), (fs::path(flags.out) / "report.md").string()};
-  const std::string command = process_command_line("fnopt stability");
-  char started[32];
-  const std::time_t now = std::time(nullptr);
-  std::strftime(started, sizeof started, "%Y-%m-%d %H:%M", std::localtime(&now));
 
-  // --resume: rows of an earlier run with the same columns are kept and not run again.
-  const ResumedRows resumed(out.csv, stability_columns(), {"case", "method", "N"}, flags.resume, "stability");
-  if (resumed.size() > 0) std::fprintf(stderr, "resuming: %zu finished rows in %s\n", resumed.size(), out.csv.c_str());
-  auto is_resumed = [&](const StabilityCase& c, const StabilityMethod& m) {
-    return resumed.find(row_key(c.name, m.method, budget_text(m.solve))) != nullptr;
-  };
-
-  // Progress in frame-cost units.
-  double total_cost = 0.0, resumed_cost = 0.0;
-  for (const auto& c : cases) {
-    const Scene s = c.apply(base);
-    bool all_resumed = true;
-    for (const auto& m : methods) {
-      const double cost = s.frames * frame_cost(m, s);
-      total_cost += cost;
-      if (is_resumed(c, m)) resumed_cost += cost;
-      else all_resumed = false;
-    }
-    const bool reference_listed =
-        std::any_of(methods.begin(), methods.end(), [](const StabilityMethod& m) { return m.reference; });
-    if (!reference_listed && !all_resumed) total_cost += s.frames * frame_cost(reference_method, s);
-  }
-  const double unit = std::max(1.0, total_cost / 1e6);  // at most ~1e6 units: fits an int
-  ProgressBar bar("stability", static_cast<int>(total_cost / unit), static_cast<int>(resumed_cost / unit));
-  double done_cost = resumed_cost;
-
-  std::string method_text;
-  for (const auto& m : methods) method_text += (method_text.empty() ? "" : ", ") + m.method + " " + budget_text(m.solve);
-  std::fprintf(stderr, "fnopt stability: %zu case%s x %zu optimizers (%s), base %dx%d, %d frames at dt %s, %d thread%s, output %s\n",
-               cases.size(), cases.size() == 1 ? "" : "s", methods.size(), method_text.c_str(), base.rows, base.cols,
-               base.frames, dt_text(base.dt).c_str(), threads, threads == 1 ? "" : "s", flags.out.c_str());
-
-  CsvTable table(stability_columns());
-  // Rows of the earlier CSV that this run does not redo (other cases, methods or budgets) stay
-  // in it: resuming with a subset never drops finished work.
-  std::set<std::string> planned;
-  for (const StabilityCase& c : cases)
-    for (const StabilityMethod& m : methods) planned.insert(row_key(c.name, m.method, budget_text(m.solve)));
-  for (const auto& row : resumed.unplanned(planned)) table.add_row(row);
-  std::vector<StabilityRow> rows;
-  auto run_with_progress = [&](const Scene& scene, const StabilityMethod& m, const std::string& label) {
-    const double start = done_cost, weight = frame_cost(m, scene);
-    StabilityRun run = run_stability_rollout(scene, m, factory, {}, [&](int done, int, const StepRecord& s) {
-      char status[160];
-      std::snprintf(status, sizeof status, "%s: %.1f ms/step, strain %.0f%%", label.c_str(), s.wall_ms,
-                    100 * s.max_strain);
-      bar.update(static_cast<int>((start + done * weight) / unit), status);
-    });
-    done_cost = start + scene.frames * weight;
-    return run;
-  };
-
-  for (const StabilityCase& c : cases) {
-    const Scene scene = c.apply(base);
-    const bool all_resumed =
-        std::all_of(methods.begin(), methods.end(), [&](const StabilityMethod& m) { return is_resumed(c, m); });
-    StabilityRun reference;
-    bool have_reference = false;
-    if (!all_resumed) {
-      reference = run_with_progress(scene, reference_method, "newton reference " + c.name);
-      have_reference = true;
-      if (reference.failed || reference.rollout.diverged) {
-        clear_bar_line();
-        std::fprintf(stderr, "warning: the Newton reference of %s %s%s\n", c.name.c_str(),
-                     reference.failed ? "failed: " : "", reference.failed ? reference.error.c_str()
-                                                                          : reference.rollout.divergence.c_str());
-      }
-    }
-    for (const StabilityMethod& m : methods) {
-      if (const auto* earlier = resumed.find(row_key(c.name, m.method, budget_text(m.solve)))) {
-        rows.push_back(stability_row_from_csv(*earlier));
-        rows.back().reference = m.reference;
-        table.add_row(*earlier);
-        continue;
-      }
-      const bool is_reference = m.reference && have_reference;
-      StabilityRow row;
-      if (is_reference) {
-        row = stability_row(c.name, m, reference, &reference);  // its cost is counted above
-      } else {
-        const StabilityRun run = run_with_progress(scene, m, m.method + " " + c.name);
-        row = stability_row(c.name, m, run, have_reference ? &reference : nullptr);
-      }
-      rows.push_back(row);
-      table.add_row(stability_csv_row(row));
-      table.write(out.csv);
-      bar.update(static_cast<int>(done_cost / unit), c.name + " " + m.method + " done");
-      print_row(row);
-      if (m.reference && row.unconverged_steps > 0) {
-        clear_bar_line();
-        std::fprintf(stderr, "warning: newton on %s: %d step%s did not converge (%s)\n", c.name.c_str(),
-                     row.unconverged_steps, row.unconverged_steps == 1 ? "" : "s", row.unconverged_statuses.c_str());
-      }
-    }
-    write_report(out, flags, base, cases, methods, method_names, rows, table, threads, command, started, false);
-  }
-  bar.finish();
-  table.write(out.csv);
-  write_report(out, flags, base, cases, methods, method_names, rows, table, threads, command, started, true);
-  std::printf("%s", stability_console_table(rows).c_str());
-  std::printf("\nwhat fails where:\n");
-  for (const auto& line : stability_summary(rows, method_names)) std::printf("- %s\n", line.c_str());
-  std::printf("wrote %s, %s and %s (%d thread%s)\n", out.csv.c_str(), out.svg.c_str(), out.report.c_str(), threads,
-              threads == 1 ? "" : "s");
+  StabilityStudy study;
+  study.base = base;
+  study.cases = cases;
+  study.method_names = method_names;
+  study.methods = methods;
+  study.model = flags.model;
+  study.out = flags.out;
+  study.command_line = process_command_line("fnopt stability");
+  study.threads = threads;
+  study.resume = flags.resume;
+  run_stability_study(study);
 }
 
 const RegisterCommand kRegister([](CLI::App& app) {

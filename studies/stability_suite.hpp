@@ -2,8 +2,8 @@
 // The stability study (docs/design.md §8 "Stability"; `fnopt stability`): a fixed suite of
 // stiff and extreme cases, each a change of a base scene (the default: 32^2, corner handles,
 // xy_v2, the default material, dt = 1/60), every inner optimizer on every case, one row per
-// case x optimizer. LibTorch-free: optimizers come from a factory, so the learned optimizer
-// (fnopt_learned) is injected by the command line.
+// case x optimizer. Optimizers come from a factory: the study (studies/stability_study.hpp) makes
+// them by name through the registry, tests inject their own.
 //
 // Per row: finished / diverged (the step, and RolloutResult::divergence) / error (an exception:
 // the suite goes on), max edge strain, energy growth, e_3D against the case's Newton reference,

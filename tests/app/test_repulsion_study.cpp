@@ -12,6 +12,8 @@
 #include <fstream>
 #include <memory>
 #include <sstream>
+#include <string>
+#include <vector>
 
 namespace {
 
@@ -39,6 +41,64 @@ TEST(RepulsionStudy, ATinyRunWritesTheCsvReportAndPlot) {
   EXPECT_NE(report.find("repulsion.svg"), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(dir / "repulsion.svg"));
   EXPECT_NE(r.output.find("mean E_rep"), std::string::npos) << r.output;
+  std::filesystem::remove_all(dir);
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// A row without its ms_per_frame cell (the 7th): the only cell a rerun may change.
+std::string without_timing(const std::string& row) {
+  std::vector<std::string> cells;
+  std::istringstream in(row);
+  for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
+  cells.erase(cells.begin() + 6);
+  std::string out;
+  for (const auto& cell : cells) out += cell + ",";
+  return out;
+}
+
+TEST(RepulsionStudy, AResumedStudyRunsOnlyTheMissingRunsAndRedrawsEveryRun) {
+  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_repulsion_resume";
+  std::filesystem::remove_all(dir);
+  const std::string command =
+      "repulsion-study --out " + dir.string() + " --frames 4 --res 8 --optimizers newton --threads 1";
+  ASSERT_EQ(run_fnopt(command).status, 0);
+  const std::vector<std::string> full = lines_of(read_text(dir / "repulsion.csv"));
+  const std::string full_energy = read_text(dir / "repulsion_energy.csv");
+  ASSERT_EQ(full.size(), 7u);  // header + 3 presets x off/on
+  EXPECT_EQ(lines_of(full_energy).size(), 1u + 6 * 5);  // 5 frames (the rest state too) per run
+
+  // Stop "after" four runs: the last two rows are gone from the run table.
+  {
+    std::ofstream csv(dir / "repulsion.csv", std::ios::trunc);
+    for (std::size_t i = 0; i < 5; ++i) csv << full[i] << "\n";
+  }
+  const CommandResult r = run_fnopt(command + " --resume");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("resuming: 4 finished runs"), std::string::npos) << r.output;
+  const std::vector<std::string> resumed = lines_of(read_text(dir / "repulsion.csv"));
+  ASSERT_EQ(resumed.size(), full.size());
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(resumed[i], full[i]) << "kept run " << i;
+  for (std::size_t i = 5; i < full.size(); ++i) EXPECT_EQ(without_timing(resumed[i]), without_timing(full[i])) << i;
+  EXPECT_EQ(read_text(dir / "repulsion_energy.csv"), full_energy);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(RepulsionStudy, ResumingWithoutTheEnergyFileIsOneClearLine) {
+  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_repulsion_no_energy";
+  std::filesystem::remove_all(dir);
+  const std::string command =
+      "repulsion-study --out " + dir.string() + " --frames 2 --res 6 --optimizers newton --threads 1";
+  ASSERT_EQ(run_fnopt(command).status, 0);
+  std::filesystem::remove(dir / "repulsion_energy.csv");
+  const CommandResult r = run_fnopt(command + " --resume");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("repulsion_energy.csv is missing"), std::string::npos) << r.output;
   std::filesystem::remove_all(dir);
 }
 
