@@ -6,6 +6,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "util/atomic_file.hpp"
@@ -16,6 +17,9 @@ namespace {
 
 constexpr double kPanelWidth = 540, kPanelHeight = 400;
 constexpr double kLeft = 78, kRight = 24, kTop = 44, kBottom = 58;
+constexpr double kBandWidth = 9;          // px, a band series' stroke
+constexpr double kLegendCharWidth = 7.2;  // px per character of 13 px Helvetica, for the legend's layout
+const char* const kBandColour = "#888888";
 const char* const kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
                                 "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"};
 
@@ -147,12 +151,22 @@ void render_panel(std::ostringstream& svg, const PlotPanel& panel, double ox, do
         << "\" stroke=\"#444\" stroke-dasharray=\"6,4\"/>\n<text x=\"" << fmt(x + 4) << "\" y=\"" << fmt(y0 + 14)
         << "\" font-size=\"11\" fill=\"#444\">" << escape(line.label) << "</text>\n";
   }
-  for (const auto& series : panel.series) {
-    const std::string& colour = colours.at(series.name);
+  auto polyline = [&](const PlotSeries& series) {
     std::string path;
     for (const auto& p : series.points)
       if (drawable(p.x, panel.log_x) && drawable(p.y, panel.log_y))
         path += (path.empty() ? "" : " ") + fmt(px(p.x)) + "," + fmt(py(p.y));
+    return path;
+  };
+  for (const auto& series : panel.series)  // bands first: under the series they connect
+    if (series.band && !polyline(series).empty())
+      svg << "<polyline points=\"" << polyline(series) << "\" fill=\"none\" stroke=\"" << colours.at(series.name)
+          << "\" stroke-width=\"" << kBandWidth << "\" stroke-opacity=\"0.5\" stroke-linejoin=\"round\" "
+          << "stroke-linecap=\"round\"/>\n";
+  for (const auto& series : panel.series) {
+    if (series.band) continue;
+    const std::string& colour = colours.at(series.name);
+    const std::string path = polyline(series);
     if (!path.empty())
       svg << "<polyline points=\"" << path << "\" fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\"/>\n";
     for (const auto& p : series.points) {
@@ -171,8 +185,8 @@ void render_panel(std::ostringstream& svg, const PlotPanel& panel, double ox, do
             << "\">" << escape(p.label) << "</text>\n";
     }
   }
-  if (hidden > 0)
-    svg << "<text x=\"" << fmt(x1 - 6) << "\" y=\"" << fmt(y1 - 8) << "\" text-anchor=\"end\" font-size=\"11\" "
+  if (hidden > 0)  // above the frame's top right corner, clear of the points and line labels
+    svg << "<text x=\"" << fmt(x1) << "\" y=\"" << fmt(y0 - 4) << "\" text-anchor=\"end\" font-size=\"11\" "
         << "fill=\"#777\">" << hidden << " point" << (hidden == 1 ? "" : "s") << " not shown (not "
         << (panel.log_x || panel.log_y ? "positive/finite" : "finite") << ")</text>\n";
 }
@@ -201,11 +215,15 @@ std::vector<std::string> wrap(const std::string& text, std::size_t width) {
 std::string render_svg(const PlotFigure& figure) {
   std::map<std::string, std::string> colours;
   std::vector<std::string> names;
+  std::set<std::string> bands;
+  std::size_t palette_used = 0;
   for (const auto& panel : figure.panels)
     for (const auto& series : panel.series)
       if (!colours.count(series.name)) {
-        colours[series.name] = kPalette[names.size() % (sizeof kPalette / sizeof kPalette[0])];
+        colours[series.name] =
+            series.band ? kBandColour : kPalette[palette_used++ % (sizeof kPalette / sizeof kPalette[0])];
         names.push_back(series.name);
+        if (series.band) bands.insert(series.name);
       }
   const int columns = std::max(1, std::min<int>(figure.columns, std::max<std::size_t>(1, figure.panels.size())));
   const int rows = (static_cast<int>(figure.panels.size()) + columns - 1) / columns;
@@ -214,9 +232,19 @@ std::string render_svg(const PlotFigure& figure) {
   for (const auto& note : figure.notes)
     for (const auto& line : wrap(note, static_cast<std::size_t>(width / 6.6))) notes.push_back(line);
   const double header = 36 + 18.0 * notes.size();
-  const int legend_entries = static_cast<int>(names.size()) + (figure.marked_meaning.empty() ? 0 : 1);
-  const int per_line = std::max(1, static_cast<int>(width / 170));
-  const double legend = 20 + 22.0 * ((legend_entries + per_line - 1) / per_line);
+  // Legend entries flow left to right, each as wide as its text, wrapping at the figure's width.
+  std::vector<std::string> entries = names;
+  if (!figure.marked_meaning.empty()) entries.push_back(figure.marked_meaning);
+  std::vector<std::pair<double, double>> entry_at;  // (x, line) of each entry
+  double next_x = 20;
+  int line = 0;
+  for (const auto& entry : entries) {
+    const double entry_width = 36 + kLegendCharWidth * entry.size() + 24;
+    if (next_x > 20 && next_x + entry_width > width - 10) next_x = 20, ++line;
+    entry_at.push_back({next_x, line});
+    next_x += entry_width;
+  }
+  const double legend = 20 + 22.0 * (line + 1);
   const double height = header + rows * kPanelHeight + legend;
 
   std::ostringstream svg;
@@ -233,14 +261,19 @@ std::string render_svg(const PlotFigure& figure) {
 
   // Legend.
   const double ly = header + rows * kPanelHeight + 16;
-  for (int k = 0; k < legend_entries; ++k) {
-    const double x = 20 + (k % per_line) * 170.0, y = ly + 22.0 * (k / per_line);
-    if (k < static_cast<int>(names.size())) {
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    const double x = entry_at[k].first, y = ly + 22.0 * entry_at[k].second;
+    if (k < names.size()) {
       const std::string& colour = colours[names[k]];
-      svg << "<line x1=\"" << fmt(x) << "\" y1=\"" << fmt(y) << "\" x2=\"" << fmt(x + 28) << "\" y2=\"" << fmt(y)
-          << "\" stroke=\"" << colour << "\" stroke-width=\"2\"/>\n<circle cx=\"" << fmt(x + 14) << "\" cy=\""
-          << fmt(y) << "\" r=\"4\" fill=\"" << colour << "\"/>\n<text x=\"" << fmt(x + 36) << "\" y=\"" << fmt(y + 4)
-          << "\" font-size=\"13\">" << escape(names[k]) << "</text>\n";
+      if (bands.count(names[k]))
+        svg << "<line x1=\"" << fmt(x) << "\" y1=\"" << fmt(y) << "\" x2=\"" << fmt(x + 28) << "\" y2=\"" << fmt(y)
+            << "\" stroke=\"" << colour << "\" stroke-width=\"" << kBandWidth << "\" stroke-opacity=\"0.5\"/>\n";
+      else
+        svg << "<line x1=\"" << fmt(x) << "\" y1=\"" << fmt(y) << "\" x2=\"" << fmt(x + 28) << "\" y2=\"" << fmt(y)
+            << "\" stroke=\"" << colour << "\" stroke-width=\"2\"/>\n<circle cx=\"" << fmt(x + 14) << "\" cy=\""
+            << fmt(y) << "\" r=\"4\" fill=\"" << colour << "\"/>\n";
+      svg << "<text x=\"" << fmt(x + 36) << "\" y=\"" << fmt(y + 4) << "\" font-size=\"13\">" << escape(names[k])
+          << "</text>\n";
     } else {
       svg << "<circle cx=\"" << fmt(x + 14) << "\" cy=\"" << fmt(y) << "\" r=\"6\" fill=\"white\" stroke=\"#333\" "
           << "stroke-width=\"2\"/>\n<path d=\"M" << fmt(x + 10) << "," << fmt(y - 4) << " L" << fmt(x + 18) << ","

@@ -18,6 +18,9 @@ struct PlotPoint {
 struct PlotSeries {
   std::string name;
   std::vector<PlotPoint> points;
+  // Drawn as a wide translucent grey band under the other series, without markers or labels
+  // (e.g. a frontier through points that other series already mark).
+  bool band = false;
 };
 
 struct PlotVerticalLine {

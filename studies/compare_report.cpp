@@ -191,9 +191,10 @@ PlotFigure make_compare_plot(const std::vector<RunResult>& results, const std::v
         const std::vector<bool> optimal = pareto_optimal(points);
         PlotSeries front;
         front.name = "frontier (fastest for its error)";
+        front.band = true;
         for (std::size_t k = 0; k < means.size(); ++k)
           if (optimal[k])
-            front.points.push_back({means[k].ms, 1e3 * means[k].e_cd, method_label(means[k].spec.method, means[k].spec.budget)});
+            front.points.push_back({means[k].ms, 1e3 * means[k].e_cd, "", false});
         std::sort(front.points.begin(), front.points.end(), [](const PlotPoint& a, const PlotPoint& b) { return a.x < b.x; });
         if (front.points.size() > 1) panel.series.push_back(front);
       }

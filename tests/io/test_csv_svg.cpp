@@ -64,5 +64,43 @@ TEST(SvgPlot, DrawsAxesTicksSeriesAndLegend) {
   EXPECT_NE(render_svg(empty).find("no data"), std::string::npos);
 }
 
+TEST(SvgPlot, ABandHasNoMarkersOrLabelsAndLongLegendEntriesDoNotOverlap) {
+  PlotFigure figure;
+  figure.columns = 1;
+  figure.marked_meaning = "diverged in at least one motion (a long legend entry that needs room)";
+  PlotPanel panel;
+  panel.series.push_back({"a method with a long name", {{1, 1, "N=5", false}, {10, 0.1, "N=10", false}}});
+  PlotSeries band{"frontier (fastest for its error)", {{1, 1, "", false}, {10, 0.1, "", false}}};
+  band.band = true;
+  panel.series.push_back(band);
+  figure.panels.push_back(panel);
+  const std::string svg = render_svg(figure);
+  // The band: one wide translucent polyline, no marker in its colour.
+  EXPECT_NE(svg.find("stroke=\"#888888\" stroke-width=\"9\" stroke-opacity=\"0.5\""), std::string::npos) << svg;
+  EXPECT_EQ(svg.find("fill=\"#888888\""), std::string::npos) << svg;
+  // It is drawn first (under the series it connects), and the palette's first colour stays with the method.
+  EXPECT_LT(svg.find("#888888"), svg.find("#1f77b4"));
+  // Legend texts on one line: each starts right of where the previous one's text ends (7.2 px per
+  // character of 13 px text).
+  struct Entry {
+    double x, y;
+    std::string text;
+  };
+  std::vector<Entry> entries;
+  for (std::size_t at = svg.find("font-size=\"13\">"); at != std::string::npos; at = svg.find("font-size=\"13\">", at + 1)) {
+    const std::size_t x_at = svg.rfind("<text x=\"", at) + 9, y_at = svg.find("y=\"", x_at) + 3;
+    const std::size_t text_at = at + 15;
+    entries.push_back({std::stod(svg.substr(x_at)), std::stod(svg.substr(y_at)),
+                       svg.substr(text_at, svg.find('<', text_at) - text_at)});
+  }
+  ASSERT_GE(entries.size(), 3u) << svg;
+  entries.erase(entries.begin(), entries.end() - 3);  // the legend comes last (before it: the axis labels)
+  for (std::size_t k = 1; k < entries.size(); ++k) {
+    if (entries[k].y != entries[k - 1].y) continue;
+    EXPECT_GE(entries[k].x, entries[k - 1].x + 7.2 * entries[k - 1].text.size()) << entries[k].text;
+  }
+  EXPECT_GT(entries.back().y, entries.front().y) << "the long entries wrap onto a second line";
+}
+
 }  // namespace
 }  // namespace fnopt
