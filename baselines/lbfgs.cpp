@@ -1,46 +1,15 @@
 #include "baselines/lbfgs.hpp"
 
-#include <algorithm>
 #include <cmath>
-#include <limits>
 #include <sstream>
 
+#include "optimizer/line_search.hpp"
 #include "util/error.hpp"
 
 namespace fnopt {
-namespace {
-
-// One line-search trial: the step t, phi(t) = L(x + t d) and phi'(t) = g(x + t d).d.
-struct Trial {
-  double step = 0.0;
-  double value = 0.0;
-  double slope = 0.0;
-};
-
-// Minimiser of the cubic through two trials (Nocedal & Wright eq. 3.59), kept at least 10 % of
-// the interval away from both ends; bisection where the cubic has no usable minimiser.
-double cubic_step(const Trial& a, const Trial& b) {
-  const double lo = std::min(a.step, b.step), hi = std::max(a.step, b.step), width = hi - lo;
-  double t = std::numeric_limits<double>::quiet_NaN();
-  if (std::isfinite(a.value) && std::isfinite(b.value) && std::isfinite(a.slope) && std::isfinite(b.slope)) {
-    const double d1 = a.slope + b.slope - 3.0 * (a.value - b.value) / (a.step - b.step);
-    const double radicand = d1 * d1 - a.slope * b.slope;
-    if (radicand >= 0.0) {
-      const double d2 = std::copysign(std::sqrt(radicand), b.step - a.step);
-      t = b.step - (b.step - a.step) * (b.slope + d2 - d1) / (b.slope - a.slope + 2.0 * d2);
-    }
-  }
-  if (!std::isfinite(t)) return 0.5 * (lo + hi);
-  return std::clamp(t, lo + 0.1 * width, hi - 0.1 * width);
-}
-
-}  // namespace
-
 void LbfgsParams::validate() const {
   require(history >= 1 && history <= 1000, "lbfgs.history", "must lie in [1, 1000]");
-  require(wolfe_c1 > 0.0 && wolfe_c1 < 0.5, "lbfgs.wolfe_c1", "must lie in (0, 0.5)");
-  require(wolfe_c2 > wolfe_c1 && wolfe_c2 < 1.0, "lbfgs.wolfe_c2", "must lie in (wolfe_c1, 1)");
-  require(max_line_search_evaluations >= 1, "lbfgs.max_line_search_evaluations", "must be positive");
+  wolfe().validate("lbfgs");
 }
 
 LbfgsOptimizer::LbfgsOptimizer(LbfgsParams params) : params_(validated(params)), history_(params_.history) {}
@@ -86,89 +55,16 @@ double LbfgsOptimizer::compute_direction(SmoothProblem& problem, const VecX& gra
   return l1 > 1.0 ? 1.0 / l1 : 1.0;
 }
 
-bool LbfgsOptimizer::line_search(SmoothProblem& problem, VecX& x, double& value, VecX& gradient,
-                                 double first_step) {
-  const double phi0 = value, slope0 = gradient.dot(direction_);
-  // Below this, L(x + t d) - L(x) is rounding: test the slope instead of the decrease.
-  const double rounding = 1e-12 * std::abs(phi0);
-  double best_value = phi0;
-  bool have_best = false;
-  int evaluations = 0;
-  auto evaluate = [&](double t) {
-    ++evaluations;
-    ++evaluations_;
-    trial_x_ = x + t * direction_;
-    Trial trial{t, problem.value_gradient(trial_x_, trial_g_), 0.0};
-    trial.slope = trial_g_.dot(direction_);
-    if (!std::isfinite(trial.value) || !std::isfinite(trial.slope)) {
-      trial.value = std::numeric_limits<double>::infinity();
-      trial.slope = std::numeric_limits<double>::quiet_NaN();
-    } else if (trial.value < best_value) {
-      best_value = trial.value;
-      best_x_ = trial_x_;
-      best_g_ = trial_g_;
-      have_best = true;
-    }
-    return trial;
-  };
-  auto sufficient = [&](const Trial& t) {
-    return (t.value <= phi0 + params_.wolfe_c1 * t.step * slope0 && t.value < phi0) ||
-           std::abs(t.value - phi0) <= rounding;
-  };
-  auto curvature = [&](const Trial& t) { return std::abs(t.slope) <= -params_.wolfe_c2 * slope0; };
-  auto accept = [&](const Trial& t) {
-    x.swap(trial_x_);
-    gradient.swap(trial_g_);
-    value = t.value;
-    return true;
-  };
-  auto zoom = [&](Trial lo, Trial hi) {
-    while (evaluations < params_.max_line_search_evaluations) {
-      const Trial t = evaluate(cubic_step(lo, hi));
-      if (!sufficient(t) || t.value >= lo.value) {
-        hi = t;
-      } else {
-        if (curvature(t)) return accept(t);
-        if (t.slope * (hi.step - lo.step) >= 0.0) hi = lo;
-        lo = t;
-      }
-      if (std::abs(hi.step - lo.step) <= 1e-12 * std::max(lo.step, hi.step)) break;
-    }
-    return false;
-  };
-
-  Trial previous{0.0, phi0, slope0};
-  double step = first_step;
-  bool done = false;
-  for (int i = 0; !done && evaluations < params_.max_line_search_evaluations; ++i) {
-    const Trial t = evaluate(step);
-    if (!sufficient(t) || (i > 0 && t.value >= previous.value)) {
-      done = zoom(previous, t);
-      break;
-    }
-    if (curvature(t)) return accept(t);
-    if (t.slope >= 0.0) {
-      done = zoom(t, previous);
-      break;
-    }
-    previous = t;
-    step *= 4.0;
-  }
-  if (done) return true;
-  if (!have_best) return false;
-  // No Wolfe point within the evaluation budget: take the lowest trial.
-  x = best_x_;
-  gradient = best_g_;
-  value = best_value;
-  return true;
-}
-
 std::optional<SolveStatus> LbfgsOptimizer::step(SmoothProblem& problem, VecX& x, double& value, VecX& gradient) {
   const double first_step = compute_direction(problem, gradient);
   x_old_ = x;
   g_old_ = gradient;
   if (params_.line_search) {
-    if (!line_search(problem, x, value, gradient, first_step)) return SolveStatus::LineSearchFailed;
+    int evaluations = 0;
+    const bool moved = wolfe_line_search(problem, x, value, gradient, direction_, first_step, params_.wolfe(),
+                                         line_search_, evaluations);
+    evaluations_ += evaluations;
+    if (!moved) return SolveStatus::LineSearchFailed;
   } else {
     x.noalias() += first_step * direction_;
     value = problem.value_gradient(x, gradient);

@@ -9,18 +9,17 @@
 //    lr = 1 and line_search_fn = None: the first iteration of a time step has no pairs and steps
 //    t0 = min(1, 1/||P^-1 g||_1) along -P^-1 g, which only probes the curvature; a pair with
 //    s.y <= 0 is skipped. Nothing stops it from overshooting on a stiff or non-convex step.
-//  - line search ("lbfgs-ls", the fair one): a strong-Wolfe line search (Nocedal & Wright,
-//    Algorithms 3.5 and 3.6: bracketing, then zoom by safeguarded cubic interpolation;
-//    c1 = 1e-4, c2 = 0.9) with the trial step 1 (on the first iteration the inertia-only step
-//    -P^-1 g). Where the objective can no longer resolve a decrease (|L(a + t d) - L(a)| below
-//    its rounding, close to the minimum) a trial that satisfies the strong curvature condition
-//    is accepted. Every accepted step satisfies s.y > 0, so the history stays positive definite.
+//  - line search ("lbfgs-ls", the fair one): the strong-Wolfe line search of
+//    optimizer/line_search.hpp (c1 = 1e-4, c2 = 0.9) with the trial step 1 (on the first
+//    iteration the inertia-only step -P^-1 g). Every accepted step satisfies s.y > 0, so the
+//    history stays positive definite.
 // The history is cleared at every time step (begin()). Iterations count outer iterations:
 // a line-search iteration costs one gradient evaluation per trial (usually one).
 #include <vector>
 
 #include "baselines/curvature_history.hpp"
 #include "baselines/first_order.hpp"
+#include "optimizer/line_search.hpp"
 
 namespace fnopt {
 
@@ -31,6 +30,7 @@ struct LbfgsParams {
   double wolfe_c2 = 0.9;         // curvature condition |phi'(t)| <= c2 |phi'(0)|
   int max_line_search_evaluations = 20;  // per iteration
 
+  WolfeParams wolfe() const { return {wolfe_c1, wolfe_c2, max_line_search_evaluations}; }
   void validate() const;  // throws Error naming the parameter
 };
 
@@ -49,15 +49,14 @@ class LbfgsOptimizer final : public FirstOrderOptimizer {
  private:
   // Sets direction_ (a descent direction) and the first trial step.
   double compute_direction(SmoothProblem& problem, const VecX& gradient);
-  // Strong-Wolfe line search along direction_ from x; on success x, value, gradient move.
-  bool line_search(SmoothProblem& problem, VecX& x, double& value, VecX& gradient, double first_step);
   void remember(const VecX& x_old, const VecX& g_old, const VecX& x_new, const VecX& g_new,
                 const VecX& inverse_metric);
 
   LbfgsParams params_;
   CurvatureHistory history_;
   std::vector<double> alphas_;
-  VecX direction_, h0_, x_old_, g_old_, trial_x_, trial_g_, best_x_, best_g_;
+  VecX direction_, h0_, x_old_, g_old_;
+  WolfeScratch line_search_;
   long skipped_pairs_ = 0;
   long evaluations_ = 0;
 };
