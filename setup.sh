@@ -1,16 +1,28 @@
 #!/usr/bin/env bash
-# Installs, from Debian packages only, whatever fnopt needs to build and run. Idempotent: a
-# package that is already installed is not touched, so a second run does nothing.
+# Installs, from Debian packages only, whatever fnopt needs to build and run; `--tests` also what
+# only the tests need. Idempotent: a package that is already installed is not touched, so a
+# second run does nothing.
 set -euo pipefail
+
+case "${1:-}" in
+  "") tests=0 ;;
+  --tests) tests=1 ;;
+  *) echo "setup: unknown option '$1' (the only option is --tests)" >&2; exit 2 ;;
+esac
 
 packages=(
   cmake g++ make ninja-build pkg-config ccache
   libeigen3-dev libfftw3-dev libhdf5-dev libcli11-dev libgtest-dev libsuitesparse-dev
   libtorch-dev
+  # fnopt view: the web server and three.js.
+  libcpp-httplib-dev libjs-three
   # Debian's libtorch links the reference BLAS through the libblas.so.3 alternative; OpenBLAS
   # switches that alternative and makes the FNO's dense layers ~5x faster (docs/design.md §9).
   libopenblas0-openmp
 )
+# Chromium, for the test that draws the viewer's page headless (~40 s and 81 MB to install; the
+# test is skipped without it, docs/design.md §11).
+((tests)) && packages+=(chromium)
 
 missing=()
 for p in "${packages[@]}"; do

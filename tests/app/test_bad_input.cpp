@@ -115,6 +115,12 @@ const std::vector<BadInput> kCases = {
     {"train --out {dir}/t --validate-res 2", "validate-res: must be at least 3"},
     {"fit-material --reference {dir}/ref.h5 --cd-stride 0 --out {dir}/m.txt", "cd-stride: must be at least 1"},
     {"bench nope", "bench: unknown benchmark 'nope'"},
+    // The viewer: every file checked before it serves.
+    {"view {dir}/missing.h5", "{dir}/missing.h5: no such file"},
+    {"view {dir}/file", "{dir}/file: not an HDF5 file"},
+    {"view {dir}/ref.h5 --against {dir}/missing.h5", "{dir}/missing.h5: no such file"},
+    {"view {dir}", "{dir}: no compare.csv"},
+    {"view {dir}/ref.h5 --port 70000", "--port: Value 70000 not in range"},
 };
 
 TEST_F(BadInputTest, EveryCaseExitsWithStatusTwoAndOneLineNamingTheProblem) {

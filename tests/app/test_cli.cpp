@@ -102,7 +102,7 @@ TEST(Cli, ThreadsDefaultToOmpNumThreadsOrOne) {
 }
 
 TEST(Cli, EverySubcommandHasHelp) {
-  for (const char* command : {"simulate", "train", "bench", "compare", "evaluate"}) {
+  for (const char* command : {"simulate", "train", "bench", "compare", "evaluate", "view"}) {
     const CommandResult r = run_fnopt(std::string(command) + " --help");
     EXPECT_EQ(r.status, 0) << command;
     EXPECT_NE(r.output.find("Usage"), std::string::npos) << command;

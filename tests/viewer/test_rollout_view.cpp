@@ -1,0 +1,116 @@
+// Loading a rollout for the viewer: an fnopt rollout's arrays against the file read
+// independently (io/rollout_file.hpp, io/hdf5_file.hpp), an ARCSim-layout file without per-step
+// data, and bad files as one-line errors naming the file.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "cloth/grid.hpp"
+#include "cloth/strain.hpp"
+#include "io/hdf5_file.hpp"
+#include "tests/boundary/temp_dir.hpp"
+#include "tests/viewer/viewer_fixture.hpp"
+#include "util/error.hpp"
+#include "viewer/rollout_view.hpp"
+
+namespace fnopt {
+namespace {
+
+TEST(ViewerRolloutView, HoldsTheFilesFramesFacesHandlesAndSeries) {
+  const testing::TempDir dir;
+  const std::string path = (dir.path() / "r.h5").string();
+  testing::write_test_rollout(path, 6, 9, 12);
+  const RolloutView view = load_rollout_view(path);
+  const TrajectoryFrames frames = read_trajectory_frames(path);
+  const Hdf5File file(path, Hdf5File::Mode::Read);
+
+  EXPECT_EQ(view.kind, "fnopt rollout");
+  ASSERT_EQ(view.rows, 6);
+  ASSERT_EQ(view.cols, 9);
+  ASSERT_EQ(view.frames(), 13);
+  EXPECT_EQ(view.times, frames.times);
+  for (int t = 0; t < 13; ++t)
+    for (int k = 0; k < 3 * 54; ++k) ASSERT_EQ(view.positions[t * 3 * 54 + k], frames.positions[t](k));
+  EXPECT_EQ(view.faces, file.read_ints("faces"));
+  EXPECT_EQ(view.handle_count, 2);
+  EXPECT_EQ(view.handle_positions, file.read_floats("handle_positions"));
+  ASSERT_EQ(view.series.size(), 4u);
+  for (const auto& [name, values] : view.series) EXPECT_EQ(values, file.read_doubles(name)) << name;
+
+  // A frame's largest vertex strain is the step's recorded max edge strain.
+  const std::vector<double> step_max_strain = file.read_doubles("step_max_strain");
+  const Grid grid = Grid::make(6, 9, 1.0);
+  for (int t = 1; t < 13; ++t) {
+    const float largest = *std::max_element(view.strain.begin() + t * 54, view.strain.begin() + (t + 1) * 54);
+    EXPECT_NEAR(largest, step_max_strain[t - 1], 1e-5) << "frame " << t;
+    EXPECT_NEAR(largest, max_edge_strain(grid, frames.positions[t].cast<double>()), 1e-5) << "frame " << t;
+  }
+  EXPECT_TRUE(view.distance.empty());
+  EXPECT_NE(rollout_metadata_json(view).find("\"reference\":null"), std::string::npos);
+}
+
+TEST(ViewerRolloutView, ReadsAnArcsimLayoutFileWithoutSeries) {
+  const testing::TempDir dir;
+  const std::string path = (dir.path() / "arcsim.h5").string();
+  const Grid grid = Grid::make(4, 4, 1.0);
+  {
+    Hdf5File file(path, Hdf5File::Mode::Create);
+    const Eigen::VectorXf rest = grid.rest_positions().cast<float>();
+    std::vector<float> positions;
+    for (int t = 0; t < 3; ++t) positions.insert(positions.end(), rest.data(), rest.data() + rest.size());
+    file.write("positions", {3, 4, 4, 3}, positions.data());
+    const std::vector<double> times = {0.0, 1.0 / 30, 2.0 / 30};
+    file.write("times_s", {3}, times.data());
+    const auto faces = grid.triangles();
+    file.write("faces", {18, 3}, faces.data());
+    const std::vector<float> handles = {0, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0, 0};
+    file.write("handle_positions", {3, 2, 3}, handles.data());
+  }
+  const RolloutView view = load_rollout_view(path);
+  EXPECT_EQ(view.kind, "ARCSim-layout file");
+  EXPECT_EQ(view.frames(), 3);
+  EXPECT_EQ(view.handle_count, 2);
+  EXPECT_TRUE(view.series.empty());
+  for (const float s : view.strain) EXPECT_NEAR(s, 0.0f, 1e-6);
+  EXPECT_NE(rollout_metadata_json(view).find("\"series\":{}"), std::string::npos);
+}
+
+// The error's one line, "" if there was none.
+std::string load_error(const std::string& path, const std::string& reference = "") {
+  try {
+    load_rollout_view(path, reference);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ViewerRolloutView, BadFilesAreOneLineErrorsNamingTheFile) {
+  const testing::TempDir dir;
+  const std::string good = (dir.path() / "r.h5").string();
+  testing::write_test_rollout(good, 4, 4, 3);
+  const std::string text = dir.write("notes.h5", "not an HDF5 file\n");
+  const std::string no_positions = (dir.path() / "empty.h5").string();
+  {
+    Hdf5File file(no_positions, Hdf5File::Mode::Create);
+    const double t = 0.0;
+    file.write("times_s", {1}, &t);
+  }
+  const std::string missing = (dir.path() / "missing.h5").string();
+  for (const auto& [path, reference, says] :
+       std::vector<std::tuple<std::string, std::string, std::string>>{{missing, "", "no such file"},
+                                                                       {text, "", ""},
+                                                                       {no_positions, "", "positions"},
+                                                                       {good, missing, "no such file"},
+                                                                       {dir.path().string(), "", "not a file"}}) {
+    const std::string error = load_error(path, reference);
+    const std::string named = reference.empty() ? path : reference;
+    ASSERT_FALSE(error.empty()) << path;
+    EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+    EXPECT_NE(error.find(named), std::string::npos) << error;
+    EXPECT_NE(error.find(says), std::string::npos) << error;
+  }
+}
+
+}  // namespace
+}  // namespace fnopt
