@@ -9,7 +9,7 @@
 namespace fnopt {
 void LbfgsParams::validate() const {
   require(history >= 1 && history <= 1000, "lbfgs.history", "must lie in [1, 1000]");
-  wolfe().validate("lbfgs");
+  wolfe.validate("lbfgs");
 }
 
 LbfgsOptimizer::LbfgsOptimizer(LbfgsParams params) : params_(validated(params)), history_(params_.history) {}
@@ -18,8 +18,8 @@ std::string LbfgsOptimizer::settings() const {
   std::ostringstream out;
   out << name() << ": history=" << params_.history << " (mass metric, H0 = s.y/(y.P^-1 y) P^-1)";
   if (params_.line_search)
-    out << " strong Wolfe line search c1=" << params_.wolfe_c1 << " c2=" << params_.wolfe_c2
-        << " max_evaluations=" << params_.max_line_search_evaluations;
+    out << " strong Wolfe line search c1=" << params_.wolfe.c1 << " c2=" << params_.wolfe.c2
+        << " max_evaluations=" << params_.wolfe.max_evaluations;
   else
     out << " fixed step 1, no line search";
   return out.str();
@@ -61,7 +61,7 @@ std::optional<SolveStatus> LbfgsOptimizer::step(SmoothProblem& problem, VecX& x,
   g_old_ = gradient;
   if (params_.line_search) {
     int evaluations = 0;
-    const bool moved = wolfe_line_search(problem, x, value, gradient, direction_, first_step, params_.wolfe(),
+    const bool moved = wolfe_line_search(problem, x, value, gradient, direction_, first_step, params_.wolfe,
                                          line_search_, evaluations);
     evaluations_ += evaluations;
     if (!moved) return SolveStatus::LineSearchFailed;

@@ -26,11 +26,7 @@ namespace fnopt {
 struct LbfgsParams {
   int history = 5;               // curvature pairs kept (m)
   bool line_search = false;      // false: fixed step 1 (the paper's); true: strong Wolfe
-  double wolfe_c1 = 1e-4;        // sufficient decrease
-  double wolfe_c2 = 0.9;         // curvature condition |phi'(t)| <= c2 |phi'(0)|
-  int max_line_search_evaluations = 20;  // per iteration
-
-  WolfeParams wolfe() const { return {wolfe_c1, wolfe_c2, max_line_search_evaluations}; }
+  WolfeParams wolfe;             // of the line search: c1 1e-4, c2 0.9, 20 evaluations
   void validate() const;  // throws Error naming the parameter
 };
 

@@ -219,6 +219,16 @@ void run_repulsion_study(const RepulsionStudy& study) {
   ProgressBar bar("repulsion-study", static_cast<int>(total_cost / unit), static_cast<int>(done_cost / unit));
 
   CsvTable runs(run_columns()), energy(energy_columns());
+  // Runs of the earlier files that this plan does not name (other optimizers) stay in them, as
+  // in compare and stability: resuming with a subset never drops finished work.
+  std::set<std::string> planned;
+  for (const std::string& preset : repulsion_presets())
+    for (const char* repulsion : {"off", "on"})
+      for (const auto& choice : study.optimizers) planned.insert(ResumedRows::key({preset, repulsion, choice.name}));
+  for (const auto& row : resumed.unplanned(planned)) {
+    runs.add_row(row);
+    for (const auto& energy_row : kept_energy[ResumedRows::key({row[0], row[1], row[2]})]) energy.add_row(energy_row);
+  }
   std::vector<std::vector<std::string>> table_rows;
   for (const std::string& preset : repulsion_presets())
     for (bool repulsion : {false, true})

@@ -89,6 +89,26 @@ TEST(RepulsionStudy, AResumedStudyRunsOnlyTheMissingRunsAndRedrawsEveryRun) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(RepulsionStudy, ResumingWithOtherOptimizersKeepsTheEarlierRuns) {
+  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_repulsion_subset";
+  std::filesystem::remove_all(dir);
+  const std::string command = "repulsion-study --out " + dir.string() + " --frames 2 --res 6 --threads 1";
+  ASSERT_EQ(run_fnopt(command + " --optimizers newton").status, 0);
+  const std::vector<std::string> newton = lines_of(read_text(dir / "repulsion.csv"));
+  const std::vector<std::string> newton_energy = lines_of(read_text(dir / "repulsion_energy.csv"));
+  const CommandResult r = run_fnopt(command + " --optimizers gd --resume");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::vector<std::string> both = lines_of(read_text(dir / "repulsion.csv"));
+  const std::vector<std::string> both_energy = lines_of(read_text(dir / "repulsion_energy.csv"));
+  ASSERT_EQ(both.size(), 1 + 2 * (newton.size() - 1));
+  ASSERT_EQ(both_energy.size(), 1 + 2 * (newton_energy.size() - 1));
+  for (std::size_t i = 1; i < newton.size(); ++i)
+    EXPECT_NE(std::find(both.begin(), both.end(), newton[i]), both.end()) << "dropped: " << newton[i];
+  for (std::size_t i = 1; i < newton_energy.size(); ++i)
+    EXPECT_NE(std::find(both_energy.begin(), both_energy.end(), newton_energy[i]), both_energy.end()) << newton_energy[i];
+  std::filesystem::remove_all(dir);
+}
+
 TEST(RepulsionStudy, ResumingWithoutTheEnergyFileIsOneClearLine) {
   const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_repulsion_no_energy";
   std::filesystem::remove_all(dir);

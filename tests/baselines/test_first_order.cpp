@@ -247,7 +247,7 @@ TEST(FirstOrderOptimizers, ParametersAreValidated) {
   lbfgs.history = 0;
   EXPECT_ANY_THROW(LbfgsOptimizer{lbfgs});
   lbfgs = LbfgsParams{};
-  lbfgs.wolfe_c2 = lbfgs.wolfe_c1 / 2;
+  lbfgs.wolfe.c2 = lbfgs.wolfe.c1 / 2;
   EXPECT_ANY_THROW(LbfgsOptimizer{lbfgs});
   EXPECT_EQ(LbfgsOptimizer{}.name(), "lbfgs");
   lbfgs = LbfgsParams{};
