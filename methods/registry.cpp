@@ -1,10 +1,7 @@
 #include "methods/registry.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <functional>
 #include <vector>
 
@@ -17,6 +14,7 @@
 #include "optimizer/learned/learned_optimizer.hpp"
 #include "util/error.hpp"
 #include "util/flag_names.hpp"
+#include "util/installed_data.hpp"
 #include "util/parse_text.hpp"
 
 namespace fnopt {
@@ -185,18 +183,6 @@ InnerSolveOptions OptimizerChoice::solve_options() const {
   return {iterations > 0 ? iterations : 10, 0.0};
 }
 
-std::string shipped_model_path() {
-  namespace fs = std::filesystem;
-  constexpr const char* kModel = "fnopt-32.pt";
-  // Installed: PREFIX/bin/fnopt next to PREFIX/share/fnopt/models (cmake --install).
-  char exe[4096];
-  const ssize_t length = readlink("/proc/self/exe", exe, sizeof exe - 1);
-  if (length > 0) {
-    exe[length] = '\0';
-    const fs::path installed = fs::path(exe).parent_path().parent_path() / "share" / "fnopt" / "models" / kModel;
-    if (fs::exists(installed)) return installed.string();
-  }
-  return (fs::path(FNOPT_SOURCE_DIR) / "models" / kModel).string();  // a build tree
-}
+std::string shipped_model_path() { return installed_data_path("models/fnopt-32.pt", "models/fnopt-32.pt"); }
 
 }  // namespace fnopt

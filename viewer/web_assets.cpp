@@ -1,10 +1,9 @@
 #include "viewer/web_assets.hpp"
 
-#include <unistd.h>
-
 #include <filesystem>
 
 #include "util/error.hpp"
+#include "util/installed_data.hpp"
 
 namespace fnopt {
 
@@ -22,14 +21,7 @@ const char* const kThreeDirectory = "/usr/share/javascript/three";
 const char* const kThreeFiles[] = {"build/three.module.js", "examples/jsm/controls/OrbitControls.js"};
 
 fs::path page_directory() {
-  char exe[4096];
-  const ssize_t length = readlink("/proc/self/exe", exe, sizeof exe - 1);
-  if (length > 0) {
-    exe[length] = '\0';
-    const fs::path installed = fs::path(exe).parent_path().parent_path() / "share" / "fnopt" / "web";
-    if (fs::exists(installed / "index.html")) return installed;
-  }
-  return fs::path(FNOPT_SOURCE_DIR) / "viewer" / "web";  // a build tree
+  return fs::path(installed_data_path("web/index.html", "viewer/web/index.html")).parent_path();
 }
 
 std::string content_type_of(const fs::path& file) {
