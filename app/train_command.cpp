@@ -16,6 +16,7 @@
 #include "app/commands.hpp"
 #include "util/flag_names.hpp"
 #include "app/threads.hpp"
+#include "parallel/communicator.hpp"
 #include "fno/fno_io.hpp"
 #include "training/meta_trainer.hpp"
 #include "training/rollout_validation.hpp"
@@ -146,6 +147,11 @@ void run_train(TrainFlags& flags) {
                      {"validate.subspace", "validate-subspace"}},
                     [&] { flags.validation.validate(); });
   const int threads = set_thread_count(flags.threads);
+  // Under mpirun or srun, every rank trains its share of each batch; rank 0 alone logs,
+  // validates and writes (meta_trainer.hpp). Collective steps below: the trainer's, and the
+  // stop decision.
+  const Communicator& processes = Communicator::world();
+  const bool root = processes.is_root();
   require_writable_directory(flags.out, "out");
   const std::filesystem::path out(flags.out);
   const std::string checkpoint = (out / "checkpoint.pt").string();
@@ -157,41 +163,49 @@ void run_train(TrainFlags& flags) {
   require(!flags.resume || std::filesystem::exists(checkpoint), "resume",
           "no checkpoint to resume: " + checkpoint + " does not exist");
   const bool resuming = flags.resume;
-  MetaTrainer trainer(flags.options, resuming ? checkpoint : std::string());
+  if (!resuming)
+    require(!std::filesystem::exists(checkpoint), "out",
+            checkpoint + " exists: pass --resume to continue it, or choose another --out");
+  processes.barrier();  // no rank may see a checkpoint that this run writes
+  std::optional<MetaTrainer> made;
+  with_flag_names({{"train.batch", "batch"}},
+                  [&] { made.emplace(flags.options, resuming ? checkpoint : std::string(), processes); });
+  MetaTrainer& trainer = *made;
   double seconds_before = 0.0;
   BestValidation best;
   bool validated_start = false;  // the validation log has a row for the resumed step
-  if (resuming) {
+  if (root && resuming) {
     const auto rows = trim_log(log_path, kLogHeader, trainer.completed_steps());
     if (!rows.empty()) seconds_before = std::stod(rows.back()[1]);
     if (std::filesystem::exists(validation_log_path))
       best = best_of(trim_log(validation_log_path, kValidationHeader, trainer.completed_steps()), flags.validation,
                      trainer.completed_steps(), validated_start);
     std::fprintf(stderr, "fnopt train: resumed %s at step %d\n", checkpoint.c_str(), trainer.completed_steps());
-  } else {
-    require(!std::filesystem::exists(checkpoint) || flags.resume, "out",
-            checkpoint + " exists: pass --resume to continue it, or choose another --out");
+  } else if (root) {
     std::ofstream(log_path) << kLogHeader << '\n';
   }
   // A fresh run starts the validation log afresh; a resumed one keeps it if there is one.
-  if (flags.validate && (!resuming || !std::filesystem::exists(validation_log_path)))
+  if (root && flags.validate && (!resuming || !std::filesystem::exists(validation_log_path)))
     std::ofstream(validation_log_path) << kValidationHeader << '\n';
-  std::fprintf(stderr, "fnopt train: %s, %d thread%s, writing %s\n", flags.options.signature().c_str(), threads,
-               threads == 1 ? "" : "s", flags.out.c_str());
-  std::fprintf(stderr, "fnopt train: pool ranges (grid units, damping as c dt): %s\n",
-               flags.options.pool.ranges.text().c_str());
-  const int subspace = flags.options.pool.subspace;
-  std::fprintf(stderr, "fnopt train: the pool takes each proposal %s\n",
-               subspace == 0 ? "as it is"
-                             : ("as fnopt-ss does: subspace step over the last " + std::to_string(subspace) +
-                                " proposals, carried across time steps, and the energy safeguard")
-                                   .c_str());
-  std::fprintf(stderr, "fnopt train: the loss scores each update %s\n",
-               flags.options.score_after_subspace_step ? "where the rule ends, past the subspace step"
-                                                       : "at the proposal");
-
+  if (root) {
+    std::fprintf(stderr, "fnopt train: %s, %d thread%s%s, writing %s\n", flags.options.signature().c_str(), threads,
+                 threads == 1 ? "" : "s",
+                 processes.size() > 1 ? (" in each of " + std::to_string(processes.size()) + " processes").c_str() : "",
+                 flags.out.c_str());
+    std::fprintf(stderr, "fnopt train: pool ranges (grid units, damping as c dt): %s\n",
+                 flags.options.pool.ranges.text().c_str());
+    const int subspace = flags.options.pool.subspace;
+    std::fprintf(stderr, "fnopt train: the pool takes each proposal %s\n",
+                 subspace == 0 ? "as it is"
+                               : ("as fnopt-ss does: subspace step over the last " + std::to_string(subspace) +
+                                  " proposals, carried across time steps, and the energy safeguard")
+                                     .c_str());
+    std::fprintf(stderr, "fnopt train: the loss scores each update %s\n",
+                 flags.options.score_after_subspace_step ? "where the rule ends, past the subspace step"
+                                                         : "at the proposal");
+  }
   std::unique_ptr<RolloutValidation> validation;
-  if (flags.validate) {
+  if (root && flags.validate) {
     const ValidationOptions& v = flags.validation;
     std::fprintf(stderr, "fnopt train: validation every %d steps: %s N=%d, %d frames of %s at %dx%d against Newton\n",
                  flags.validate_every, v.optimizer().c_str(), v.iterations, v.frames, validation_key(v)[1].c_str(), v.resolution, v.resolution);
@@ -207,10 +221,12 @@ void run_train(TrainFlags& flags) {
     if (best.step >= 0) std::fprintf(stderr, "fnopt train: best so far: step %d, e_3D %.4g\n", best.step, best.e3d);
   }
 
-  std::ofstream log(log_path, std::ios::app);
+  std::ofstream log;
+  if (root) log.open(log_path, std::ios::app);
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  ProgressBar bar("train", flags.options.steps, trainer.completed_steps());
+  std::optional<ProgressBar> bar;
+  if (root) bar.emplace("train", flags.options.steps, trainer.completed_steps());
   double running_loss = NAN, running_ratio = NAN;
   // Validates the current model; keeps it as model-best.pt if it is the closest to Newton so far.
   auto validate = [&](int step) {
@@ -231,7 +247,7 @@ void run_train(TrainFlags& flags) {
   };
   auto save = [&] {
     trainer.save_checkpoint(checkpoint);
-    save_fno(model_path, trainer.output_model());
+    if (root) save_fno(model_path, trainer.output_model());
   };
   // A resumed run that was not validated at its start (validation newly turned on, say)
   // validates the model it starts from first: model-best.pt is never worse than it.
@@ -239,18 +255,21 @@ void run_train(TrainFlags& flags) {
   while (trainer.completed_steps() < flags.options.steps) {
     const TrainStepStats s = trainer.step();
     const int step = trainer.completed_steps();
-    running_loss = std::isfinite(running_loss) ? 0.98 * running_loss + 0.02 * s.loss : s.loss;
-    if (std::isfinite(s.mean_ratio))
-      running_ratio = std::isfinite(running_ratio) ? 0.98 * running_ratio + 0.02 * s.mean_ratio : s.mean_ratio;
-    log << step << ',' << seconds_before + elapsed() << ',' << s.loss << ',' << s.newton_loss << ',' << s.mean_ratio << ',' << s.gradient_norm
-        << ',' << s.learning_rate << ',' << s.renewed << ',' << s.skipped << '\n';
-    char status[128];
-    const int written = std::snprintf(status, sizeof status, "loss %.4f ratio %.4f lr %.1e", running_loss,
-                                      running_ratio, s.learning_rate);
-    if (best.step >= 0)
-      std::snprintf(status + written, sizeof status - written, " best e_3D %.3g @%d", best.e3d, best.step);
-    bar.update(step, status);
-    const bool out_of_time = flags.minutes > 0 && elapsed() > 60.0 * flags.minutes;
+    // Rank 0 keeps the time: every rank stops at the same step.
+    const bool out_of_time = processes.any(root && flags.minutes > 0 && elapsed() > 60.0 * flags.minutes);
+    if (root) {
+      running_loss = std::isfinite(running_loss) ? 0.98 * running_loss + 0.02 * s.loss : s.loss;
+      if (std::isfinite(s.mean_ratio))
+        running_ratio = std::isfinite(running_ratio) ? 0.98 * running_ratio + 0.02 * s.mean_ratio : s.mean_ratio;
+      log << step << ',' << seconds_before + elapsed() << ',' << s.loss << ',' << s.newton_loss << ',' << s.mean_ratio
+          << ',' << s.gradient_norm << ',' << s.learning_rate << ',' << s.renewed << ',' << s.skipped << '\n';
+      char status[128];
+      const int written = std::snprintf(status, sizeof status, "loss %.4f ratio %.4f lr %.1e", running_loss,
+                                        running_ratio, s.learning_rate);
+      if (best.step >= 0)
+        std::snprintf(status + written, sizeof status - written, " best e_3D %.3g @%d", best.e3d, best.step);
+      bar->update(step, status);
+    }
     // Validation comes before the checkpoint of the same step: a run killed in between
     // repeats both (the steps are reproducible), never loses a validation of a saved step.
     if (validation && (step % flags.validate_every == 0 || step == flags.options.steps)) validate(step);
@@ -259,13 +278,15 @@ void run_train(TrainFlags& flags) {
       save();
     }
     if (out_of_time) {
-      bar.finish();
+      if (!root) return;
+      bar->finish();
       std::fprintf(stderr, "fnopt train: stopped after %.1f minutes at step %d; --resume continues\n", flags.minutes,
                    step);
       return;
     }
   }
-  bar.finish();
+  if (!root) return;
+  bar->finish();
   std::printf("trained %d steps in %s; model %s, log %s\n", trainer.completed_steps(),
               format_duration(seconds_before + elapsed()).c_str(), model_path.c_str(), log_path.c_str());
   if (best.step >= 0)

@@ -8,7 +8,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <optional>
+#include <iomanip>
 #include <set>
+#include <sstream>
 
 #include "baselines/newton.hpp"
 #include "io/csv_table.hpp"
@@ -21,6 +23,7 @@
 #include "util/error.hpp"
 #include "util/parse_text.hpp"
 #include "util/progress_bar.hpp"
+#include "parallel/sweep_schedule.hpp"
 
 namespace fnopt {
 
@@ -137,17 +140,77 @@ RunResult result_of_row(const RunSpec& spec, const std::vector<std::string>& row
   return r;
 }
 
+// One rollout's result, sent from the rank that ran it to rank 0: every field at full precision
+// (the frontier is marked on the values, not the CSV's rounded text), fields separated by the
+// ASCII unit separator, which no field contains.
+constexpr char kSeparator = '\x1f';
+
+std::string encode(const RunResult& r) {
+  std::ostringstream s;
+  s << std::setprecision(17);
+  s << r.spec.method << kSeparator << r.spec.budget << kSeparator << r.resolution << kSeparator << r.motion
+    << kSeparator << r.lr_source << kSeparator << r.note;
+  for (double v : {r.lr, r.ms, r.cpu_share, r.iterations, r.e_cd, r.e_3d, r.step_mean, r.step_median, r.strain,
+                   r.e_cd_arcsim})
+    s << kSeparator << v;
+  s << kSeparator << r.diverged << kSeparator << r.failed << kSeparator << r.frames << kSeparator
+    << r.frames_requested;
+  return s.str();
+}
+
+RunResult decode(const std::string& text) {
+  const std::vector<std::string_view> f = split(text, kSeparator);
+  if (f.size() != 20) throw Error("compare: a run's result arrived damaged (" + std::to_string(f.size()) + " fields)");
+  RunResult r;
+  auto number = [](std::string_view v) {
+    double value = NAN;
+    parse_double(v, value);  // "nan" stays NAN
+    return value;
+  };
+  r.spec.method = f[0];
+  parse_int(f[1], r.spec.budget);
+  r.resolution = f[2];
+  r.motion = f[3];
+  r.lr_source = f[4];
+  r.note = f[5];
+  double* fields[] = {&r.lr, &r.ms, &r.cpu_share, &r.iterations, &r.e_cd, &r.e_3d, &r.step_mean, &r.step_median,
+                      &r.strain, &r.e_cd_arcsim};
+  for (int i = 0; i < 10; ++i) *fields[i] = number(f[6 + i]);
+  r.diverged = f[16] == "1";
+  r.failed = f[17] == "1";
+  parse_int(f[18], r.frames);
+  parse_int(f[19], r.frames_requested);
+  return r;
+}
+
+// A task of the sweep: a scene's Newton reference (run = -1) or one run on one scene.
+struct Task {
+  std::size_t scene = 0;
+  int run = -1;
+  double units = 0.0;  // estimated cost, frame-cost units (the schedule's and the progress bar's)
+};
+
+// What every run on one scene shares: the resolved scene, its reference frames, the per-step
+// error bench on them and the ARCSim frames if there are any. Built by a rank when it first runs
+// a task of the scene.
+struct SceneContext {
+  std::size_t scene = static_cast<std::size_t>(-1);
+  std::optional<ResolvedScene> resolved;
+  TrajectoryFrames reference;
+  std::unique_ptr<StepErrorBench> bench;
+  std::optional<TrajectoryFrames> arcsim;
+};
 
 }  // namespace
 
-void run_compare_study(const CompareStudy& study) {
+void run_compare_study(const CompareStudy& study, const Communicator& comm) {
   const std::vector<Scene>& scenes = study.scenes;
   const std::vector<RunSpec>& runs = study.runs;
   const std::vector<std::string>& methods = study.methods;
   const std::vector<double>& error_levels = study.error_levels;
-  std::map<std::string, std::vector<double>> lr_candidates = study.learning_rates;
   const ChamferOptions& chamfer = study.chamfer;
   const int threads = study.threads;
+  const bool root = comm.is_root();
   const Scene& base = scenes.front();
   std::vector<std::string> resolution_names, motion_names_used;
   for (const auto& scene : scenes) {
@@ -160,48 +223,97 @@ void run_compare_study(const CompareStudy& study) {
   auto reference_file = [&](const Scene& scene) {
     return newton_reference_path(study.out, resolution_text(scene) + "_" + motion_text(scene), scene);
   };
+  auto run_label = [&](const RunSpec& run, const Scene& scene) {
+    return run.method + (run.budget ? " N=" + std::to_string(run.budget) : "") + " " + resolution_text(scene) + "/" +
+           motion_text(scene);
+  };
 
-  // Progress in frame-cost units (budget x frames), so that the ETA weighs Adam-500 over L-BFGS-10.
-  long long total_units = 0;
-  for (const auto& scene : scenes) {
-    if (!fs::exists(reference_file(scene))) total_units += static_cast<long long>(scene.frames * cost_weight("newton", 0, scene.rows * scene.cols));
-    for (const auto& run : runs) total_units += static_cast<long long>(scene.frames * cost_weight(run.method, run.budget, scene.rows * scene.cols));
-  }
-  const double unit_scale = total_units > 1'000'000'000LL ? 1e-3 : 1.0;
-  ProgressBar bar("compare", static_cast<int>(total_units * unit_scale));
-  long long done_units = 0;
-
-  std::fprintf(stderr,
-               "fnopt compare: %zu scene%s (res %s; motions %s), %zu runs each, %d frames, %d thread%s (fixed for "
-               "every timing), output %s\n",
-               scenes.size(), scenes.size() == 1 ? "" : "s", study.resolutions_text.c_str(),
-               joined(motion_names_used).c_str(), runs.size(), base.frames, threads, threads == 1 ? "" : "s",
-               study.out.c_str());
-
-  std::vector<RunResult> results;  // every row of compare.csv, in its order
   const std::string csv_path = (fs::path(study.out) / "compare.csv").string();
   // --resume: the rows of an earlier run with the same columns are kept and not run again.
   const ResumedRows resumed(csv_path, kColumns, kKeyColumns, study.resume, "compare");
-  if (resumed.size() > 0) std::fprintf(stderr, "resuming: %zu finished runs in %s\n", resumed.size(), csv_path.c_str());
-  // Rows of the earlier CSV that this run does not redo (other methods, budgets, resolutions
-  // or motions) stay in it: resuming with a subset never drops finished work.
+  auto resumed_row = [&](std::size_t s, const RunSpec& run) {
+    return resumed.find(run_key(run.method, budget_text(run), resolution_text(scenes[s]), motion_text(scenes[s])));
+  };
+
+  // The tasks: first the references still missing (every run on their scene needs them), then
+  // every run not resumed. A fresh reference is also the converged Newton run of its scene (the
+  // same solver, just run), so that run comes with the reference task.
+  std::vector<Task> reference_tasks, run_tasks;
+  std::set<std::size_t> fresh_reference_scenes;
+  for (std::size_t s = 0; s < scenes.size(); ++s) {
+    const Scene& scene = scenes[s];
+    const int vertices = scene.rows * scene.cols;
+    const bool all_resumed = std::all_of(runs.begin(), runs.end(), [&](const RunSpec& r) { return resumed_row(s, r); });
+    if (!all_resumed && !fs::exists(reference_file(scene))) {
+      reference_tasks.push_back({s, -1, scene.frames * cost_weight("newton", 0, vertices)});
+      fresh_reference_scenes.insert(s);
+    }
+    for (int i = 0; i < static_cast<int>(runs.size()); ++i) {
+      if (resumed_row(s, runs[i])) continue;
+      if (is_converged_run(runs[i]) && fresh_reference_scenes.count(s) && !study.warm_start) continue;
+      run_tasks.push_back({s, i, scene.frames * cost_weight(runs[i].method, runs[i].budget, vertices)});
+    }
+  }
+  auto costs_of = [](const std::vector<Task>& tasks) {
+    std::vector<double> costs;
+    for (const Task& t : tasks) costs.push_back(t.units);
+    return costs;
+  };
+  const std::vector<int> reference_rank = schedule_largest_first(costs_of(reference_tasks), comm.size());
+  const std::vector<int> run_rank = schedule_largest_first(costs_of(run_tasks), comm.size());
+
+  // Progress in frame-cost units (budget x frames), so that the ETA weighs Adam-500 over L-BFGS-10.
+  double total_units = 0.0;
+  for (const Task& t : reference_tasks) total_units += t.units;
+  for (const Task& t : run_tasks) total_units += t.units;
+  const double unit_scale = total_units > 1e9 ? 1e-3 : 1.0;
+  std::optional<ProgressBar> bar;
+  double done_units = 0.0;  // rank 0: every rank's finished tasks and its own running one
+  if (root) {
+    bar.emplace("compare", static_cast<int>(total_units * unit_scale));
+    std::fprintf(stderr,
+                 "fnopt compare: %zu scene%s (res %s; motions %s), %zu runs each, %d frames, %d thread%s (fixed for "
+                 "every timing)%s, output %s\n",
+                 scenes.size(), scenes.size() == 1 ? "" : "s", study.resolutions_text.c_str(),
+                 joined(motion_names_used).c_str(), runs.size(), base.frames, threads, threads == 1 ? "" : "s",
+                 comm.size() > 1 ? (", " + std::to_string(comm.size()) + " processes").c_str() : "",
+                 study.out.c_str());
+    if (resumed.size() > 0) std::fprintf(stderr, "resuming: %zu finished runs in %s\n", resumed.size(), csv_path.c_str());
+  }
+
+  // Rank 0's view of the results: the finished runs by (scene, run), rows of compare.csv in the
+  // order of a one-process run (resumed rows this run does not redo, then scene by scene, run
+  // by run), however the ranks finished them.
+  std::map<std::pair<std::size_t, int>, RunResult> finished;
+  std::vector<RunResult> unplanned_rows;
   std::set<std::string> planned;
   for (const Scene& scene : scenes)
     for (const auto& run : runs) planned.insert(run_key(run.method, budget_text(run), resolution_text(scene), motion_text(scene)));
+  // Rows of the earlier CSV that this run does not redo (other methods, budgets, resolutions
+  // or motions) stay in it: resuming with a subset never drops finished work.
   for (const auto& row : resumed.unplanned(planned)) {
     int budget = 0;
     parse_int(row[1], budget);  // "tol1e-9": 0, a converged run
-    results.push_back(result_of_row({row[0], budget}, row));
+    unplanned_rows.push_back(result_of_row({row[0], budget}, row));
   }
-  const std::string svg_path = (fs::path(study.out) / "compare.svg").string();
-  // compare.csv from `results`, the frontier marked anew over every row.
-  auto write_table = [&] {
+  auto all_results = [&] {
+    std::vector<RunResult> results = unplanned_rows;
+    for (std::size_t s = 0; s < scenes.size(); ++s)
+      for (int i = 0; i < static_cast<int>(runs.size()); ++i) {
+        if (const auto* earlier = resumed_row(s, runs[i])) results.push_back(result_of_row(runs[i], *earlier));
+        else if (const auto it = finished.find({s, i}); it != finished.end()) results.push_back(it->second);
+      }
     mark_frontier(results, threads);
+    return results;
+  };
+  const std::string svg_path = (fs::path(study.out) / "compare.svg").string();
+  auto write_table = [&](const std::vector<RunResult>& results) {
     CsvTable table(kColumns);
     for (const RunResult& r : results) table.add_row(csv_row(r, threads));
     table.write(csv_path);
     return table;
   };
+
   std::map<std::pair<std::string, int>, LearningRate> chosen_lr;
   std::vector<std::string> lr_notes;
   TrajectoryComparisonOptions comparison_options;
@@ -224,7 +336,7 @@ void run_compare_study(const CompareStudy& study) {
                      std::any_of(methods.begin(), methods.end(), is_interpolated_method));
   const std::size_t total_runs = runs.size() * scenes.size();
   std::set<std::size_t> reference_states;  // per-step samples of the references, as drawn
-  auto write_outputs = [&](const std::string& status) {
+  auto write_outputs = [&](const std::vector<RunResult>& results, const std::string& status) {
     // Frames and reference states as the rows have them, which a --resume may mix.
     std::set<int> frames;
     for (const RunResult& r : results) frames.insert(r.frames_requested);
@@ -245,77 +357,180 @@ void run_compare_study(const CompareStudy& study) {
     write_compare_report(report, results);
   };
 
+  // Rank 0 records a finished task (its own or one that arrived), rewrites the outputs and
+  // prints the run's line. A message is the task's kind and index, the reference states of its
+  // scene's bench, and the encoded result if the task produced a row.
+  std::set<std::pair<int, std::size_t>> received;  // (phase: 0 references, 1 runs; task)
+  auto record = [&](const std::string& message) {
+    const auto fields = split(message, '\n');
+    int phase = 0, states = 0, index = 0;
+    parse_int(fields[0], phase);
+    parse_int(fields[1], index);
+    parse_int(fields[2], states);
+    const Task& task = (phase == 0 ? reference_tasks : run_tasks)[index];
+    received.insert({phase, static_cast<std::size_t>(index)});
+    done_units += task.units;
+    if (states > 0) reference_states.insert(states);
+    // The result is the rest of the message (a note may hold line breaks).
+    std::size_t body = 0;
+    for (int line = 0; line < 3; ++line) body = message.find('\n', body) + 1;
+    if (body >= message.size()) return;
+    const RunResult r = decode(message.substr(body));
+    const int run = task.run >= 0 ? task.run
+                                  : static_cast<int>(std::find_if(runs.begin(), runs.end(), is_converged_run) - runs.begin());
+    finished[{task.scene, run}] = r;
+    const std::vector<RunResult> results = all_results();
+    write_table(results);
+    write_outputs(results, "in progress, " + std::to_string(results.size() - unplanned_rows.size()) + " of " +
+                               std::to_string(total_runs) + " runs done");
+    const std::string label = run_label(runs[run], scenes[task.scene]);
+    bar->update(static_cast<int>(done_units * unit_scale), label + " done");
+    std::fprintf(stderr, "%-26s %8.2f ms/frame (cpu share %.2f)  e_CD %8.3f  e_3D %8.3f  step err %9.3g  strain %6.1f%%  %s\n",
+                 label.c_str(), r.ms, r.cpu_share, 1e3 * r.e_cd, 1e2 * r.e_3d, r.step_mean, 100 * r.strain,
+                 r.failed ? r.note.c_str() : (r.diverged ? "DIVERGED" : "ok"));
+  };
+  auto take_arrived = [&] {
+    Communicator::Message message;
+    while (comm.take_arrived(message)) record(message.text);
+  };
+  auto finish_task = [&](int phase, std::size_t index, int states, const std::optional<RunResult>& result) {
+    const std::string message = std::to_string(phase) + "\n" + std::to_string(index) + "\n" + std::to_string(states) +
+                                "\n" + (result ? encode(*result) : std::string());
+    if (root) record(message);
+    else comm.send_to_root(message);
+  };
+  // Rank 0 waits for the other ranks' tasks of a phase.
+  auto wait_for_phase = [&](int phase, const std::vector<int>& rank_of) {
+    if (!root) return;
+    for (std::size_t i = 0; i < rank_of.size(); ++i)
+      while (!received.count({phase, i})) record(comm.wait_for().text);
+  };
+
   auto rollout_with_progress = [&](const ResolvedScene& scene, InnerOptimizer& optimizer, const RolloutOptions& options,
-                                   double weight, const std::string& label) {
-    const long long start_units = done_units;
+                                   double units, const std::string& label) {
     const double cpu_start = process_cpu_seconds();
     const auto wall_start = std::chrono::steady_clock::now();
     TimedRollout timed;
-    timed.rollout = run_rollout(scene, optimizer, options, [&](int done, int, const StepRecord& s) {
+    timed.rollout = run_rollout(scene, optimizer, options, [&](int done, int total, const StepRecord& s) {
+      if (!root) return;
+      take_arrived();
       char status[160];
       std::snprintf(status, sizeof status, "%s: %.1f ms/step, strain %.0f%%", label.c_str(), s.wall_ms,
                     100 * s.max_strain);
-      bar.update(static_cast<int>((start_units + static_cast<long long>(done * weight)) * unit_scale), status);
+      bar->update(static_cast<int>((done_units + units * done / std::max(total, 1)) * unit_scale), status);
     });
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     timed.cpu_share = wall > 0.0 ? (process_cpu_seconds() - cpu_start) / wall : NAN;
-    done_units = start_units + static_cast<long long>(scene.scene.frames * weight);
     return timed;
   };
 
-  for (const Scene& scene : scenes) {
-    const ResolvedScene resolved = resolve(scene);  // once, for the reference and every run
-    const std::string res = resolution_text(scene), motion = motion_text(scene);
-    for (const auto& run : runs) {  // learning rates of resumed runs
-      const auto* row = resumed.find(run_key(run.method, budget_text(run), res, motion));
-      if (row && uses_learning_rate(run.method) && !chosen_lr.count({run.method, run.budget}))
-        chosen_lr[{run.method, run.budget}] = {result_of_row(run, *row).lr, (*row)[3]};
-    }
-    const bool all_resumed = std::all_of(runs.begin(), runs.end(), [&](const RunSpec& run) {
-      return resumed.find(run_key(run.method, budget_text(run), res, motion)) != nullptr;
-    });
-    // 1. The Newton reference: cached, or computed now (and then also used as the newton run).
+  // The shared state of one scene's runs on this rank; tasks run scene by scene.
+  SceneContext context;
+  auto context_of = [&](std::size_t s) -> SceneContext& {
+    if (context.scene == s) return context;
+    const Scene& scene = scenes[s];
+    context = SceneContext();
+    context.scene = s;
+    context.resolved.emplace(resolve(scene));
     const std::string cache = reference_file(scene);
-    std::optional<TimedRollout> fresh_reference;
-    TrajectoryFrames reference;
-    std::unique_ptr<StepErrorBench> bench_storage;
-    if (!all_resumed) {
-      if (fs::exists(cache)) {
-        reference = read_trajectory_frames(cache);
-        std::fprintf(stderr, "reference %s/%s: cached %s\n", res.c_str(), motion.c_str(), cache.c_str());
-      } else {
-        NewtonOptimizer newton;
-        RolloutOptions options;
-        options.solve = reference_options;
-        fresh_reference = rollout_with_progress(resolved, newton, options, cost_weight("newton", 0, scene.rows * scene.cols),
-                                                "reference " + res + "/" + motion);
-        write_rollout_file(cache, fresh_reference->rollout, to_scene_text(scene), newton.settings());
-        reference = frames_of(fresh_reference->rollout);
-        if (fresh_reference->rollout.diverged)
-          std::fprintf(stderr, "warning: the Newton reference of %s/%s %s\n", res.c_str(), motion.c_str(),
-                       fresh_reference->rollout.divergence.c_str());
-      }
-      bench_storage = std::make_unique<StepErrorBench>(scene, reference, study.step_samples);
-      reference_states.insert(bench_storage->steps().size());
-    } else if (!fs::exists(cache)) {
-      done_units += static_cast<long long>(scene.frames * cost_weight("newton", 0, scene.rows * scene.cols));
+    context.reference = read_trajectory_frames(cache);
+    if (root) std::fprintf(stderr, "reference %s/%s: %s\n", resolution_text(scene).c_str(), motion_text(scene).c_str(), cache.c_str());
+    context.bench = std::make_unique<StepErrorBench>(scene, context.reference, study.step_samples);
+    if (!study.arcsim_dir.empty() && scene.rows == scene.cols && scene.trajectory.empty()) {
+      const std::string path =
+          (fs::path(study.arcsim_dir) / ("arcsim_N" + resolution_text(scene) + "_" + motion_text(scene) + ".h5")).string();
+      if (fs::exists(path)) context.arcsim = read_trajectory_frames(path);
     }
-    StepErrorBench* bench = bench_storage.get();
+    return context;
+  };
 
-    std::optional<TrajectoryFrames> arcsim;
-    std::string arcsim_path;
-    if (!all_resumed && !study.arcsim_dir.empty() && scene.rows == scene.cols && scene.trajectory.empty()) {
-      arcsim_path = (fs::path(study.arcsim_dir) / ("arcsim_N" + res + "_" + motion + ".h5")).string();
-      if (fs::exists(arcsim_path)) arcsim = read_trajectory_frames(arcsim_path);
+  // The measured row of one run on scene s, from its rollout.
+  auto measure = [&](std::size_t s, const RunSpec& run, const OptimizerChoice& choice, InnerOptimizer& optimizer,
+                     const TimedRollout& timed, RunResult& r) {
+    SceneContext& c = context_of(s);
+    const Scene& scene = scenes[s];
+    const RolloutResult& rollout = timed.rollout;
+    r.cpu_share = timed.cpu_share;
+    if (study.keep_rollouts)
+      write_rollout_file((fs::path(study.out) / ("rollout_" + run.method +
+                                                 (run.budget ? "_" + std::to_string(run.budget) : "") + "_" +
+                                                 resolution_text(scene) + "_" + motion_text(scene) + ".h5"))
+                             .string(),
+                         rollout, to_scene_text(scene), optimizer.settings());
+    r.frames = static_cast<int>(rollout.steps.size());
+    r.ms = ms_per_frame(rollout);
+    r.iterations = iterations_per_frame(rollout);
+    r.strain = rollout.max_strain();
+    r.diverged = rollout.diverged;
+    if (rollout.diverged) r.note = rollout.divergence;
+    const TrajectoryFrames frames = frames_of(rollout);
+    // A diverged run has no error to report: over its first frames (the start is exact) it
+    // would look better than every run that finished. Its error columns stay empty.
+    const TrajectoryComparison comparison = compare_trajectories(c.reference, frames, -1.0, comparison_options);
+    r.e_cd = rollout.diverged ? NAN : comparison.chamfer;
+    r.e_3d = rollout.diverged ? NAN : comparison.e3d;
+    if (c.arcsim && !rollout.diverged) r.e_cd_arcsim = compare_trajectories(*c.arcsim, frames, -1.0, comparison_options).chamfer;
+    const auto fresh = choice.make();  // a fresh optimizer: no state from the rollout
+    const StepErrorSummary steps = c.bench->evaluate(*fresh, choice.solve_options());
+    r.step_mean = steps.mean;
+    r.step_median = steps.median;
+  };
+  auto new_result = [&](std::size_t s, const RunSpec& run) {
+    RunResult r;
+    r.spec = run;
+    r.resolution = resolution_text(scenes[s]);
+    r.motion = motion_text(scenes[s]);
+    r.frames_requested = scenes[s].frames;
+    return r;
+  };
+
+  // 1. The Newton references still missing, each computed once, by one rank.
+  for (std::size_t i = 0; i < reference_tasks.size(); ++i) {
+    if (reference_rank[i] != comm.rank()) continue;
+    const std::size_t s = reference_tasks[i].scene;
+    const Scene& scene = scenes[s];
+    const std::string res = resolution_text(scene), motion = motion_text(scene);
+    NewtonOptimizer newton;
+    RolloutOptions options;
+    options.solve = reference_options;
+    const TimedRollout reference = rollout_with_progress(resolve(scene), newton, options, reference_tasks[i].units,
+                                                         "reference " + res + "/" + motion);
+    write_rollout_file(reference_file(scene), reference.rollout, to_scene_text(scene), newton.settings());
+    if (reference.rollout.diverged)
+      std::fprintf(stderr, "warning: the Newton reference of %s/%s %s\n", res.c_str(), motion.c_str(),
+                   reference.rollout.divergence.c_str());
+    std::optional<RunResult> row;
+    const auto converged = std::find_if(runs.begin(), runs.end(), is_converged_run);
+    if (converged != runs.end() && !resumed_row(s, *converged) && !study.warm_start) {
+      row = new_result(s, *converged);
+      row->note = "the reference rollout itself";
+      OptimizerChoice choice = study.settings;
+      choice.name = converged->method;
+      choice.iterations = converged->budget;
+      measure(s, *converged, choice, newton, reference, *row);
+      if (row->diverged) row->note = "the reference rollout itself; " + reference.rollout.divergence;
     }
+    finish_task(0, i, context.scene == s ? static_cast<int>(context.bench->steps().size()) : 0, row);
+  }
+  wait_for_phase(0, reference_rank);
 
-    // 2. Learning rates: swept once, on the first scene, per method and budget, by the mean
-    //    per-step error on that scene's reference states.
+  // 2. Learning rates: those of resumed runs, else swept once by rank 0 on the first scene
+  //    that runs, per method and budget, by the mean per-step error on its reference states.
+  std::map<std::string, std::vector<double>> lr_candidates = study.learning_rates;
+  for (std::size_t s = 0; s < scenes.size(); ++s)
+    for (const auto& run : runs)
+      if (const auto* row = resumed_row(s, run); row && uses_learning_rate(run.method) && !chosen_lr.count({run.method, run.budget}))
+        chosen_lr[{run.method, run.budget}] = {result_of_row(run, *row).lr, (*row)[3]};
+  std::string lr_text;  // "method budget value source" lines, rank 0's choice for every rank
+  if (root && !run_tasks.empty()) {
+    const std::size_t first = run_tasks.front().scene;
     for (const auto& run : runs) {
-      if (!uses_learning_rate(run.method) || chosen_lr.count({run.method, run.budget}) || !bench) continue;
+      if (!uses_learning_rate(run.method) || chosen_lr.count({run.method, run.budget})) continue;
       const auto& candidates = lr_candidates[run.method];
       LearningRate best{candidates.front(), "given"};
       if (candidates.size() > 1) {
+        SceneContext& c = context_of(first);
+        const std::string res = resolution_text(scenes[first]), motion = motion_text(scenes[first]);
         double best_error = INFINITY;
         std::string tried;
         for (double lr : candidates) {
@@ -324,7 +539,7 @@ void run_compare_study(const CompareStudy& study) {
           choice.iterations = run.budget;
           choice.learning_rate = lr;
           const auto optimizer = choice.make();
-          const double error = bench->evaluate(*optimizer, choice.solve_options()).mean;
+          const double error = c.bench->evaluate(*optimizer, choice.solve_options()).mean;
           tried += (tried.empty() ? "" : " ") + CsvTable::number(lr, 3) + ":" + CsvTable::number(error, 3);
           if (error < best_error) best_error = error, best.value = lr;
         }
@@ -334,91 +549,59 @@ void run_compare_study(const CompareStudy& study) {
         lr_notes.push_back(run.method + " N=" + std::to_string(run.budget) + ": " + CsvTable::number(best.value, 3));
       }
       chosen_lr[{run.method, run.budget}] = best;
-    }
-
-    // 3. Every optimizer and budget.
-    for (const auto& run : runs) {
-      const std::string label = run.method + (run.budget ? " N=" + std::to_string(run.budget) : "") + " " + res +
-                                "/" + motion;
-      const double weight = cost_weight(run.method, run.budget, scene.rows * scene.cols);
-      if (const auto* earlier = resumed.find(run_key(run.method, budget_text(run), res, motion))) {
-        results.push_back(result_of_row(run, *earlier));
-        done_units += static_cast<long long>(scene.frames * weight);
-        std::fprintf(stderr, "%-26s resumed from %s\n", label.c_str(), csv_path.c_str());
-        continue;
-      }
-      RunResult r;
-      r.spec = run;
-      r.resolution = res;
-      r.motion = motion;
-      r.frames_requested = scene.frames;
-      OptimizerChoice choice = study.settings;
-      choice.name = run.method;
-      choice.iterations = run.budget;
-      if (uses_learning_rate(run.method)) {
-        const LearningRate& lr = chosen_lr[{run.method, run.budget}];
-        choice.learning_rate = r.lr = lr.value;
-        r.lr_source = lr.source;
-      }
-      try {
-        const auto optimizer = choice.make();
-        RolloutOptions options;
-        options.solve = choice.solve_options();
-        options.warm_start = study.warm_start;
-        TimedRollout timed;
-        if (is_converged_run(run) && fresh_reference && !study.warm_start) {
-          timed = *fresh_reference;  // the same solver, just run: reuse it (its timing included)
-          done_units += static_cast<long long>(scene.frames * weight);
-          r.note = "the reference rollout itself";
-        } else {
-          timed = rollout_with_progress(resolved, *optimizer, options, weight, label);
-        }
-        const RolloutResult& rollout = timed.rollout;
-        r.cpu_share = timed.cpu_share;
-        if (study.keep_rollouts)
-          write_rollout_file((fs::path(study.out) / ("rollout_" + run.method +
-                                                     (run.budget ? "_" + std::to_string(run.budget) : "") + "_" +
-                                                     res + "_" + motion + ".h5"))
-                                 .string(),
-                             rollout, to_scene_text(scene), optimizer->settings());
-        r.frames = static_cast<int>(rollout.steps.size());
-        r.ms = ms_per_frame(rollout);
-        r.iterations = iterations_per_frame(rollout);
-        r.strain = rollout.max_strain();
-        r.diverged = rollout.diverged;
-        if (rollout.diverged) r.note = rollout.divergence;
-        const TrajectoryFrames frames = frames_of(rollout);
-        // A diverged run has no error to report: over its first frames (the start is exact) it
-        // would look better than every run that finished. Its error columns stay empty.
-        const TrajectoryComparison c = compare_trajectories(reference, frames, -1.0, comparison_options);
-        r.e_cd = rollout.diverged ? NAN : c.chamfer;
-        r.e_3d = rollout.diverged ? NAN : c.e3d;
-        if (arcsim && !rollout.diverged) {
-          TrajectoryComparisonOptions o = comparison_options;
-          r.e_cd_arcsim = compare_trajectories(*arcsim, frames, -1.0, o).chamfer;
-        }
-        const auto fresh = choice.make();  // a fresh optimizer: no state from the rollout
-        const StepErrorSummary steps = bench->evaluate(*fresh, choice.solve_options());
-        r.step_mean = steps.mean;
-        r.step_median = steps.median;
-      } catch (const std::exception& e) {
-        r.failed = true;
-        r.note = std::string("failed: ") + e.what();
-        done_units += static_cast<long long>(scene.frames * weight);
-      }
-      results.push_back(r);
-      write_table();
-      write_outputs("in progress, " + std::to_string(results.size()) + " of " + std::to_string(total_runs) +
-                    " runs done");
-      bar.update(static_cast<int>(done_units * unit_scale), label + " done");
-      std::fprintf(stderr, "%-26s %8.2f ms/frame (cpu share %.2f)  e_CD %8.3f  e_3D %8.3f  step err %9.3g  strain %6.1f%%  %s\n",
-                   label.c_str(), r.ms, r.cpu_share, 1e3 * r.e_cd, 1e2 * r.e_3d, r.step_mean, 100 * r.strain,
-                   r.failed ? r.note.c_str() : (r.diverged ? "DIVERGED" : "ok"));
+      std::ostringstream line;
+      line << std::setprecision(17) << run.method << kSeparator << run.budget << kSeparator << best.value << kSeparator
+           << best.source << '\n';
+      lr_text += line.str();
     }
   }
-  bar.finish();
-  const CsvTable table = write_table();  // with the rows resumed after the last computed one
-  write_outputs("finished");
+  comm.broadcast(lr_text);
+  if (!root)
+    for (std::string_view line : split(lr_text, '\n')) {
+      const auto f = split(line, kSeparator);
+      if (f.size() != 4) continue;
+      int budget = 0;
+      double value = 0.0;
+      parse_int(f[1], budget);
+      parse_double(f[2], value);
+      chosen_lr[{std::string(f[0]), budget}] = {value, std::string(f[3])};
+    }
+
+  // 3. Every run not resumed, by the rank the schedule gives it, in scene order.
+  for (std::size_t i = 0; i < run_tasks.size(); ++i) {
+    if (run_rank[i] != comm.rank()) continue;
+    const std::size_t s = run_tasks[i].scene;
+    const RunSpec& run = runs[run_tasks[i].run];
+    RunResult r = new_result(s, run);
+    OptimizerChoice choice = study.settings;
+    choice.name = run.method;
+    choice.iterations = run.budget;
+    if (uses_learning_rate(run.method)) {
+      const LearningRate& lr = chosen_lr[{run.method, run.budget}];
+      choice.learning_rate = r.lr = lr.value;
+      r.lr_source = lr.source;
+    }
+    SceneContext& c = context_of(s);
+    try {
+      const auto optimizer = choice.make();
+      RolloutOptions options;
+      options.solve = choice.solve_options();
+      options.warm_start = study.warm_start;
+      const TimedRollout timed = rollout_with_progress(*c.resolved, *optimizer, options, run_tasks[i].units, run_label(run, scenes[s]));
+      measure(s, run, choice, *optimizer, timed, r);
+    } catch (const std::exception& e) {
+      r.failed = true;
+      r.note = std::string("failed: ") + e.what();
+    }
+    finish_task(1, i, static_cast<int>(c.bench->steps().size()), r);
+  }
+  wait_for_phase(1, run_rank);
+  if (!root) return;
+
+  bar->finish();
+  const std::vector<RunResult> results = all_results();
+  const CsvTable table = write_table(results);
+  write_outputs(results, "finished");
   std::printf("%s", table.text().c_str());
   for (const std::string& res : resolution_names) {
     std::printf("fastest at %s (mean over the motions, runs that diverged nowhere):", resolution_title(res).c_str());

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "methods/registry.hpp"
+#include "parallel/communicator.hpp"
 #include "metrics/chamfer.hpp"
 #include "scenes/scene.hpp"
 #include "studies/compare_report.hpp"
@@ -41,7 +42,11 @@ struct CompareStudy {
   bool resume = false;
 };
 
-void run_compare_study(const CompareStudy& study);
+// With more than one process (mpirun, srun), the references still missing and then the runs are
+// spread over the ranks largest first (parallel/sweep_schedule.hpp), each computed once; rank 0
+// gathers the results and writes the outputs exactly as one process would (the same rows in
+// the same order), after every run that finishes anywhere. DIR must be one shared folder.
+void run_compare_study(const CompareStudy& study, const Communicator& comm = Communicator::world());
 
 // "32" (32 x 32) or "32x64" (rows x columns): a scene's resolution as compare writes it.
 std::string resolution_text(const Scene& scene);

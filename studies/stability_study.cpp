@@ -8,11 +8,14 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <map>
+#include <optional>
 #include <set>
 
 #include "cloth/grid_units.hpp"
 #include "io/markdown_report.hpp"
 #include "methods/registry.hpp"
+#include "parallel/sweep_schedule.hpp"
 #include "studies/resumed_rows.hpp"
 #include "util/error.hpp"
 #include "util/parse_text.hpp"
@@ -126,7 +129,7 @@ void write_report(const Outputs& out, const StabilityStudy& study, const std::ve
 
 }  // namespace
 
-void run_stability_study(const StabilityStudy& study) {
+void run_stability_study(const StabilityStudy& study, const Communicator& comm) {
   const Scene& base = study.base;
   const auto& cases = study.cases;
   const auto& methods = study.methods;
@@ -151,12 +154,15 @@ void run_stability_study(const StabilityStudy& study) {
 
   // --resume: rows of an earlier run with the same columns are kept and not run again.
   const ResumedRows resumed(out.csv, stability_columns(), {"case", "method", "N"}, study.resume, "stability");
-  if (resumed.size() > 0) std::fprintf(stderr, "resuming: %zu finished rows in %s\n", resumed.size(), out.csv.c_str());
+  if (resumed.size() > 0 && comm.is_root())
+    std::fprintf(stderr, "resuming: %zu finished rows in %s\n", resumed.size(), out.csv.c_str());
   auto is_resumed = [&](const StabilityCase& c, const StabilityMethod& m) {
     return resumed.find(row_key(c.name, m.method, budget_text(m.solve))) != nullptr;
   };
 
   // Progress in frame-cost units.
+  const bool reference_listed =
+      std::any_of(methods.begin(), methods.end(), [](const StabilityMethod& m) { return m.reference; });
   double total_cost = 0.0, resumed_cost = 0.0;
   for (const auto& c : cases) {
     const Scene s = c.apply(base);
@@ -167,85 +173,163 @@ void run_stability_study(const StabilityStudy& study) {
       if (is_resumed(c, m)) resumed_cost += cost;
       else all_resumed = false;
     }
-    const bool reference_listed =
-        std::any_of(methods.begin(), methods.end(), [](const StabilityMethod& m) { return m.reference; });
     if (!reference_listed && !all_resumed) total_cost += s.frames * frame_cost(reference_method, s);
   }
   const double unit = std::max(1.0, total_cost / 1e6);  // at most ~1e6 units: fits an int
-  ProgressBar bar("stability", static_cast<int>(total_cost / unit), static_cast<int>(resumed_cost / unit));
+  std::optional<ProgressBar> bar;  // rank 0's, over every rank's work
   double done_cost = resumed_cost;
+  if (comm.is_root()) {
+    bar.emplace("stability", static_cast<int>(total_cost / unit), static_cast<int>(resumed_cost / unit));
+    std::string method_text;
+    for (const auto& m : methods) method_text += (method_text.empty() ? "" : ", ") + m.method + " " + budget_text(m.solve);
+    std::fprintf(stderr,
+                 "fnopt stability: %zu case%s x %zu optimizers (%s), base %dx%d, %d frames at dt %s, %d thread%s%s, "
+                 "output %s\n",
+                 cases.size(), cases.size() == 1 ? "" : "s", methods.size(), method_text.c_str(), base.rows, base.cols,
+                 base.frames, dt_text(base.dt).c_str(), threads, threads == 1 ? "" : "s",
+                 comm.size() > 1 ? (", " + std::to_string(comm.size()) + " processes").c_str() : "", study.out.c_str());
+  }
 
-  std::string method_text;
-  for (const auto& m : methods) method_text += (method_text.empty() ? "" : ", ") + m.method + " " + budget_text(m.solve);
-  std::fprintf(stderr, "fnopt stability: %zu case%s x %zu optimizers (%s), base %dx%d, %d frames at dt %s, %d thread%s, output %s\n",
-               cases.size(), cases.size() == 1 ? "" : "s", methods.size(), method_text.c_str(), base.rows, base.cols,
-               base.frames, dt_text(base.dt).c_str(), threads, threads == 1 ? "" : "s", study.out.c_str());
+  // The tasks: one per case not resumed whole, its Newton reference and every row measured
+  // against it (the reference lives in memory, so a case stays on one rank), spread over the
+  // ranks largest first.
+  const bool root = comm.is_root();
+  std::vector<std::size_t> tasks;
+  std::vector<double> task_costs;
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const Scene s = cases[k].apply(base);
+    double cost = 0.0;
+    bool all_resumed = true;
+    for (const auto& m : methods)
+      if (!is_resumed(cases[k], m)) cost += s.frames * frame_cost(m, s), all_resumed = false;
+    if (all_resumed) continue;
+    tasks.push_back(k);
+    task_costs.push_back(cost + (reference_listed ? 0.0 : s.frames * frame_cost(reference_method, s)));
+  }
+  const std::vector<int> rank_of = schedule_largest_first(task_costs, comm.size());
 
-  CsvTable table(stability_columns());
-  // Rows of the earlier CSV that this run does not redo (other cases, methods or budgets) stay
-  // in it: resuming with a subset never drops finished work.
+  // Rank 0's view: the rows finished anywhere, by case and method; stability.csv holds them in
+  // the order of a one-process run (rows this run does not redo, then case by case, method by
+  // method). A row is kept as measured and as its CSV text: rows from other ranks arrive as text.
+  struct FinishedRow {
+    StabilityRow row;
+    std::vector<std::string> cells;
+  };
+  std::map<std::pair<std::size_t, std::size_t>, FinishedRow> finished;
   std::set<std::string> planned;
   for (const StabilityCase& c : cases)
     for (const StabilityMethod& m : methods) planned.insert(row_key(c.name, m.method, budget_text(m.solve)));
-  for (const auto& row : resumed.unplanned(planned)) table.add_row(row);
+  // Rows of the earlier CSV that this run does not redo (other cases, methods or budgets) stay
+  // in it: resuming with a subset never drops finished work.
+  const std::vector<std::vector<std::string>> unplanned = resumed.unplanned(planned);
   std::vector<StabilityRow> rows;
+  CsvTable table(stability_columns());
+  auto assemble = [&] {
+    rows.clear();
+    table = CsvTable(stability_columns());
+    for (const auto& cells : unplanned) table.add_row(cells);
+    for (std::size_t k = 0; k < cases.size(); ++k)
+      for (std::size_t j = 0; j < methods.size(); ++j) {
+        if (const auto* earlier = resumed.find(row_key(cases[k].name, methods[j].method, budget_text(methods[j].solve)))) {
+          rows.push_back(stability_row_from_csv(*earlier));
+          rows.back().reference = methods[j].reference;
+          table.add_row(*earlier);
+        } else if (const auto it = finished.find({k, j}); it != finished.end()) {
+          rows.push_back(it->second.row);
+          table.add_row(it->second.cells);
+        }
+      }
+  };
+  // Rank 0 records a finished row, rewrites the CSV and prints it.
+  auto record = [&](std::size_t k, std::size_t j, const StabilityRow& row, const std::vector<std::string>& cells) {
+    finished[{k, j}] = {row, cells};
+    assemble();
+    table.write(out.csv);
+    bar->update(static_cast<int>(done_cost / unit), cases[k].name + " " + methods[j].method + " done");
+    print_row(row);
+    if (methods[j].reference && row.unconverged_steps > 0) {
+      clear_bar_line();
+      std::fprintf(stderr, "warning: newton on %s: %d step%s did not converge (%s)\n", cases[k].name.c_str(),
+                   row.unconverged_steps, row.unconverged_steps == 1 ? "" : "s", row.unconverged_statuses.c_str());
+    }
+  };
+  // A case from another rank: "case\n" then its rows, each "method index, cells" separated by
+  // the unit separator, rows by the record separator.
+  std::set<std::size_t> received;
+  auto record_message = [&](const std::string& message) {
+    const std::size_t end = message.find('\n');
+    int k = 0;
+    parse_int(std::string_view(message).substr(0, end), k);
+    for (std::string_view line : split(std::string_view(message).substr(end + 1), '\x1e')) {
+      if (line.empty()) continue;
+      std::vector<std::string> cells;
+      for (std::string_view cell : split(line, '\x1f')) cells.emplace_back(cell);
+      int j = 0;
+      parse_int(cells.front(), j);
+      cells.erase(cells.begin());
+      StabilityRow row = stability_row_from_csv(cells);
+      row.reference = methods[j].reference;
+      record(k, j, row, cells);
+    }
+    received.insert(k);
+    done_cost += task_costs[std::find(tasks.begin(), tasks.end(), static_cast<std::size_t>(k)) - tasks.begin()];
+    write_report(out, study, rows, table, started, false);
+  };
+  auto take_arrived = [&] {
+    Communicator::Message message;
+    while (comm.take_arrived(message)) record_message(message.text);
+  };
+
   auto run_with_progress = [&](const Scene& scene, const StabilityMethod& m, const std::string& label) {
-    const double start = done_cost, weight = frame_cost(m, scene);
+    const double weight = frame_cost(m, scene);
     StabilityRun run = run_stability_rollout(scene, m, factory, {}, [&](int done, int, const StepRecord& s) {
+      if (!root) return;
+      take_arrived();
       char status[160];
       std::snprintf(status, sizeof status, "%s: %.1f ms/step, strain %.0f%%", label.c_str(), s.wall_ms,
                     100 * s.max_strain);
-      bar.update(static_cast<int>((start + done * weight) / unit), status);
+      bar->update(static_cast<int>((done_cost + done * weight) / unit), status);
     });
-    done_cost = start + scene.frames * weight;
+    done_cost += scene.frames * weight;
     return run;
   };
 
-  for (const StabilityCase& c : cases) {
+  for (std::size_t t = 0; t < tasks.size(); ++t) {
+    if (rank_of[t] != comm.rank()) continue;
+    const std::size_t k = tasks[t];
+    const StabilityCase& c = cases[k];
     const Scene scene = c.apply(base);
-    const bool all_resumed =
-        std::all_of(methods.begin(), methods.end(), [&](const StabilityMethod& m) { return is_resumed(c, m); });
-    StabilityRun reference;
-    bool have_reference = false;
-    if (!all_resumed) {
-      reference = run_with_progress(scene, reference_method, "newton reference " + c.name);
-      have_reference = true;
-      if (reference.failed || reference.rollout.diverged) {
-        clear_bar_line();
-        std::fprintf(stderr, "warning: the Newton reference of %s %s%s\n", c.name.c_str(),
-                     reference.failed ? "failed: " : "", reference.failed ? reference.error.c_str()
-                                                                          : reference.rollout.divergence.c_str());
-      }
+    StabilityRun reference = run_with_progress(scene, reference_method, "newton reference " + c.name);
+    if (reference.failed || reference.rollout.diverged) {
+      clear_bar_line();
+      std::fprintf(stderr, "warning: the Newton reference of %s %s%s\n", c.name.c_str(),
+                   reference.failed ? "failed: " : "", reference.failed ? reference.error.c_str()
+                                                                        : reference.rollout.divergence.c_str());
     }
-    for (const StabilityMethod& m : methods) {
-      if (const auto* earlier = resumed.find(row_key(c.name, m.method, budget_text(m.solve)))) {
-        rows.push_back(stability_row_from_csv(*earlier));
-        rows.back().reference = m.reference;
-        table.add_row(*earlier);
+    std::string message = std::to_string(k) + "\n";
+    for (std::size_t j = 0; j < methods.size(); ++j) {
+      const StabilityMethod& m = methods[j];
+      if (is_resumed(c, m)) continue;
+      const StabilityRow row = m.reference ? stability_row(c.name, m, reference, &reference)  // counted above
+                                           : stability_row(c.name, m, run_with_progress(scene, m, m.method + " " + c.name),
+                                                           &reference);
+      const std::vector<std::string> cells = stability_csv_row(row);
+      if (root) {
+        record(k, j, row, cells);
         continue;
       }
-      const bool is_reference = m.reference && have_reference;
-      StabilityRow row;
-      if (is_reference) {
-        row = stability_row(c.name, m, reference, &reference);  // its cost is counted above
-      } else {
-        const StabilityRun run = run_with_progress(scene, m, m.method + " " + c.name);
-        row = stability_row(c.name, m, run, have_reference ? &reference : nullptr);
-      }
-      rows.push_back(row);
-      table.add_row(stability_csv_row(row));
-      table.write(out.csv);
-      bar.update(static_cast<int>(done_cost / unit), c.name + " " + m.method + " done");
-      print_row(row);
-      if (m.reference && row.unconverged_steps > 0) {
-        clear_bar_line();
-        std::fprintf(stderr, "warning: newton on %s: %d step%s did not converge (%s)\n", c.name.c_str(),
-                     row.unconverged_steps, row.unconverged_steps == 1 ? "" : "s", row.unconverged_statuses.c_str());
-      }
+      message += std::to_string(j);
+      for (const std::string& cell : cells) message += '\x1f' + cell;
+      message += '\x1e';
     }
-    write_report(out, study, rows, table, started, false);
+    if (root) write_report(out, study, rows, table, started, false);
+    else comm.send_to_root(message);
   }
-  bar.finish();
+  if (!root) return;
+  for (std::size_t t = 0; t < tasks.size(); ++t)
+    while (rank_of[t] != 0 && !received.count(tasks[t])) record_message(comm.wait_for().text);
+  assemble();
+  bar->finish();
   table.write(out.csv);
   write_report(out, study, rows, table, started, true);
   std::printf("%s", stability_console_table(rows).c_str());

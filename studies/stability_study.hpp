@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "parallel/communicator.hpp"
 #include "scenes/scene.hpp"
 #include "studies/stability_suite.hpp"
 
@@ -25,6 +26,10 @@ struct StabilityStudy {
   bool resume = false;                    // keep DIR/stability.csv's rows of the same case, method, N
 };
 
-void run_stability_study(const StabilityStudy& study);
+// With more than one process (mpirun, srun), the cases are spread over the ranks largest first
+// (parallel/sweep_schedule.hpp), each with its Newton reference, which its rows are measured
+// against; rank 0 writes the outputs exactly as one process would (the same rows in the same
+// order) after every case that finishes anywhere. DIR must be one shared folder.
+void run_stability_study(const StabilityStudy& study, const Communicator& comm = Communicator::world());
 
 }  // namespace fnopt

@@ -65,23 +65,26 @@ torch::Tensor EnergyLoss::forward(torch::autograd::AutogradContext* ctx, torch::
     gradient.narrow(0, k * e, k).copy_(to_model_layout(to_coordinate_samples(energy_gradient[e], grid, d_loss_d_value), k));
   };
   double loss = 0.0;
+  const int in_all = batch->environments_in_all > 0 ? batch->environments_in_all : count;
   if (batch->normalisation == LossNormalisation::PerEnvironment) {
     for (int e = 0; e < count; ++e) {
       if (energy_gradient[e].size() == 0) continue;
       const auto [value, slope] = penalised(batch->ratio[e]);
-      loss += value / count;
-      if (slope != 0.0) add_gradient(e, slope / denominator[e] / count);
+      loss += value / in_all;
+      if (slope != 0.0) add_gradient(e, slope / denominator[e] / in_all);
     }
   } else {
-    double excess_sum = 0.0, denominator_sum = 0.0;
+    double sums[2] = {0.0, 0.0};  // excess, denominator: over the whole batch
     for (int e = 0; e < count; ++e) {
       if (energy_gradient[e].size() == 0) continue;
-      excess_sum += excess[e];
-      denominator_sum += denominator[e];
+      sums[0] += excess[e];
+      sums[1] += denominator[e];
     }
+    batch->processes->sum(sums, 2);
+    const double excess_sum = sums[0], denominator_sum = sums[1];
     if (denominator_sum > 0.0) {
       const auto [value, slope] = penalised(excess_sum / denominator_sum);
-      loss = value;
+      loss = batch->processes->is_root() ? value : 0.0;  // one batch, one loss
       for (int e = 0; e < count; ++e)
         if (energy_gradient[e].size() != 0 && slope != 0.0) add_gradient(e, slope / denominator_sum);
     }

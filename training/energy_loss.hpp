@@ -23,6 +23,7 @@
 
 #include <vector>
 
+#include "parallel/communicator.hpp"
 #include "training/training_env.hpp"
 
 namespace fnopt {
@@ -40,6 +41,11 @@ struct EnergyLossBatch {
   int samples_per_environment = 3;   // the model's layout (learned_update.hpp)
   LossNormalisation normalisation = LossNormalisation::PerEnvironment;
   bool after_subspace_step = false;
+  // Data-parallel training (meta_trainer.hpp): `envs` are this process's share of a batch of
+  // `environments_in_all` over `processes`. The loss returned is this share's part of the
+  // batch's loss (the parts sum to it) and its gradient is the part of the batch's gradient.
+  int environments_in_all = 0;  // 0: envs.size()
+  const Communicator* processes = &Communicator::self();
 };
 
 class EnergyLoss : public torch::autograd::Function<EnergyLoss> {

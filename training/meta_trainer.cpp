@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <sstream>
 
 #include "cloth/grid_units.hpp"
@@ -41,9 +40,11 @@ std::string TrainOptions::signature() const {
   return s.str();
 }
 
-MetaTrainer::MetaTrainer(const TrainOptions& options, const std::string& checkpoint)
-    : options_(options), model_(nullptr), rng_(options.seed) {
+MetaTrainer::MetaTrainer(const TrainOptions& options, const std::string& checkpoint, const Communicator& processes)
+    : options_(options), processes_(processes), model_(nullptr), rng_(options.seed) {
   options_.validate();
+  require(options_.batch % processes_.size() == 0, "train.batch",
+          "must be a multiple of the processes (" + std::to_string(processes_.size()) + ")");
   torch::manual_seed(options_.seed);
   model_ = FNO2d(options_.model);
   adam_ = std::make_unique<torch::optim::AdamW>(
@@ -55,7 +56,21 @@ MetaTrainer::MetaTrainer(const TrainOptions& options, const std::string& checkpo
     return;
   }
   for (int id = 0; id < options_.pool.environments; ++id)
-    pool_.push_back(std::make_unique<TrainingEnv>(options_.pool, options_.seed, id));
+    pool_.push_back(owns(id) ? std::make_unique<TrainingEnv>(options_.pool, options_.seed, id) : nullptr);
+}
+
+void MetaTrainer::sum_gradients_over_processes() {
+  if (processes_.size() == 1) return;
+  std::vector<torch::Tensor> gradients;
+  for (const auto& p : model_->parameters()) gradients.push_back(p.grad().reshape(-1));
+  torch::Tensor flat = torch::cat(gradients).to(torch::kFloat32).contiguous();
+  processes_.sum(flat.data_ptr<float>(), static_cast<std::size_t>(flat.numel()));
+  int64_t offset = 0;
+  for (const auto& p : model_->parameters()) {
+    const int64_t n = p.grad().numel();
+    p.grad().copy_(flat.narrow(0, offset, n).view_as(p.grad()));
+    offset += n;
+  }
 }
 
 TrainStepStats MetaTrainer::step() {
@@ -64,11 +79,16 @@ TrainStepStats MetaTrainer::step() {
   for (auto& group : adam_->param_groups())
     static_cast<torch::optim::AdamWOptions&>(group.options()).lr(stats.learning_rate);
 
-  // A batch of distinct environments.
-  std::vector<int> order(pool_.size());
-  std::iota(order.begin(), order.end(), 0);
-  for (int i = 0; i < options_.batch; ++i)
-    std::swap(order[i], order[std::uniform_int_distribution<int>(i, static_cast<int>(order.size()) - 1)(rng_)]);
+  // A batch of distinct environments, one per stratum: position i from the environments
+  // e = i, i + batch, i + 2 batch, ...; this process takes the positions it owns.
+  const int environments = static_cast<int>(pool_.size()), batch_size = options_.batch;
+  std::vector<int> order;
+  for (int i = 0; i < batch_size; ++i) {
+    const int stratum = (environments - i + batch_size - 1) / batch_size;
+    const int e = i + batch_size * std::uniform_int_distribution<int>(0, stratum - 1)(rng_);
+    if (owns(e)) order.push_back(e);
+  }
+  const int local = static_cast<int>(order.size());
 
   // Environments keep their state per coordinate ([3, 1, R, C], scale [3, 1, 1, 1]); the
   // model sees it in its own layout (k samples per environment).
@@ -78,9 +98,11 @@ TrainStepStats MetaTrainer::step() {
   batch.samples_per_environment = k;
   batch.normalisation = options_.loss_normalisation;
   batch.after_subspace_step = options_.score_after_subspace_step;
-  batch.current_gradient.resize(options_.batch);
+  batch.environments_in_all = batch_size;
+  batch.processes = &processes_;
+  batch.current_gradient.resize(local);
   std::vector<torch::Tensor> gradients, previous_gradients, previous_deltas, scales, masks, newton_deltas;
-  for (int i = 0; i < options_.batch; ++i) {
+  for (int i = 0; i < local; ++i) {
     TrainingEnv& env = *pool_[order[i]];
     VecX& g = batch.current_gradient[i];
     batch.envs.push_back(&env);
@@ -99,18 +121,20 @@ TrainStepStats MetaTrainer::step() {
   const LearnedStep update = learned_step(model_, gradient, state, torch::cat(masks));
   torch::Tensor loss = EnergyLoss::apply(update.delta, &batch);
   if (options_.newton_weight > 0.0) {
-    const auto target = torch::cat(newton_deltas).view({options_.batch, -1});
-    const auto error = (update.delta.view({options_.batch, -1}) - target).pow(2).sum(1);
+    const auto target = torch::cat(newton_deltas).view({local, -1});
+    const auto error = (update.delta.view({local, -1}) - target).pow(2).sum(1);
     // Corrections below 1e-4 cell widths (an environment at rest) are not worth a target.
     const double floor = 1e-8 * static_cast<double>(target.size(1));
-    const auto newton_loss = (error / (target.pow(2).sum(1) + floor)).mean();
-    stats.newton_loss = newton_loss.item<double>();
+    // The batch mean: this process's share of the sum over the whole batch.
+    const auto newton_loss = (error / (target.pow(2).sum(1) + floor)).sum() / batch_size;
+    stats.newton_loss = processes_.sum(newton_loss.item<double>());
     loss = loss + options_.newton_weight * newton_loss;
   }
 
-  stats.loss = loss.item<double>();
+  stats.loss = processes_.sum(loss.item<double>());
   adam_->zero_grad();
   loss.backward();
+  sum_gradients_over_processes();
   stats.gradient_norm = torch::nn::utils::clip_grad_norm_(model_->parameters(), options_.clip_norm);
   stats.skipped = !std::isfinite(stats.loss) || !std::isfinite(stats.gradient_norm);
   if (!stats.skipped) {
@@ -124,7 +148,7 @@ TrainStepStats MetaTrainer::step() {
   // Each environment takes its update by its proposal rule, as inference would.
   double ratio_sum = 0.0;
   int finite = 0;
-  for (int i = 0; i < options_.batch; ++i) {
+  for (int i = 0; i < local; ++i) {
     TrainingEnv& env = *batch.envs[i];
     const LearnedStep proposal{update.delta.narrow(0, k * i, k).detach(), update.scale.narrow(0, k * i, k).detach()};
     if (!std::isfinite(batch.ratio[i]) || !torch::isfinite(proposal.delta).all().item<bool>()) {
@@ -143,12 +167,34 @@ TrainStepStats MetaTrainer::step() {
     env.scale = next.scale.expand({3, 1, 1, 1}).contiguous();
     env.finish_iteration();
   }
-  stats.mean_ratio = finite ? ratio_sum / finite : NAN;
+  double counts[3] = {ratio_sum, static_cast<double>(finite), static_cast<double>(stats.renewed)};
+  processes_.sum(counts, 3);
+  stats.mean_ratio = counts[1] > 0 ? counts[0] / counts[1] : NAN;
+  stats.renewed = static_cast<int>(counts[2]);
   ++step_;
   return stats;
 }
 
+void MetaTrainer::write_environments(torch::serialize::OutputArchive& archive) const {
+  for (std::size_t e = 0; e < pool_.size(); ++e) {
+    if (!pool_[e]) continue;
+    const auto tensors = pool_[e]->state_tensors();
+    for (std::size_t k = 0; k < tensors.size(); ++k)
+      archive.write("env" + std::to_string(e) + "_" + std::to_string(k), tensors[k]);
+  }
+}
+
 void MetaTrainer::save_checkpoint(const std::string& path) const {
+  // The other processes' environments, as archives gathered on rank 0.
+  std::vector<std::string> shares;
+  if (processes_.size() > 1) {
+    torch::serialize::OutputArchive mine;
+    write_environments(mine);
+    std::ostringstream bytes;
+    mine.save_to(bytes);
+    shares = processes_.gather(bytes.str());
+  }
+  if (!processes_.is_root()) return;
   write_atomically(path, [&](const std::string& temporary) {
     torch::serialize::OutputArchive archive;
     archive.write("format", c10::IValue(std::string("fnopt-train-checkpoint")));
@@ -167,10 +213,18 @@ void MetaTrainer::save_checkpoint(const std::string& path) const {
       average_->model()->save(average);
       archive.write("average", average);
     }
-    for (std::size_t e = 0; e < pool_.size(); ++e) {
-      const auto tensors = pool_[e]->state_tensors();
-      for (std::size_t k = 0; k < tensors.size(); ++k)
-        archive.write("env" + std::to_string(e) + "_" + std::to_string(k), tensors[k]);
+    write_environments(archive);
+    for (int rank = 1; rank < static_cast<int>(shares.size()); ++rank) {
+      std::istringstream bytes(shares[rank]);
+      torch::serialize::InputArchive share;
+      share.load_from(bytes);
+      for (int e = rank; e < options_.pool.environments; e += processes_.size())
+        for (int k = 0;; ++k) {
+          const std::string key = "env" + std::to_string(e) + "_" + std::to_string(k);
+          torch::Tensor tensor;
+          if (!share.try_read(key, tensor)) break;
+          archive.write(key, tensor);
+        }
     }
     archive.save_to(temporary);
   });
@@ -207,6 +261,10 @@ void MetaTrainer::restore(const std::string& path) {
       average_->reset_to(model_);
   }
   for (int e = 0; e < options_.pool.environments; ++e) {
+    if (!owns(e)) {
+      pool_.push_back(nullptr);
+      continue;
+    }
     std::vector<torch::Tensor> tensors(TrainingEnv::kStateTensors);
     for (std::size_t k = 0; k < tensors.size(); ++k)
       archive.read("env" + std::to_string(e) + "_" + std::to_string(k), tensors[k]);

@@ -5,12 +5,23 @@
 // on the FNO's parameters, and write each update back into its environment. Checkpoints hold
 // everything that the next steps depend on (model, AdamW moments, pool, random state), so a
 // killed run resumes where its last checkpoint left it and takes the same next steps.
+//
+// Data-parallel over processes (mpirun, srun; docs/design.md §12): the batch is drawn by strata,
+// position i of the batch from the environments e with e mod batch = i, so process r of P owns
+// the environments e with e mod P = r and runs exactly batch/P of every batch. Every process
+// draws the same positions (one shared random stream) and starts from the same weights; each
+// environment's own randomness depends on its id, so the processes' streams differ. The
+// gradients are summed over the processes (one MPI_Allreduce of a flat buffer) before clipping
+// and AdamW, so every process takes the same step, the one a single process takes with the
+// whole batch (up to the order of the float sums). Checkpoints hold every environment (gathered
+// on rank 0, which alone writes them) and resume on any number of processes.
 #include <cstdint>
 #include <optional>
 #include <random>
 #include <string>
 
 #include "fno/fno2d.hpp"
+#include "parallel/communicator.hpp"
 #include "training/energy_loss.hpp"
 #include "training/training_env.hpp"
 #include "training/weight_average.hpp"
@@ -63,26 +74,33 @@ class MetaTrainer {
  public:
   // A fresh run, or, with `checkpoint`, the run saved there: it then takes exactly the steps
   // the saved run would have taken. Throws Error naming the file if it is unreadable or was
-  // made with other options.
-  explicit MetaTrainer(const TrainOptions& options, const std::string& checkpoint = {});
+  // made with other options. Collective over `processes`, as are step() and save_checkpoint();
+  // the batch must be a multiple of their count.
+  explicit MetaTrainer(const TrainOptions& options, const std::string& checkpoint = {},
+                       const Communicator& processes = Communicator::self());
 
-  TrainStepStats step();
+  TrainStepStats step();  // the stats of the whole batch, on every process
   int completed_steps() const { return step_; }
   FNO2d& model() { return model_; }  // the trained weights
   // What the run produces: the weight average, or the trained weights if average_decay is 0.
   FNO2d& output_model() { return average_ ? average_->model() : model_; }
 
-  // Writes atomically.
+  // Rank 0 writes, atomically.
   void save_checkpoint(const std::string& path) const;
 
  private:
   TrainOptions options_;
+  const Communicator& processes_;
   void restore(const std::string& checkpoint);
+  bool owns(int environment) const { return environment % processes_.size() == processes_.rank(); }
+  // The environments this process owns, as checkpoint entries.
+  void write_environments(torch::serialize::OutputArchive& archive) const;
+  void sum_gradients_over_processes();
 
   FNO2d model_;
   std::unique_ptr<torch::optim::AdamW> adam_;
   std::optional<WeightAverage> average_;
-  std::vector<std::unique_ptr<TrainingEnv>> pool_;
+  std::vector<std::unique_ptr<TrainingEnv>> pool_;  // null where another process owns it
   std::mt19937_64 rng_;
   int step_ = 0;
 };
