@@ -191,8 +191,8 @@ struct Task {
 };
 
 // What every run on one scene shares: the resolved scene, its reference frames, the per-step
-// error bench on them and the ARCSim frames if there are any. Built by a rank when it first runs
-// a task of the scene.
+// error bench on them (16 Newton solves by default: built once per scene and rank) and the
+// ARCSim frames if there are any.
 struct SceneContext {
   std::size_t scene = static_cast<std::size_t>(-1);
   std::optional<ResolvedScene> resolved;
@@ -424,23 +424,37 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
     return timed;
   };
 
-  // The shared state of one scene's runs on this rank; tasks run scene by scene.
-  SceneContext context;
-  auto context_of = [&](std::size_t s) -> SceneContext& {
-    if (context.scene == s) return context;
+  // The shared state of one scene's runs on this rank; tasks run scene by scene. A rank that
+  // computes a reference builds the scene's context from it in memory and keeps it for its own
+  // later runs there (`kept`, the reference's frames per scene until its runs come); otherwise
+  // the context is built from the cached reference file.
+  auto make_context = [&](std::size_t s, ResolvedScene resolved, TrajectoryFrames reference) {
     const Scene& scene = scenes[s];
-    context = SceneContext();
-    context.scene = s;
-    context.resolved.emplace(resolve(scene));
-    const std::string cache = reference_file(scene);
-    context.reference = read_trajectory_frames(cache);
-    if (root) std::fprintf(stderr, "reference %s/%s: %s\n", resolution_text(scene).c_str(), motion_text(scene).c_str(), cache.c_str());
-    context.bench = std::make_unique<StepErrorBench>(scene, context.reference, study.step_samples);
+    SceneContext c;
+    c.scene = s;
+    c.resolved.emplace(std::move(resolved));
+    c.reference = std::move(reference);
+    c.bench = std::make_unique<StepErrorBench>(scene, c.reference, study.step_samples);
     if (!study.arcsim_dir.empty() && scene.rows == scene.cols && scene.trajectory.empty()) {
       const std::string path =
           (fs::path(study.arcsim_dir) / ("arcsim_N" + resolution_text(scene) + "_" + motion_text(scene) + ".h5")).string();
-      if (fs::exists(path)) context.arcsim = read_trajectory_frames(path);
+      if (fs::exists(path)) c.arcsim = read_trajectory_frames(path);
     }
+    return c;
+  };
+  SceneContext context;
+  std::map<std::size_t, SceneContext> kept;
+  auto context_of = [&](std::size_t s) -> SceneContext& {
+    if (context.scene == s) return context;
+    if (const auto it = kept.find(s); it != kept.end()) {
+      context = std::move(it->second);
+      kept.erase(it);
+      return context;
+    }
+    const Scene& scene = scenes[s];
+    const std::string cache = reference_file(scene);
+    if (root) std::fprintf(stderr, "reference %s/%s: cached %s\n", resolution_text(scene).c_str(), motion_text(scene).c_str(), cache.c_str());
+    context = make_context(s, resolve(scene), read_trajectory_frames(cache));
     return context;
   };
 
@@ -485,6 +499,11 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
   };
 
   // 1. The Newton references still missing, each computed once, by one rank.
+  std::set<std::size_t> later_scenes;  // scenes where this rank runs tasks after the references
+  for (std::size_t i = 0; i < run_tasks.size(); ++i)
+    if (run_rank[i] == comm.rank()) later_scenes.insert(run_tasks[i].scene);
+  if (root && !run_tasks.empty()) later_scenes.insert(run_tasks.front().scene);  // the learning-rate sweep's
+  const auto converged = std::find_if(runs.begin(), runs.end(), is_converged_run);
   for (std::size_t i = 0; i < reference_tasks.size(); ++i) {
     if (reference_rank[i] != comm.rank()) continue;
     const std::size_t s = reference_tasks[i].scene;
@@ -493,15 +512,22 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
     NewtonOptimizer newton;
     RolloutOptions options;
     options.solve = reference_options;
-    const TimedRollout reference = rollout_with_progress(resolve(scene), newton, options, reference_tasks[i].units,
+    ResolvedScene resolved = resolve(scene);
+    const TimedRollout reference = rollout_with_progress(resolved, newton, options, reference_tasks[i].units,
                                                          "reference " + res + "/" + motion);
     write_rollout_file(reference_file(scene), reference.rollout, to_scene_text(scene), newton.settings());
     if (reference.rollout.diverged)
       std::fprintf(stderr, "warning: the Newton reference of %s/%s %s\n", res.c_str(), motion.c_str(),
                    reference.rollout.divergence.c_str());
+    const bool newton_row = converged != runs.end() && !resumed_row(s, *converged) && !study.warm_start;
+    const bool later = later_scenes.count(s) > 0;
     std::optional<RunResult> row;
-    const auto converged = std::find_if(runs.begin(), runs.end(), is_converged_run);
-    if (converged != runs.end() && !resumed_row(s, *converged) && !study.warm_start) {
+    int states = 0;
+    if (newton_row || later) {
+      context = make_context(s, std::move(resolved), frames_of(reference.rollout));
+      states = static_cast<int>(context.bench->steps().size());
+    }
+    if (newton_row) {
       row = new_result(s, *converged);
       row->note = "the reference rollout itself";
       OptimizerChoice choice = study.settings;
@@ -510,7 +536,11 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
       measure(s, *converged, choice, newton, reference, *row);
       if (row->diverged) row->note = "the reference rollout itself; " + reference.rollout.divergence;
     }
-    finish_task(0, i, context.scene == s ? static_cast<int>(context.bench->steps().size()) : 0, row);
+    if (later) {
+      kept.emplace(s, std::move(context));
+      context = SceneContext();
+    }
+    finish_task(0, i, states, row);
   }
   wait_for_phase(0, reference_rank);
 
