@@ -12,6 +12,12 @@
 #include "util/error.hpp"
 
 namespace fnopt {
+namespace {
+
+// A checkpoint's name for the k-th state tensor of environment e.
+std::string environment_key(int e, int k) { return "env" + std::to_string(e) + "_" + std::to_string(k); }
+
+}  // namespace
 
 void TrainOptions::validate() const {
   pool.validate();
@@ -180,7 +186,7 @@ void MetaTrainer::write_environments(torch::serialize::OutputArchive& archive) c
     if (!pool_[e]) continue;
     const auto tensors = pool_[e]->state_tensors();
     for (std::size_t k = 0; k < tensors.size(); ++k)
-      archive.write("env" + std::to_string(e) + "_" + std::to_string(k), tensors[k]);
+      archive.write(environment_key(static_cast<int>(e), static_cast<int>(k)), tensors[k]);
   }
 }
 
@@ -220,7 +226,7 @@ void MetaTrainer::save_checkpoint(const std::string& path) const {
       share.load_from(bytes);
       for (int e = rank; e < options_.pool.environments; e += processes_.size())
         for (int k = 0;; ++k) {
-          const std::string key = "env" + std::to_string(e) + "_" + std::to_string(k);
+          const std::string key = environment_key(e, k);
           torch::Tensor tensor;
           if (!share.try_read(key, tensor)) break;
           archive.write(key, tensor);
@@ -267,12 +273,12 @@ void MetaTrainer::restore(const std::string& path) {
     }
     std::vector<torch::Tensor> tensors(TrainingEnv::kStateTensors);
     for (std::size_t k = 0; k < tensors.size(); ++k)
-      archive.read("env" + std::to_string(e) + "_" + std::to_string(k), tensors[k]);
+      archive.read(environment_key(e, static_cast<int>(k)), tensors[k]);
     // The kept proposals and their gradient differences, if the run that saved it had any. A
     // fresh tensor for each: try_read overwrites a defined tensor in place.
     for (const int k : {TrainingEnv::kStateTensors, TrainingEnv::kStateTensors + 1}) {
       torch::Tensor pairs;
-      if (archive.try_read("env" + std::to_string(e) + "_" + std::to_string(k), pairs)) tensors.push_back(pairs);
+      if (archive.try_read(environment_key(e, k), pairs)) tensors.push_back(pairs);
     }
     pool_.push_back(TrainingEnv::restored(options_.pool, options_.seed, e, tensors));
   }
