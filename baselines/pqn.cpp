@@ -61,11 +61,20 @@ std::optional<SolveStatus> PqnOptimizer::step(SmoothProblem& problem, VecX& x, d
                                                  {value, slope, gradient.norm(), rounding}, params_.line_search,
                                                  line_search_))
     return stop;
+  add_pair(x_old_, g_old_, x, gradient);
+  return std::nullopt;
+}
+
+bool PqnOptimizer::add_pair(const VecX& x_old, const VecX& g_old, const VecX& x_new, const VecX& g_new) {
   // Keep only pairs of clearly positive curvature (cosine above 1e-10).
-  history_.push(x_old_, g_old_, x, gradient, [](const CurvaturePair& pair, double sy) {
+  return history_.push(x_old, g_old, x_new, g_new, [](const CurvaturePair& pair, double sy) {
     return std::isfinite(sy) && sy > 1e-10 * pair.s.norm() * pair.y.norm();
   });
-  return std::nullopt;
+}
+
+PqnFactor& PqnOptimizer::factor() const {
+  require(factor_ != nullptr, "pqn", "no factor before the first time step");
+  return *factor_;
 }
 
 }  // namespace fnopt

@@ -45,6 +45,13 @@ class PqnOptimizer final : public FirstOrderOptimizer {
   // For problems that are not cloth steps (tests, tools): factorizes `matrix` and uses it on
   // every such problem. Throws Error if it is not positive definite.
   void use_matrix(const PqnMatrix& matrix);
+  // Adds the curvature pair of a step taken by someone else (x_old -> x_new with gradients
+  // g_old, g_new) to this time step's history, under the same positivity test as pqn's own
+  // pairs; returns whether it was kept. The hybrid with the learned optimizer feeds its
+  // proposals this way (optimizer/learned/learned_pqn.hpp).
+  bool add_pair(const VecX& x_old, const VecX& g_old, const VecX& x_new, const VecX& g_new);
+  // The factor of A for the problem of the current time step (after begin_step).
+  PqnFactor& factor() const;
   // Factorizations of A so far (one per scene; tests).
   long factorizations() const { return cache_.factorizations() + given_factorizations_; }
 

@@ -99,6 +99,24 @@ void PqnFactor::solve_in_place(VecX& q) {
   }
 }
 
+double PqnFactor::quadratic_form(const VecX& q) {
+  const std::vector<int>& free_index = matrix_.free_index;
+  const int rows = static_cast<int>(matrix_.matrix.rows());
+  const bool isotropic = matrix_.kind == PqnMatrixKind::Isotropic;
+  block_.setZero(3 * rows);
+  for (int v = 0; v < static_cast<int>(free_index.size()); ++v)
+    if (const int f = free_index[v]; f >= 0)
+      for (int c = 0; c < 3; ++c) block_[isotropic ? c * rows + f : 3 * f + c] = q[3 * v + c];
+  const auto A = matrix_.matrix.selfadjointView<Eigen::Lower>();
+  if (!isotropic) return block_.dot(A * block_);
+  double sum = 0.0;  // A = S (x) I3: one scalar form per coordinate
+  for (int c = 0; c < 3; ++c) {
+    const auto column = block_.segment(c * rows, rows);
+    sum += column.dot(A * column);
+  }
+  return sum;
+}
+
 bool PqnFactorCache::Key::operator==(const Key& o) const {
   return rows == o.rows && cols == o.cols && spacing == o.spacing && dt == o.dt && stretch == o.stretch &&
          shear == o.shear && bend == o.bend && density == o.density && damping == o.damping &&

@@ -53,6 +53,9 @@ class PqnFactor {
   void solve_in_place(VecX& q);
   // r <- A^-1 r for r of 3 dofs per free vertex (free vertex f at 3f, as the Hessian's rows).
   void solve_free_in_place(VecX& r);
+  // q^T A q over the free dofs of q (3 dofs per vertex; the fixed dofs do not count): the
+  // curvature that A predicts along q.
+  double quadratic_form(const VecX& q);
 
  private:
   PqnMatrix matrix_;

@@ -12,6 +12,7 @@
 #include "baselines/newton.hpp"
 #include "optimizer/interpolated_optimizer.hpp"
 #include "optimizer/learned/learned_optimizer.hpp"
+#include "optimizer/learned/learned_pqn.hpp"
 #include "util/error.hpp"
 #include "util/flag_names.hpp"
 #include "util/installed_data.hpp"
@@ -65,6 +66,13 @@ const std::vector<OptimizerEntry>& optimizer_table() {
       {"fnopt-ls", kLearned, [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/true); }},
       {"fnopt-ss", kLearned,
        [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false, kFnoptSubspace); }},
+      {"fnopt-pqn", {BudgetKind::Iterations, false, false, 2.0, 10},
+       [](const OptimizerChoice& c) {
+         LearnedPqnParams params;
+         params.pqn.history = c.pqn_history;
+         params.pqn.matrix = parse_pqn_matrix_kind(c.pqn_matrix);
+         return std::make_unique<LearnedPqnOptimizer>(c.model.empty() ? shipped_model_path() : c.model, params);
+       }},
       {"gd", {BudgetKind::Iterations, false, true, 1.0, 500},
        [](const OptimizerChoice& c) {
          GradientDescentParams params;

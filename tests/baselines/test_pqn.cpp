@@ -116,6 +116,65 @@ TEST(Pqn, OneIterationIsExactOnAQuadraticWhoseHessianIsTheMatrix) {
   }
 }
 
+TEST(PqnMatrix, QuadraticFormIsQTransposeAQOverTheFreeDofs) {
+  // Against the expanded matrix on the free dofs; whatever the fixed dofs hold does not count.
+  const Grid grid = Grid::make(7, 6, 1.0);
+  const BackwardEulerObjective objective(grid, Material{}, 1.0 / 60.0, Vec3(0, 0, -9.81));
+  const DirichletSet handles(grid.vertex_count(), {0, 5, 20});
+  std::mt19937 random(11);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  VecX q(grid.dof_count());
+  for (Eigen::Index i = 0; i < q.size(); ++i) q[i] = normal(random);
+  for (PqnMatrixKind kind : {PqnMatrixKind::Isotropic, PqnMatrixKind::RestHessian}) {
+    const PqnMatrix matrix = build_pqn_matrix(objective, handles.free_index(), kind, crumpled(grid, 2));
+    VecX q_free(matrix.expanded().rows());
+    for (int v = 0; v < grid.vertex_count(); ++v)
+      if (const int f = handles.free_index()[v]; f >= 0) q_free.segment<3>(3 * f) = q.segment<3>(3 * v);
+    const double expected = q_free.dot(matrix.expanded() * q_free);
+    PqnFactor factor;
+    ASSERT_TRUE(factor.factorize(matrix));
+    EXPECT_NEAR(factor.quadratic_form(q), expected, 1e-12 * std::abs(expected)) << to_string(kind);
+  }
+}
+
+TEST(Pqn, APairAddedFromOutsideShapesTheNextIteration) {
+  // f = 1/2 x^T H x with H != A: from x0 the first iteration along -A^-1 g does not reach the
+  // minimum. Given the pair of the step x0 -> 0 (s = -x0, y = -H x0), the two-loop direction
+  // satisfies H_1 y = s, so the next iteration lands on the minimum exactly.
+  const Grid grid = Grid::make(6, 5, 1.0);
+  const BackwardEulerObjective objective(grid, Material{}, 1.0 / 60.0, Vec3(0, 0, -9.81));
+  const PqnMatrix matrix = build_pqn_matrix(objective, all_free(grid), PqnMatrixKind::Isotropic, grid.rest_positions());
+  const Eigen::SparseMatrix<double> A = matrix.expanded();
+  const Eigen::MatrixXd H = Eigen::MatrixXd(A) * 1.5 + Eigen::MatrixXd::Identity(A.rows(), A.cols()) * 1e-7;
+  FunctionSmoothProblem quadratic(static_cast<int>(A.rows()), [&](const VecX& x, VecX* g) {
+    const VecX Hx = H * x;
+    if (g) *g = Hx;
+    return 0.5 * x.dot(Hx);
+  });
+  VecX x0(A.rows());
+  std::mt19937 random(5);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (Eigen::Index i = 0; i < x0.size(); ++i) x0[i] = normal(random);
+  for (bool with_pair : {false, true}) {
+    PqnOptimizer pqn;
+    pqn.use_matrix(matrix);
+    VecX x = x0, g;
+    double value = quadratic.value_gradient(x, g);
+    pqn.begin(quadratic, x, value, g);
+    if (with_pair) {
+      ASSERT_TRUE(pqn.add_pair(x0, g, VecX::Zero(x0.size()), VecX::Zero(x0.size())));
+    }
+    ASSERT_FALSE(pqn.step(quadratic, x, value, g).has_value());
+    if (with_pair) EXPECT_LT(x.norm(), 1e-9 * x0.norm());
+    else EXPECT_GT(x.norm(), 0.1 * x0.norm()) << "A must be a poor model of H for this test to mean anything";
+  }
+  PqnOptimizer pqn;
+  pqn.use_matrix(matrix);
+  VecX g0 = H * x0;
+  pqn.begin(quadratic, x0, quadratic.value(x0), g0);
+  EXPECT_FALSE(pqn.add_pair(x0, g0, x0 + g0, g0 - H * g0)) << "a pair of negative curvature is not kept";
+}
+
 TEST(Pqn, NeverMovesAHandleAndConvergesToTheNewtonStep) {
   ClothStep step;
   NewtonOptimizer newton;
