@@ -1,17 +1,11 @@
 #include "optimizer/learned/learned_optimizer.hpp"
 
-#include "fno/fno_io.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
 
 namespace fnopt {
 
 LearnedOptimizer::LearnedOptimizer(const std::string& model_path, LearnedParams params)
-    : LearnedOptimizer(
-          [&] {
-            check_learned_model(load_fno_options(model_path), model_path);
-            return load_fno(model_path);
-          }(),
-          model_path, params) {}
+    : LearnedOptimizer(load_learned_model(model_path), model_path, params) {}
 
 LearnedOptimizer::LearnedOptimizer(FNO2d model, std::string model_name, LearnedParams params)
     : model_(std::move(model)), model_name_(std::move(model_name)), rule_(params) {

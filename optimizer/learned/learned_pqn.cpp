@@ -4,7 +4,6 @@
 #include <optional>
 
 #include "boundary/dirichlet.hpp"
-#include "fno/fno_io.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
 #include "optimizer/learned/learned_update.hpp"
 #include "util/error.hpp"
@@ -40,12 +39,7 @@ struct LearnedPqnOptimizer::ProposalGrid {
 };
 
 LearnedPqnOptimizer::LearnedPqnOptimizer(const std::string& model_path, LearnedPqnParams params)
-    : LearnedPqnOptimizer(
-          [&] {
-            check_learned_model(load_fno_options(model_path), model_path);
-            return load_fno(model_path);
-          }(),
-          model_path, params) {}
+    : LearnedPqnOptimizer(load_learned_model(model_path), model_path, params) {}
 
 LearnedPqnOptimizer::LearnedPqnOptimizer(FNO2d model, std::string model_name, LearnedPqnParams params)
     : model_(std::move(model)), model_name_(std::move(model_name)), params_(validated(params)), pqn_(params_.pqn) {

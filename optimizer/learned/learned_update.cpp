@@ -1,5 +1,6 @@
 #include "optimizer/learned/learned_update.hpp"
 
+#include "fno/fno_io.hpp"
 #include "util/error.hpp"
 
 namespace fnopt {
@@ -53,6 +54,11 @@ void check_learned_model(const FNO2dOptions& options, const std::string& path) {
           "not a learned-optimizer model (needs an FNO with 3 input channels and 1 output channel, or 9 and 3, "
           "and a scale head; this one has " + std::to_string(options.in_channels()) + " in, " +
               std::to_string(options.out_channels()) + " out" + (options.scale_head() ? "" : ", no scale head") + ")");
+}
+
+FNO2d load_learned_model(const std::string& path) {
+  check_learned_model(load_fno_options(path), path);
+  return load_fno(path);
 }
 
 }  // namespace fnopt

@@ -56,5 +56,8 @@ LearnedStep learned_step(FNO2d& model, const torch::Tensor& gradient, const Lear
 // Throws Error("<path>: ...") unless the model has one of the learned optimizer's
 // architectures: 3 inputs and 1 output, or 9 inputs and 3 outputs; and a scale head.
 void check_learned_model(const FNO2dOptions& options, const std::string& path);
+// The model in `path`, checked before its weights are read (Error naming the file if it is
+// missing or not a learned optimizer).
+FNO2d load_learned_model(const std::string& path);
 
 }  // namespace fnopt
