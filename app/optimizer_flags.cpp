@@ -24,10 +24,10 @@ void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice) {
 
 void add_method_setting_flags(CLI::App& command, OptimizerChoice& choice) {
   command.add_option("--model", choice.model, "learned optimizer weights (default: the shipped models/fnopt-32.pt)");
-  command.add_option("--pqn-history", choice.pqn_history, "pqn: curvature pairs kept (0: plain -A^-1 g steps)")
+  command.add_option("--pqn-history", choice.pqn_history, "pqn and fnopt-pqn: curvature pairs kept (0: plain -A^-1 g steps)")
       ->capture_default_str();
   command.add_option("--pqn-matrix", choice.pqn_matrix,
-                     "pqn: the prefactored matrix, isotropic (projective-dynamics-like, rotation invariant) or "
+                     "pqn and fnopt-pqn: the prefactored matrix, isotropic (projective-dynamics-like, rotation invariant) or "
                      "rest-hessian (the rest pose's Hessian as it is)")
       ->capture_default_str();
 }

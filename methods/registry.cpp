@@ -45,19 +45,22 @@ std::unique_ptr<InnerOptimizer> make_learned(const OptimizerChoice& c, bool line
   return std::make_unique<LearnedOptimizer>(c.model.empty() ? shipped_model_path() : c.model, params);
 }
 
+// pqn's settings from --pqn-history and --pqn-matrix (pqn and fnopt-pqn), validated under the
+// flags' names.
+PqnParams pqn_params(const OptimizerChoice& c) {
+  PqnParams params;
+  with_flag_names({{"pqn.history", "pqn-history"}, {"pqn.matrix", "pqn-matrix"}}, [&] {
+    params.history = c.pqn_history;
+    params.matrix = parse_pqn_matrix_kind(c.pqn_matrix);
+    params.validate();
+  });
+  return params;
+}
+
 const std::vector<OptimizerEntry>& optimizer_table() {
   static const std::vector<OptimizerEntry> table = {
       {"pqn", {BudgetKind::Iterations, false, false, 1.5, 10},
-       [](const OptimizerChoice& c) {
-         std::unique_ptr<InnerOptimizer> pqn;
-         with_flag_names({{"pqn.history", "pqn-history"}, {"pqn.matrix", "pqn-matrix"}}, [&] {
-           PqnParams params;
-           params.history = c.pqn_history;
-           params.matrix = parse_pqn_matrix_kind(c.pqn_matrix);
-           pqn = std::make_unique<PqnOptimizer>(params);
-         });
-         return pqn;
-       }},
+       [](const OptimizerChoice& c) { return std::make_unique<PqnOptimizer>(pqn_params(c)); }},
       {"newton", {BudgetKind::ToTolerance, true, false, 8.0, 0},
        [](const OptimizerChoice&) { return std::make_unique<NewtonOptimizer>(); }},
       {"implicit-euler", {BudgetKind::OneSolve, false, false, 30.0, 1},
@@ -69,8 +72,7 @@ const std::vector<OptimizerEntry>& optimizer_table() {
       {"fnopt-pqn", {BudgetKind::Iterations, false, false, 2.0, 10},
        [](const OptimizerChoice& c) {
          LearnedPqnParams params;
-         params.pqn.history = c.pqn_history;
-         params.pqn.matrix = parse_pqn_matrix_kind(c.pqn_matrix);
+         params.pqn = pqn_params(c);
          return std::make_unique<LearnedPqnOptimizer>(c.model.empty() ? shipped_model_path() : c.model, params);
        }},
       {"gd", {BudgetKind::Iterations, false, true, 1.0, 500},

@@ -91,6 +91,8 @@ const std::vector<BadInput> kCases = {
     {S + "--pqn-history -1", "pqn-history: must lie in [0, 1000]"},
     {S + "--optimizer fnopt-ss --model {dir}/missing.pt", "{dir}/missing.pt: no such FNO weights file"},
     {S + "--optimizer fnopt-ss --model {dir}/dup.mat", "{dir}/dup.mat: not an fnopt FNO weights file"},
+    {S + "--optimizer fnopt-pqn --model {dir}/missing.pt", "{dir}/missing.pt: no such FNO weights file"},
+    {S + "--optimizer fnopt-pqn --pqn-history -1", "pqn-history: must lie in [0, 1000]"},
     // Output locations, checked before the work.
     {"simulate --res 8 --frames 3 --out /proc/fnopt.h5", "out: cannot write in '/proc'"},
     {"simulate --res 8 --frames 3 --out {dir}", "out: '{dir}' is a directory"},

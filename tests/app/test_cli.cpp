@@ -59,6 +59,12 @@ TEST(Cli, SimulateRunsPqnByDefaultAndTheShippedModelOneFlagAway) {
   EXPECT_EQ(learned.status, 0) << learned.output;
   EXPECT_NE(learned.output.find("fnopt-ss: 10/10 frames"), std::string::npos) << learned.output;
   EXPECT_NE(learned.output.find("subspace=8 carried"), std::string::npos) << learned.output;
+  // fnopt-pqn at 40^2: the FNO runs on the 32-vertex coarse grid.
+  const CommandResult probed = run_fnopt("simulate --res 40 --frames 6 --optimizer fnopt-pqn --out " + out);
+  EXPECT_EQ(probed.status, 0) << probed.output;
+  EXPECT_NE(probed.output.find("fnopt-pqn: 6/6 frames"), std::string::npos) << probed.output;
+  EXPECT_NE(probed.output.find("proposal grid=32"), std::string::npos) << probed.output;
+  EXPECT_NE(probed.output.find("finite"), std::string::npos) << probed.output;
 }
 
 // Two processes, same scene and model, must write the same rollout to the bit: a comparison
