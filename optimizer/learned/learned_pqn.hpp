@@ -7,7 +7,8 @@
 // proposes a direction p from the gradient first, and the curvature along it is measured:
 //   1. p = the FNO's update from the masked gradient alone (first-iteration inputs: a fresh
 //      recurrent state), run on a coarse grid (restricted gradient in, prolonged update out)
-//      so that one proposal costs a fraction of a fine-grid pass;
+//      so that one proposal costs a fraction of a fine-grid pass; a coordinate whose gradient
+//      is round-off is left out (kCoordinateGate);
 //   2. alpha = -g.p / p^T A p, the minimiser along p of the model pqn trusts (p turned round
 //      if it points uphill); one gradient evaluation at a + alpha p;
 //   3. the pair (alpha p, g(a + alpha p) - g(a)) joins pqn's history, and pqn's iteration
@@ -25,6 +26,10 @@
 #include "optimizer/inner_optimizer.hpp"
 
 namespace fnopt {
+
+// A proposal's coordinate whose gradient is below this fraction of the largest coordinate's is
+// scaled down in proportion (learned_pqn.cpp).
+inline constexpr double kCoordinateGate = 1e-4;
 
 struct LearnedPqnParams {
   PqnParams pqn;
