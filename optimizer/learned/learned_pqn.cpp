@@ -93,14 +93,14 @@ void LearnedPqnOptimizer::propose(const StepProblem& problem, const VecX& gradie
     g.restriction->apply(gradient, coarse_);
     input = &coarse_;
   }
-  const int samples = samples_per_environment(model_->options);
-  const LearnedStep step =
-      learned_step(model_, to_model_layout(to_coordinate_samples(*input, g.grid), samples), LearnedState{}, g.mask);
+  const torch::Tensor coordinates = to_coordinate_samples(*input, g.grid);
+  const LearnedStep step = learned_step(
+      model_, to_model_layout(coordinates, samples_per_environment(model_->options)), LearnedState{}, g.mask);
   // The FNO normalises each coordinate sample by its own RMS (learned_update.hpp), so a
   // coordinate whose gradient is round-off (the out-of-plane one under in-plane motion) gets
   // an O(1) proposal made from noise, whose pair leads pqn out of the plane. Such a coordinate
   // fades out below kCoordinateGate of the largest coordinate's gradient.
-  const torch::Tensor norms = to_coordinate_samples(*input, g.grid).flatten(1).norm(2, 1).view({3, 1, 1, 1});
+  const torch::Tensor norms = coordinates.flatten(1).norm(2, 1).view({3, 1, 1, 1});
   const torch::Tensor delta = to_coordinate_layout(step.delta) *
                               (norms / norms.max().clamp_min(1e-30) * (1.0 / kCoordinateGate)).clamp_max(1.0);
   // Any scale will do: the step length along p is set by A (alpha in the header).
