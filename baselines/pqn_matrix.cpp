@@ -82,33 +82,36 @@ void PqnFactor::solve_free_in_place(VecX& r) {
     for (int c = 0; c < 3; ++c) r[3 * f + c] = block_[c * rows + f];
 }
 
-void PqnFactor::solve_in_place(VecX& q) {
-  const std::vector<int>& free_index = matrix_.free_index;
-  const int vertices = static_cast<int>(free_index.size());
-  const int rows = static_cast<int>(matrix_.matrix.rows());
-  block_.resize(3 * rows);
+int PqnFactor::block_position(int free_vertex, int coordinate) const {
   // Isotropic: an n_free x 3 column-major block, one column per coordinate; else one column.
-  const bool isotropic = matrix_.kind == PqnMatrixKind::Isotropic;
-  for (int v = 0; v < vertices; ++v)
+  return matrix_.kind == PqnMatrixKind::Isotropic ? coordinate * static_cast<int>(matrix_.matrix.rows()) + free_vertex
+                                                  : 3 * free_vertex + coordinate;
+}
+
+void PqnFactor::gather_free(const VecX& q) {
+  const std::vector<int>& free_index = matrix_.free_index;
+  block_.resize(3 * matrix_.matrix.rows());
+  for (int v = 0; v < static_cast<int>(free_index.size()); ++v)
     if (const int f = free_index[v]; f >= 0)
-      for (int c = 0; c < 3; ++c) block_[isotropic ? c * rows + f : 3 * f + c] = q[3 * v + c];
-  cholesky_.solve_in_place(block_.data(), rows, isotropic ? 3 : 1);
-  for (int v = 0; v < vertices; ++v) {
+      for (int c = 0; c < 3; ++c) block_[block_position(f, c)] = q[3 * v + c];
+}
+
+void PqnFactor::solve_in_place(VecX& q) {
+  gather_free(q);
+  const int rows = static_cast<int>(matrix_.matrix.rows());
+  cholesky_.solve_in_place(block_.data(), rows, matrix_.kind == PqnMatrixKind::Isotropic ? 3 : 1);
+  const std::vector<int>& free_index = matrix_.free_index;
+  for (int v = 0; v < static_cast<int>(free_index.size()); ++v) {
     const int f = free_index[v];
-    for (int c = 0; c < 3; ++c) q[3 * v + c] = f < 0 ? 0.0 : block_[isotropic ? c * rows + f : 3 * f + c];
+    for (int c = 0; c < 3; ++c) q[3 * v + c] = f < 0 ? 0.0 : block_[block_position(f, c)];
   }
 }
 
 double PqnFactor::quadratic_form(const VecX& q) {
-  const std::vector<int>& free_index = matrix_.free_index;
-  const int rows = static_cast<int>(matrix_.matrix.rows());
-  const bool isotropic = matrix_.kind == PqnMatrixKind::Isotropic;
-  block_.setZero(3 * rows);
-  for (int v = 0; v < static_cast<int>(free_index.size()); ++v)
-    if (const int f = free_index[v]; f >= 0)
-      for (int c = 0; c < 3; ++c) block_[isotropic ? c * rows + f : 3 * f + c] = q[3 * v + c];
+  gather_free(q);
   const auto A = matrix_.matrix.selfadjointView<Eigen::Lower>();
-  if (!isotropic) return block_.dot(A * block_);
+  if (matrix_.kind != PqnMatrixKind::Isotropic) return block_.dot(A * block_);
+  const int rows = static_cast<int>(matrix_.matrix.rows());
   double sum = 0.0;  // A = S (x) I3: one scalar form per coordinate
   for (int c = 0; c < 3; ++c) {
     const auto column = block_.segment(c * rows, rows);

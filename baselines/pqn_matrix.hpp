@@ -61,6 +61,10 @@ class PqnFactor {
   PqnMatrix matrix_;
   SparseCholesky cholesky_{SparseCholesky::Method::Simplicial};
   Eigen::VectorXd block_;  // the free dofs, in the factor's layout
+  // Where coordinate c of free vertex f sits in block_.
+  int block_position(int free_vertex, int coordinate) const;
+  // block_ <- the free dofs of q (3 dofs per vertex), in the factor's layout.
+  void gather_free(const VecX& q);
 };
 
 // The factor for the cloth step at hand, rebuilt only when what A depends on changes: the grid,

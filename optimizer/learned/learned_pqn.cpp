@@ -25,7 +25,6 @@ bool LearnedPqnParams::proposes_at(int iteration) const {
 // Where the FNO runs: the step's grid or a coarser one, with its handle mask.
 struct LearnedPqnOptimizer::ProposalGrid {
   Grid fine;
-  const DirichletSet* dirichlet = nullptr;
   std::vector<int> fixed;  // the fine handles it was built for
   std::optional<GridResampler> restriction, prolongation;  // empty on the step's own grid
   Grid grid;           // the FNO's grid

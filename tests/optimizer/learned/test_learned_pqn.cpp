@@ -105,7 +105,8 @@ TEST(LearnedPqn, AgreesWithANaiveReferenceOfAProposalAndThePqnIterationAfterIt) 
   // Built from the public pieces on the step's own grid: p = the FNO's update from g at a fresh
   // state (handles masked, turned downhill), alpha = -g.p / p^T A p, the trial's pair given to
   // a fresh pqn, then one pqn iteration from a. fnopt-pqn's first iteration must land on the
-  // same a, and differ from pqn's own first iteration (-A^-1 g).
+  // same a, and differ from pqn's own first iteration (-A^-1 g). Every coordinate has a
+  // gradient in this step, so the coordinate gate leaves p as it is.
   FNO2d model = tiny_model();
   LearnedPqnOptimizer hybrid(model, "tiny", schedule(0, 0, 0));
   ClothStep step;
