@@ -18,6 +18,7 @@
 #include "app/threads.hpp"
 #include "parallel/communicator.hpp"
 #include "fno/fno_io.hpp"
+#include "optimizer/learned/learned_update.hpp"
 #include "training/meta_trainer.hpp"
 #include "training/rollout_validation.hpp"
 #include "util/atomic_file.hpp"
@@ -46,7 +47,7 @@ struct TrainFlags {
 };
 
 constexpr const char* kLogHeader =
-    "step,seconds,loss,newton_loss,mean_ratio,gradient_norm,learning_rate,renewed,skipped";
+    "step,seconds,loss,newton_loss,mean_ratio,gradient_norm,learning_rate,renewed,skipped,ratio_without_probe";
 
 constexpr const char* kValidationHeader =
     "step,seconds,resolution,motions,frames,optimizer,iterations,e3d_x1e2,max_strain,diverged";
@@ -111,6 +112,16 @@ void run_train(TrainFlags& flags) {
   flags.options.model.width(flags.width).fourier_layers(flags.layers).modes_x(flags.modes).modes_y(flags.modes)
       .lifting_channels(flags.lifting).projection_channels(flags.projection)
       .in_channels(flags.combined ? 9 : 3).out_channels(flags.combined ? 3 : 1);
+  if (!flags.options.initial_model.empty()) {  // the shape is the file's
+    const FNO2dOptions given = load_fno_options(flags.options.initial_model);
+    check_learned_model(given, flags.options.initial_model);
+    flags.options.model.width(given.width()).fourier_layers(given.fourier_layers()).modes_x(given.modes_x())
+        .modes_y(given.modes_y()).lifting_channels(given.lifting_channels())
+        .projection_channels(given.projection_channels()).in_channels(given.in_channels())
+        .out_channels(given.out_channels());
+  }
+  require(!flags.validate || flags.options.objective == TrainObjective::Energy, "validate-res",
+          "validates fnopt-ss rollouts, not a probe (--objective probe): compare fnopt-pqn with --model instead");
   for (const std::string& text : flags.ranges) {
     std::string quantity;
     double low = 0.0, high = 0.0;
@@ -195,14 +206,22 @@ void run_train(TrainFlags& flags) {
     std::fprintf(stderr, "fnopt train: pool ranges (grid units, damping as c dt): %s\n",
                  flags.options.pool.ranges.text().c_str());
     const int subspace = flags.options.pool.subspace;
-    std::fprintf(stderr, "fnopt train: the pool takes each proposal %s\n",
-                 subspace == 0 ? "as it is"
-                               : ("as fnopt-ss does: subspace step over the last " + std::to_string(subspace) +
-                                  " proposals, carried across time steps, and the energy safeguard")
-                                     .c_str());
-    std::fprintf(stderr, "fnopt train: the loss scores each update %s\n",
-                 flags.options.score_after_subspace_step ? "where the rule ends, past the subspace step"
-                                                         : "at the proposal");
+    if (flags.options.objective == TrainObjective::Probe) {
+      std::fprintf(stderr,
+                   "fnopt train: objective probe: the model as fnopt-pqn's probe at the first iteration of each time "
+                   "step; the pool follows Newton's solution\n");
+    } else {
+      std::fprintf(stderr, "fnopt train: the pool takes each proposal %s\n",
+                   subspace == 0 ? "as it is"
+                                 : ("as fnopt-ss does: subspace step over the last " + std::to_string(subspace) +
+                                    " proposals, carried across time steps, and the energy safeguard")
+                                       .c_str());
+      std::fprintf(stderr, "fnopt train: the loss scores each update %s\n",
+                   flags.options.score_after_subspace_step ? "where the rule ends, past the subspace step"
+                                                           : "at the proposal");
+    }
+    if (!flags.options.initial_model.empty() && !resuming)
+      std::fprintf(stderr, "fnopt train: starting from the weights of %s\n", flags.options.initial_model.c_str());
   }
   std::unique_ptr<RolloutValidation> validation;
   if (root && flags.validate) {
@@ -227,7 +246,7 @@ void run_train(TrainFlags& flags) {
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   std::optional<ProgressBar> bar;
   if (root) bar.emplace("train", flags.options.steps, trainer.completed_steps());
-  double running_loss = NAN, running_ratio = NAN;
+  double running_loss = NAN, running_ratio = NAN, running_baseline = NAN;
   // Validates the current model; keeps it as model-best.pt if it is the closest to Newton so far.
   auto validate = [&](int step) {
     const ValidationScore score = validation->score(trainer.output_model());
@@ -262,10 +281,17 @@ void run_train(TrainFlags& flags) {
       if (std::isfinite(s.mean_ratio))
         running_ratio = std::isfinite(running_ratio) ? 0.98 * running_ratio + 0.02 * s.mean_ratio : s.mean_ratio;
       log << step << ',' << seconds_before + elapsed() << ',' << s.loss << ',' << s.newton_loss << ',' << s.mean_ratio
-          << ',' << s.gradient_norm << ',' << s.learning_rate << ',' << s.renewed << ',' << s.skipped << '\n';
+          << ',' << s.gradient_norm << ',' << s.learning_rate << ',' << s.renewed << ',' << s.skipped << ',';
+      if (std::isfinite(s.ratio_without_probe)) log << s.ratio_without_probe;
+      log << '\n';
       char status[128];
-      const int written = std::snprintf(status, sizeof status, "loss %.4f ratio %.4f lr %.1e", running_loss,
-                                        running_ratio, s.learning_rate);
+      if (std::isfinite(s.ratio_without_probe))
+        running_baseline = std::isfinite(running_baseline) ? 0.98 * running_baseline + 0.02 * s.ratio_without_probe
+                                                           : s.ratio_without_probe;
+      int written = std::snprintf(status, sizeof status, "loss %.4f ratio %.4f lr %.1e", running_loss,
+                                  running_ratio, s.learning_rate);
+      if (std::isfinite(running_baseline))
+        written += std::snprintf(status + written, sizeof status - written, " (pqn alone %.4f)", running_baseline);
       if (best.step >= 0)
         std::snprintf(status + written, sizeof status - written, " best e_3D %.3g @%d", best.e3d, best.step);
       bar->update(step, status);
@@ -301,6 +327,17 @@ const RegisterCommand kRegister([](CLI::App& app) {
   CLI::App* command = app.add_subcommand("train", "meta-train a learned optimizer from the energy alone");
   command->add_option("--out", flags->out, "output folder: model.pt, checkpoint.pt, train_log.csv")->required();
   command->add_option("--steps", o.steps, "training steps")->capture_default_str();
+  command->add_option("--objective", o.objective,
+                      "what a step scores: energy, the energy after the learned update (the shipped model's "
+                      "training); probe, the model as fnopt-pqn's probe: how much of the Newton step's decrease pqn's "
+                      "next iteration misses with the pair measured along the proposal (the pool follows Newton's "
+                      "solution; --newton-weight does not apply)")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, TrainObjective>{{"energy", TrainObjective::Energy}, {"probe", TrainObjective::Probe}}))
+      ->option_text("{energy,probe}=energy");
+  command->add_option("--init", o.initial_model,
+                      "start a fresh run from this model's weights (its shape replaces --width, --layers, --modes, "
+                      "--lifting, --projection, --combined), e.g. models/fnopt-32.pt");
   command->add_option("--batch", o.batch, "environments per step")->capture_default_str();
   command->add_option("--envs", o.pool.environments, "environments in the pool")->capture_default_str();
   command->add_option("--res", o.pool.resolution, "training resolution")->capture_default_str();

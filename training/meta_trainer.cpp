@@ -5,9 +5,12 @@
 #include <sstream>
 
 #include "cloth/grid_units.hpp"
-#include "training/energy_loss.hpp"
+#include "fno/fno_io.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
+#include "optimizer/learned/learned_pqn.hpp"
 #include "optimizer/learned/learned_update.hpp"
+#include "training/energy_loss.hpp"
+#include "training/probe_loss.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
 
@@ -31,6 +34,8 @@ void TrainOptions::validate() const {
   require(clip_norm > 0.0, "train.clip_norm", "must be positive");
   require(newton_weight >= 0.0, "train.newton_weight", "must not be negative");
   require(average_decay >= 0.0 && average_decay < 1.0, "train.average_decay", "must lie in [0, 1)");
+  require(objective == TrainObjective::Energy || (pool.subspace == 0 && !score_after_subspace_step),
+          "train.objective", "the probe objective takes no subspace step (the pool follows Newton's solution)");
   require(!score_after_subspace_step || pool.subspace > 0, "train.score_after_subspace_step",
           "needs a pool that takes the subspace step (subspace > 0: fnopt train --subspace K)");
 }
@@ -43,6 +48,7 @@ std::string TrainOptions::signature() const {
     << " lifting=" << model.lifting_channels() << " projection=" << model.projection_channels()
     << " batch=" << batch << " lr=" << learning_rate << " newton_weight=" << newton_weight << " seed=" << seed;
   if (loss_normalisation == LossNormalisation::Batch) s << " loss=batch";
+  if (objective == TrainObjective::Probe) s << " objective=probe";
   return s.str();
 }
 
@@ -53,6 +59,19 @@ MetaTrainer::MetaTrainer(const TrainOptions& options, const std::string& checkpo
           "must be a multiple of the processes (" + std::to_string(processes_.size()) + ")");
   torch::manual_seed(options_.seed);
   model_ = FNO2d(options_.model);
+  if (!options_.initial_model.empty() && checkpoint.empty()) {
+    const FNO2dOptions given = load_fno_options(options_.initial_model);
+    require(given.in_channels() == options_.model.in_channels() && given.width() == options_.model.width() &&
+                given.fourier_layers() == options_.model.fourier_layers() &&
+                given.modes_x() == options_.model.modes_x() && given.modes_y() == options_.model.modes_y() &&
+                given.lifting_channels() == options_.model.lifting_channels() &&
+                given.projection_channels() == options_.model.projection_channels(),
+            options_.initial_model, "not the shape of the model to train (width, layers, modes, lifting, projection, layout)");
+    const FNO2d initial = load_fno(options_.initial_model);
+    torch::NoGradGuard no_grad;
+    const auto from = initial->named_parameters();
+    for (auto& p : model_->named_parameters()) p.value().copy_(from[p.key()]);
+  }
   adam_ = std::make_unique<torch::optim::AdamW>(
       model_->parameters(),
       torch::optim::AdamWOptions(options_.learning_rate).weight_decay(options_.weight_decay));
@@ -95,6 +114,11 @@ TrainStepStats MetaTrainer::step() {
     if (owns(e)) order.push_back(e);
   }
   const int local = static_cast<int>(order.size());
+  if (options_.objective == TrainObjective::Probe) {
+    probe_step(order, stats);
+    ++step_;
+    return stats;
+  }
 
   // Environments keep their state per coordinate ([3, 1, R, C], scale [3, 1, 1, 1]); the
   // model sees it in its own layout (k samples per environment).
@@ -137,19 +161,7 @@ TrainStepStats MetaTrainer::step() {
     loss = loss + options_.newton_weight * newton_loss;
   }
 
-  stats.loss = processes_.sum(loss.item<double>());
-  adam_->zero_grad();
-  loss.backward();
-  sum_gradients_over_processes();
-  stats.gradient_norm = torch::nn::utils::clip_grad_norm_(model_->parameters(), options_.clip_norm);
-  stats.skipped = !std::isfinite(stats.loss) || !std::isfinite(stats.gradient_norm);
-  if (!stats.skipped) {
-    adam_->step();
-    // The decay ramps up as min(d, (1 + t)/(10 + t)) after t steps (the num_updates rule of
-    // TensorFlow's ExponentialMovingAverage), so a short run from scratch forgets its random start.
-    const double t = step_;
-    if (average_) average_->update(model_, std::min(options_.average_decay, (1.0 + t) / (10.0 + t)));
-  }
+  take_gradient_step(loss, stats);
 
   // Each environment takes its update by its proposal rule, as inference would.
   double ratio_sum = 0.0;
@@ -179,6 +191,70 @@ TrainStepStats MetaTrainer::step() {
   stats.renewed = static_cast<int>(counts[2]);
   ++step_;
   return stats;
+}
+
+void MetaTrainer::take_gradient_step(torch::Tensor loss, TrainStepStats& stats) {
+  stats.loss = processes_.sum(loss.item<double>());
+  adam_->zero_grad();
+  loss.backward();
+  sum_gradients_over_processes();
+  stats.gradient_norm = torch::nn::utils::clip_grad_norm_(model_->parameters(), options_.clip_norm);
+  stats.skipped = !std::isfinite(stats.loss) || !std::isfinite(stats.gradient_norm);
+  if (!stats.skipped) {
+    adam_->step();
+    // The decay ramps up as min(d, (1 + t)/(10 + t)) after t steps (the num_updates rule of
+    // TensorFlow's ExponentialMovingAverage), so a short run from scratch forgets its random start.
+    const double t = step_;
+    if (average_) average_->update(model_, std::min(options_.average_decay, (1.0 + t) / (10.0 + t)));
+  }
+}
+
+void MetaTrainer::probe_step(const std::vector<int>& order, TrainStepStats& stats) {
+  const int k = samples_per_environment(options_.model);
+  std::vector<std::unique_ptr<ProbeLoss>> losses;
+  std::vector<torch::Tensor> gradients, masks;
+  for (const int e : order) {
+    TrainingEnv& env = *pool_[e];
+    StepProblem problem(env.objective(), env.dirichlet());
+    losses.push_back(std::make_unique<ProbeLoss>(problem, env.acceleration()));
+    VecX g;
+    problem.value_gradient(env.acceleration(), g);
+    gradients.push_back(to_coordinate_samples(g, env.grid()));
+    masks.push_back(free_mask(env.dirichlet(), env.grid()).expand({k, 1, env.grid().rows, env.grid().cols}));
+  }
+  std::vector<torch::Tensor> model_gradients;
+  for (const auto& g : gradients) model_gradients.push_back(to_model_layout(g, k));
+  const LearnedStep proposal = learned_step(model_, torch::cat(model_gradients), LearnedState{}, torch::cat(masks));
+
+  // The batch mean of R (1 + log R above 1, as the energy loss), this process's share.
+  torch::Tensor loss = torch::zeros({}, torch::kFloat64);
+  double ratio_sum = 0.0, baseline_sum = 0.0;
+  int counted = 0;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const ProbeLoss& probe = *losses[i];
+    if (!probe.defined()) continue;
+    const torch::Tensor delta = gate_coordinates(to_coordinate_layout(proposal.delta.narrow(0, k * i, k)), gradients[i]);
+    const torch::Tensor r = probe.remaining(probe.free_dofs(delta));
+    const double value = r.item<double>();
+    if (!std::isfinite(value)) continue;
+    loss = loss + (value <= 1.0 ? r : 1.0 + torch::log(r)) / options_.batch;
+    ratio_sum += value;
+    baseline_sum += probe.remaining_without_probe();
+    ++counted;
+  }
+  take_gradient_step(loss, stats);
+
+  // Each environment moves on along Newton's solution to its next time step.
+  for (const int e : order) {
+    TrainingEnv& env = *pool_[e];
+    env.acceleration() = env.reference_acceleration();
+    while (!env.finish_iteration()) {
+    }
+  }
+  double counts[3] = {ratio_sum, baseline_sum, static_cast<double>(counted)};
+  processes_.sum(counts, 3);
+  stats.mean_ratio = counts[2] > 0 ? counts[0] / counts[2] : NAN;
+  stats.ratio_without_probe = counts[2] > 0 ? counts[1] / counts[2] : NAN;
 }
 
 void MetaTrainer::write_environments(torch::serialize::OutputArchive& archive) const {

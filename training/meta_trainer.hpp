@@ -15,6 +15,7 @@
 // and AdamW, so every process takes the same step, the one a single process takes with the
 // whole batch (up to the order of the float sums). Checkpoints hold every environment (gathered
 // on rank 0, which alone writes them) and resume on any number of processes.
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <random>
@@ -28,7 +29,22 @@
 
 namespace fnopt {
 
+// What a training step scores (docs/design.md §5, §13).
+enum class TrainObjective {
+  // The learned optimizer's own update: the energy after it (energy_loss.hpp), the shipped model's.
+  Energy,
+  // The model as fnopt-pqn's probe: at the first iteration of each time step (fresh state), how
+  // much of the Newton step's decrease pqn's next iteration misses once it holds the pair
+  // measured along the proposal (probe_loss.hpp). The pool then follows the Newton solution of
+  // each time step, so its states do not depend on the model.
+  Probe
+};
+
 struct TrainOptions {
+  TrainObjective objective = TrainObjective::Energy;
+  // Weights a fresh run starts from (a model file of the same shape; empty: random). Not part of
+  // the signature: a resumed run takes its weights from the checkpoint.
+  std::string initial_model;
   PoolOptions pool;
   FNO2dOptions model = FNO2dOptions().width(32).lifting_channels(64).projection_channels(32);
   int steps = 20000;              // training steps in all
@@ -63,7 +79,8 @@ struct TrainOptions {
 struct TrainStepStats {
   double loss = 0.0;
   double newton_loss = 0.0;      // the auxiliary term, unweighted
-  double mean_ratio = 0.0;       // mean r_e (remaining error fraction after the update)
+  double mean_ratio = 0.0;       // mean r_e (remaining error fraction after the update; Probe: R)
+  double ratio_without_probe = NAN;  // Probe: mean R0, pqn's first iteration without the probe
   double gradient_norm = 0.0;    // before clipping
   double learning_rate = 0.0;
   int renewed = 0;               // environments replaced after a non-finite update
@@ -96,6 +113,10 @@ class MetaTrainer {
   // The environments this process owns, as checkpoint entries.
   void write_environments(torch::serialize::OutputArchive& archive) const;
   void sum_gradients_over_processes();
+  // Backward pass of the batch's loss (this process's share), clipping, AdamW and the average.
+  void take_gradient_step(torch::Tensor loss, TrainStepStats& stats);
+  // The Probe objective's step on this process's environments `order`.
+  void probe_step(const std::vector<int>& order, TrainStepStats& stats);
 
   FNO2d model_;
   std::unique_ptr<torch::optim::AdamW> adam_;

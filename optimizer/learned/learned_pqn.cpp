@@ -10,6 +10,15 @@
 
 namespace fnopt {
 
+// The FNO normalises each coordinate sample by its own RMS (learned_update.hpp), so a coordinate
+// whose gradient is round-off (the out-of-plane one under in-plane motion) gets an O(1) proposal
+// made from noise, whose pair leads pqn out of the plane. Such a coordinate fades out below
+// kCoordinateGate of the largest coordinate's gradient.
+torch::Tensor gate_coordinates(const torch::Tensor& delta, const torch::Tensor& gradient) {
+  const torch::Tensor norms = gradient.detach().flatten(1).norm(2, 1).view({3, 1, 1, 1});
+  return delta * (norms / norms.max().clamp_min(1e-30) * (1.0 / kCoordinateGate)).clamp_max(1.0);
+}
+
 void LearnedPqnParams::validate() const {
   pqn.validate();
   require(coarse_size == 0 || coarse_size >= 3, "fnopt-pqn.coarse_size", "must be 0 (the step's grid) or at least 3");
@@ -95,13 +104,7 @@ void LearnedPqnOptimizer::propose(const StepProblem& problem, const VecX& gradie
   const torch::Tensor coordinates = to_coordinate_samples(*input, g.grid);
   const LearnedStep step = learned_step(
       model_, to_model_layout(coordinates, samples_per_environment(model_->options)), LearnedState{}, g.mask);
-  // The FNO normalises each coordinate sample by its own RMS (learned_update.hpp), so a
-  // coordinate whose gradient is round-off (the out-of-plane one under in-plane motion) gets
-  // an O(1) proposal made from noise, whose pair leads pqn out of the plane. Such a coordinate
-  // fades out below kCoordinateGate of the largest coordinate's gradient.
-  const torch::Tensor norms = coordinates.flatten(1).norm(2, 1).view({3, 1, 1, 1});
-  const torch::Tensor delta = to_coordinate_layout(step.delta) *
-                              (norms / norms.max().clamp_min(1e-30) * (1.0 / kCoordinateGate)).clamp_max(1.0);
+  const torch::Tensor delta = gate_coordinates(to_coordinate_layout(step.delta), coordinates);
   // Any scale will do: the step length along p is set by A (alpha in the header).
   if (g.prolongation) {
     coarse_.setZero(g.grid.dof_count());

@@ -31,6 +31,10 @@ namespace fnopt {
 // scaled down in proportion (learned_pqn.cpp).
 inline constexpr double kCoordinateGate = 1e-4;
 
+// delta with coordinate c scaled by min(1, |g_c| / (kCoordinateGate max_c' |g_c'|)), delta and
+// the gradient g as [3, 1, R, C] coordinate samples (differentiable in delta; training uses it too).
+torch::Tensor gate_coordinates(const torch::Tensor& delta, const torch::Tensor& gradient);
+
 struct LearnedPqnParams {
   PqnParams pqn;
   // The FNO's grid: this many vertices along the longer edge, the aspect ratio kept

@@ -131,4 +131,36 @@ TEST(TrainCli, TheSubspaceRuleTrainsAndValidatesAsChosen) {
   EXPECT_EQ(rows[1].rfind("10,12,xy_v2+rot_h0,12,fnopt-ls,10,", 0), 0u) << rows[1];
 }
 
+TEST(TrainCli, TheProbeObjectiveStartsFromAModelAndLogsPqnAlone) {
+  const fnopt::testing::TempDir tmp;
+  const auto first = tmp.path() / "first", probe = tmp.path() / "probe";
+  ASSERT_EQ(run_fnopt("train --out " + first.string() + " --steps 2" + kTinyModel).status, 0);
+  const std::string init = " --objective probe --init " + (first / "model.pt").string();
+  // The shape is the initial model's: the shape flags of kTinyModel are not needed.
+  const CommandResult r = run_fnopt("train --out " + probe.string() + " --steps 4 --res 8 --envs 4 --batch 2 --threads 1" + init);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("objective probe"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("starting from the weights of " + (first / "model.pt").string()), std::string::npos) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(probe / "model.pt"));
+  std::istringstream log(read_text(probe / "train_log.csv"));
+  std::string line;
+  std::getline(log, line);
+  EXPECT_EQ(line.substr(line.rfind(',') + 1), "ratio_without_probe");
+  int rows = 0;
+  while (std::getline(log, line)) {
+    ++rows;
+    EXPECT_GT(std::stod(line.substr(line.rfind(',') + 1)), 0.0) << line;
+  }
+  EXPECT_EQ(rows, 4);
+
+  for (const auto& [arguments, error] : std::vector<std::pair<std::string, std::string>>{
+           {init + " --validate-res 12", "validate-res: validates fnopt-ss rollouts, not a probe"},
+           {" --init " + (tmp.path() / "missing.pt").string(), (tmp.path() / "missing.pt").string()}}) {
+    const CommandResult bad = run_fnopt("train --out " + (tmp.path() / "bad").string() + " --steps 2" + arguments);
+    EXPECT_EQ(bad.status, 2) << arguments << "\n" << bad.output;
+    EXPECT_NE(bad.output.find(error), std::string::npos) << arguments << "\n" << bad.output;
+    EXPECT_EQ(bad.output.find('\n'), bad.output.size() - 1) << bad.output;
+  }
+}
+
 }  // namespace

@@ -4,10 +4,13 @@
 
 #include <filesystem>
 
-#include "training/energy_loss.hpp"
+#include "fno/fno_io.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
+#include "optimizer/learned/learned_pqn.hpp"
 #include "optimizer/learned/learned_update.hpp"
+#include "training/energy_loss.hpp"
 #include "training/meta_trainer.hpp"
+#include "training/probe_loss.hpp"
 #include "util/error.hpp"
 
 namespace fnopt {
@@ -226,6 +229,85 @@ TEST(MetaTraining, RejectsACheckpointOfOtherOptions) {
   TrainOptions other = tiny_training();
   other.batch = 3;
   EXPECT_THROW(static_cast<void>(MetaTrainer(other, checkpoint)), Error);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(MetaTraining, ProbeObjectiveLowersRemainingOnAFixedBatch) {
+  TrainingEnv a(small_pool(), 11, 0), b(small_pool(), 11, 1);
+  torch::manual_seed(5);
+  FNO2d model(tiny_training().model);
+  torch::optim::Adam adam(model->parameters(), torch::optim::AdamOptions(2e-2));
+  std::vector<std::unique_ptr<ProbeLoss>> probes;
+  std::vector<torch::Tensor> gradients, masks;
+  for (TrainingEnv* env : {&a, &b}) {
+    StepProblem problem(env->objective(), env->dirichlet());
+    probes.push_back(std::make_unique<ProbeLoss>(problem, env->acceleration()));
+    VecX g;
+    problem.value_gradient(env->acceleration(), g);
+    gradients.push_back(to_coordinate_samples(g, env->grid()));
+    masks.push_back(free_mask(env->dirichlet(), env->grid()).expand({3, 1, 8, 8}));
+  }
+  const auto gradient = torch::cat(gradients), mask = torch::cat(masks);
+  auto remaining_now = [&] {
+    const LearnedStep step = learned_step(model, gradient, LearnedState{}, mask);
+    torch::Tensor sum = torch::zeros({}, torch::kFloat64);
+    for (int i = 0; i < 2; ++i)
+      sum = sum + probes[i]->remaining(
+                      probes[i]->free_dofs(gate_coordinates(step.delta.narrow(0, 3 * i, 3), gradients[i])));
+    return sum / 2;
+  };
+  const double initial = remaining_now().item<double>();
+  for (int i = 0; i < 60; ++i) {
+    adam.zero_grad();
+    remaining_now().backward();
+    adam.step();
+  }
+  const double trained = remaining_now().item<double>();
+  std::printf("fixed-batch probe remainder: %.5f -> %.5f (pqn alone %.5f, %.5f)\n", initial, trained,
+              probes[0]->remaining_without_probe(), probes[1]->remaining_without_probe());
+  EXPECT_LT(trained, 0.8 * initial);
+}
+
+TEST(MetaTraining, ProbeObjectiveFollowsNewtonAndResumes) {
+  TrainOptions options = tiny_training();
+  options.objective = TrainObjective::Probe;
+  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_resume_probe";
+  std::filesystem::create_directories(dir);
+  const std::string checkpoint = (dir / "checkpoint.pt").string();
+  MetaTrainer original(options);
+  for (int i = 0; i < 3; ++i) {
+    const TrainStepStats s = original.step();
+    EXPECT_TRUE(std::isfinite(s.loss));
+    EXPECT_GE(s.mean_ratio, -1e-9);
+    EXPECT_GE(s.ratio_without_probe, -1e-9);
+  }
+  original.save_checkpoint(checkpoint);
+  std::vector<double> expected;
+  for (int i = 0; i < 4; ++i) expected.push_back(original.step().loss);
+  MetaTrainer resumed(options, checkpoint);
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(resumed.step().loss, expected[i], 1e-6 * std::abs(expected[i])) << "step " << i;
+  // A checkpoint of the energy objective is another run.
+  EXPECT_THROW(static_cast<void>(MetaTrainer(tiny_training(), checkpoint)), Error);
+  options.pool.subspace = 8;
+  EXPECT_THROW(options.validate(), Error);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(MetaTraining, AFreshRunStartsFromTheInitialModel) {
+  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_initial_model";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "initial.pt").string();
+  torch::manual_seed(9);
+  FNO2d initial(tiny_training().model);
+  save_fno(path, initial);
+  TrainOptions options = tiny_training();
+  options.initial_model = path;
+  MetaTrainer trainer(options);
+  const auto given = initial->named_parameters();
+  for (const auto& p : trainer.model()->named_parameters())
+    EXPECT_TRUE(torch::equal(p.value(), given[p.key()])) << p.key();
+  options.model.width(6);
+  EXPECT_THROW(static_cast<void>(MetaTrainer(options)), Error);
   std::filesystem::remove_all(dir);
 }
 
