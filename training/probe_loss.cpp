@@ -54,7 +54,8 @@ ProbeLoss::ProbeLoss(StepProblem& problem, const VecX& a, PqnMatrixKind kind) : 
 
   hessian_ = problem.objective().hessian(a, free_index, /*project=*/true);
   matrix_ = build_pqn_matrix(problem.objective(), free_index, kind, problem.grid().rest_positions()).expanded();
-  require(hessian_factor_.factorize_matrix(hessian_), "probe loss", "the projected Hessian is not positive definite");
+  SparseCholesky hessian_factor;  // for m* alone
+  require(hessian_factor.factorize_matrix(hessian_), "probe loss", "the projected Hessian is not positive definite");
   require(matrix_factor_.factorize_matrix(matrix_), "probe loss", "pqn's matrix is not positive definite");
 
   maps_->hessian = [this](VecX& v) { v = product(hessian_, v); };
@@ -64,7 +65,7 @@ ProbeLoss::ProbeLoss(StepProblem& problem, const VecX& a, PqnMatrixKind kind) : 
   };
 
   VecX newton = gradient_;
-  hessian_factor_.solve_in_place(newton.data(), static_cast<int>(newton.size()), 1);
+  hessian_factor.solve_in_place(newton.data(), static_cast<int>(newton.size()), 1);
   newton_decrease_ = -0.5 * gradient_.dot(newton);
   VecX pqn = -gradient_;
   maps_->matrix_inverse(pqn);

@@ -35,7 +35,8 @@ class ProbeLoss {
   // False where a is already the model's minimum (g = 0): R is then undefined.
   bool defined() const { return newton_decrease_ < 0.0; }
 
-  // R(p) (needs defined()) for p on the free dofs (3 per free vertex, the Hessian's layout), float64 [3 n_free].
+  // R(p) (needs defined()) for p on the free dofs (3 per free vertex, the Hessian's layout),
+  // float64 [3 n_free].
   torch::Tensor remaining(const torch::Tensor& p) const;
   // R0: pqn's first iteration without a probe.
   double remaining_without_probe() const { return remaining_without_probe_; }
@@ -51,7 +52,7 @@ class ProbeLoss {
   std::unique_ptr<Maps> maps_;
   VecX gradient_;
   Eigen::SparseMatrix<double> hessian_, matrix_;  // H and A on the free dofs
-  mutable SparseCholesky hessian_factor_, matrix_factor_;
+  mutable SparseCholesky matrix_factor_;  // A's (A^-1 in the graph)
   torch::Tensor free_dof_index_;  // free dof k -> its index among the 3 R C dofs
   double newton_decrease_ = 0.0;  // m* (negative)
   double remaining_without_probe_ = 0.0;
