@@ -247,6 +247,10 @@ void run_train(TrainFlags& flags) {
   std::optional<ProgressBar> bar;
   if (root) bar.emplace("train", flags.options.steps, trainer.completed_steps());
   double running_loss = NAN, running_ratio = NAN, running_baseline = NAN;
+  // The progress line's running ratios (weight 0.02 per step); a non-finite value is skipped.
+  auto smooth = [](double& running, double value) {
+    if (std::isfinite(value)) running = std::isfinite(running) ? 0.98 * running + 0.02 * value : value;
+  };
   // Validates the current model; keeps it as model-best.pt if it is the closest to Newton so far.
   auto validate = [&](int step) {
     const ValidationScore score = validation->score(trainer.output_model());
@@ -278,16 +282,13 @@ void run_train(TrainFlags& flags) {
     const bool out_of_time = processes.any(root && flags.minutes > 0 && elapsed() > 60.0 * flags.minutes);
     if (root) {
       running_loss = std::isfinite(running_loss) ? 0.98 * running_loss + 0.02 * s.loss : s.loss;
-      if (std::isfinite(s.mean_ratio))
-        running_ratio = std::isfinite(running_ratio) ? 0.98 * running_ratio + 0.02 * s.mean_ratio : s.mean_ratio;
+      smooth(running_ratio, s.mean_ratio);
+      smooth(running_baseline, s.ratio_without_probe);
       log << step << ',' << seconds_before + elapsed() << ',' << s.loss << ',' << s.newton_loss << ',' << s.mean_ratio
           << ',' << s.gradient_norm << ',' << s.learning_rate << ',' << s.renewed << ',' << s.skipped << ',';
       if (std::isfinite(s.ratio_without_probe)) log << s.ratio_without_probe;
       log << '\n';
       char status[128];
-      if (std::isfinite(s.ratio_without_probe))
-        running_baseline = std::isfinite(running_baseline) ? 0.98 * running_baseline + 0.02 * s.ratio_without_probe
-                                                           : s.ratio_without_probe;
       int written = std::snprintf(status, sizeof status, "loss %.4f ratio %.4f lr %.1e", running_loss,
                                   running_ratio, s.learning_rate);
       if (std::isfinite(running_baseline))

@@ -60,14 +60,14 @@ MetaTrainer::MetaTrainer(const TrainOptions& options, const std::string& checkpo
   torch::manual_seed(options_.seed);
   model_ = FNO2d(options_.model);
   if (!options_.initial_model.empty() && checkpoint.empty()) {
-    const FNO2dOptions given = load_fno_options(options_.initial_model);
+    const FNO2d initial = load_fno(options_.initial_model);
+    const FNO2dOptions& given = initial->options;
     require(given.in_channels() == options_.model.in_channels() && given.width() == options_.model.width() &&
                 given.fourier_layers() == options_.model.fourier_layers() &&
                 given.modes_x() == options_.model.modes_x() && given.modes_y() == options_.model.modes_y() &&
                 given.lifting_channels() == options_.model.lifting_channels() &&
                 given.projection_channels() == options_.model.projection_channels(),
             options_.initial_model, "not the shape of the model to train (width, layers, modes, lifting, projection, layout)");
-    const FNO2d initial = load_fno(options_.initial_model);
     torch::NoGradGuard no_grad;
     const auto from = initial->named_parameters();
     for (auto& p : model_->named_parameters()) p.value().copy_(from[p.key()]);
@@ -216,9 +216,9 @@ void MetaTrainer::probe_step(const std::vector<int>& order, TrainStepStats& stat
   for (const int e : order) {
     TrainingEnv& env = *pool_[e];
     StepProblem problem(env.objective(), env.dirichlet());
-    losses.push_back(std::make_unique<ProbeLoss>(problem, env.acceleration()));
     VecX g;
     problem.value_gradient(env.acceleration(), g);
+    losses.push_back(std::make_unique<ProbeLoss>(problem, env.acceleration(), g));
     gradients.push_back(to_coordinate_samples(g, env.grid()));
     masks.push_back(free_mask(env.dirichlet(), env.grid()).expand({k, 1, env.grid().rows, env.grid().cols}));
   }

@@ -39,7 +39,8 @@ struct ProbeLoss::Maps {
   LinearMap hessian, matrix, matrix_inverse;
 };
 
-ProbeLoss::ProbeLoss(StepProblem& problem, const VecX& a, PqnMatrixKind kind) : maps_(std::make_unique<Maps>()) {
+ProbeLoss::ProbeLoss(StepProblem& problem, const VecX& a, const VecX& gradient, PqnMatrixKind kind)
+    : maps_(std::make_unique<Maps>()) {
   const std::vector<int>& free_index = problem.dirichlet().free_index();
   std::vector<int64_t> dofs;
   for (int v = 0; v < static_cast<int>(free_index.size()); ++v)
@@ -47,10 +48,8 @@ ProbeLoss::ProbeLoss(StepProblem& problem, const VecX& a, PqnMatrixKind kind) : 
       for (int c = 0; c < 3; ++c) dofs.push_back(3 * v + c);
   free_dof_index_ = torch::tensor(dofs, torch::kInt64);
 
-  VecX full_gradient;
-  problem.value_gradient(a, full_gradient);
   gradient_.resize(static_cast<Eigen::Index>(dofs.size()));
-  for (std::size_t k = 0; k < dofs.size(); ++k) gradient_[static_cast<Eigen::Index>(k)] = full_gradient[dofs[k]];
+  for (std::size_t k = 0; k < dofs.size(); ++k) gradient_[static_cast<Eigen::Index>(k)] = gradient[dofs[k]];
 
   hessian_ = problem.objective().hessian(a, free_index, /*project=*/true);
   matrix_ = build_pqn_matrix(problem.objective(), free_index, kind, problem.grid().rest_positions()).expanded();

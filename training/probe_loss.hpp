@@ -25,9 +25,11 @@ namespace fnopt {
 
 class ProbeLoss {
  public:
-  // The model at a (its masked gradient is computed here) with pqn's matrix of `kind` for the
-  // problem's time step. Throws Error if H or A is not positive definite.
-  ProbeLoss(StepProblem& problem, const VecX& a, PqnMatrixKind kind = PqnMatrixKind::Isotropic);
+  // The model at a, with `gradient` the masked gradient there (StepProblem::value_gradient) and
+  // pqn's matrix of `kind` for the problem's time step. Throws Error if H or A is not positive
+  // definite.
+  ProbeLoss(StepProblem& problem, const VecX& a, const VecX& gradient,
+            PqnMatrixKind kind = PqnMatrixKind::Isotropic);
   ~ProbeLoss();
   ProbeLoss(const ProbeLoss&) = delete;  // the autograd graph points into it
   ProbeLoss& operator=(const ProbeLoss&) = delete;

@@ -241,9 +241,9 @@ TEST(MetaTraining, ProbeObjectiveLowersRemainingOnAFixedBatch) {
   std::vector<torch::Tensor> gradients, masks;
   for (TrainingEnv* env : {&a, &b}) {
     StepProblem problem(env->objective(), env->dirichlet());
-    probes.push_back(std::make_unique<ProbeLoss>(problem, env->acceleration()));
     VecX g;
     problem.value_gradient(env->acceleration(), g);
+    probes.push_back(std::make_unique<ProbeLoss>(problem, env->acceleration(), g));
     gradients.push_back(to_coordinate_samples(g, env->grid()));
     masks.push_back(free_mask(env->dirichlet(), env->grid()).expand({3, 1, 8, 8}));
   }

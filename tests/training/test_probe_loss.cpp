@@ -43,7 +43,7 @@ VecX to_vec(const torch::Tensor& t) {
 
 TEST(ProbeLoss, AgreesWithTheDenseBfgsUpdate) {
   DeformedStep step;
-  const ProbeLoss loss(step.problem, step.a);
+  const ProbeLoss loss(step.problem, step.a, step.gradient);
   ASSERT_TRUE(loss.defined());
   const Eigen::MatrixXd H = dense(step.objective.hessian(step.a, step.handles.free_index(), true));
   const Eigen::MatrixXd A = dense(
@@ -68,7 +68,7 @@ TEST(ProbeLoss, AgreesWithTheDenseBfgsUpdate) {
 
 TEST(ProbeLoss, DerivativeMatchesCentralDifferences) {
   DeformedStep step;
-  const ProbeLoss loss(step.problem, step.a);
+  const ProbeLoss loss(step.problem, step.a, step.gradient);
   const torch::Tensor p = step.random_free(loss).requires_grad_(true);
   const torch::Tensor value = loss.remaining(p);
   value.backward();
@@ -84,7 +84,7 @@ TEST(ProbeLoss, DerivativeMatchesCentralDifferences) {
 
 TEST(ProbeLoss, TheNewtonDirectionLeavesNothing) {
   DeformedStep step;
-  const ProbeLoss loss(step.problem, step.a);
+  const ProbeLoss loss(step.problem, step.a, step.gradient);
   const Eigen::MatrixXd H = dense(step.objective.hessian(step.a, step.handles.free_index(), true));
   const VecX newton = -H.ldlt().solve(loss.gradient());
   const torch::Tensor p = torch::from_blob(const_cast<double*>(newton.data()), {newton.size()}, torch::kFloat64);
@@ -94,7 +94,7 @@ TEST(ProbeLoss, TheNewtonDirectionLeavesNothing) {
 
 TEST(ProbeLoss, BlindToTheScaleAndSignOfTheProposal) {
   DeformedStep step;
-  const ProbeLoss loss(step.problem, step.a);
+  const ProbeLoss loss(step.problem, step.a, step.gradient);
   const torch::Tensor p = step.random_free(loss);
   const double r = loss.remaining(p).item<double>();
   EXPECT_NEAR(loss.remaining(-3.0 * p).item<double>(), r, 1e-12);
@@ -103,7 +103,7 @@ TEST(ProbeLoss, BlindToTheScaleAndSignOfTheProposal) {
 
 TEST(ProbeLoss, FreeDofsSkipTheHandles) {
   DeformedStep step;
-  const ProbeLoss loss(step.problem, step.a);
+  const ProbeLoss loss(step.problem, step.a, step.gradient);
   const VecX field = step.random_field(1.0) + VecX::Constant(step.grid.dof_count(), 2.0);
   const VecX free = to_vec(loss.free_dofs(to_coordinate_samples(field, step.grid)));
   ASSERT_EQ(free.size(), 3 * (step.grid.vertex_count() - 2));
