@@ -207,9 +207,12 @@ void run_train(TrainFlags& flags) {
                  flags.options.pool.ranges.text().c_str());
     const int subspace = flags.options.pool.subspace;
     if (flags.options.objective == TrainObjective::Probe) {
+      const ProbeLossOptions& probe = flags.options.probe;
       std::fprintf(stderr,
                    "fnopt train: objective probe: the model as fnopt-pqn's probe at the first iteration of each time "
-                   "step; the pool follows Newton's solution\n");
+                   "step, scored after %d pqn iteration%s on the step's %s; the pool follows Newton's solution\n",
+                   probe.iterations, probe.iterations == 1 ? "" : "s",
+                   probe.surface == ProbeSurface::Energy ? "energy" : "quadratic model");
     } else {
       std::fprintf(stderr, "fnopt train: the pool takes each proposal %s\n",
                    subspace == 0 ? "as it is"
@@ -331,11 +334,22 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--objective", o.objective,
                       "what a step scores: energy, the energy after the learned update (the shipped model's "
                       "training); probe, the model as fnopt-pqn's probe: how much of the Newton step's decrease pqn's "
-                      "next iteration misses with the pair measured along the proposal (the pool follows Newton's "
+                      "next iterations (--probe-iterations) miss with the pair measured along the proposal (the pool follows Newton's "
                       "solution; --newton-weight does not apply)")
       ->transform(CLI::CheckedTransformer(
           std::map<std::string, TrainObjective>{{"energy", TrainObjective::Energy}, {"probe", TrainObjective::Probe}}))
       ->option_text("{energy,probe}=energy");
+  command->add_option("--probe-iterations", o.probe.iterations,
+                      "probe objective: how many pqn iterations after the probe the loss scores (the share of the "
+                      "decrease to the step's solution they miss)")
+      ->capture_default_str();
+  command->add_option("--probe-surface", o.probe.surface,
+                      "probe objective: what those iterations run on: model, the step's quadratic model (projected "
+                      "Hessian; cheap); energy, the step's energy itself (the loss is then fnopt-pqn's per-step error; "
+                      "a gradient per iteration, a Hessian per iteration in the backward pass)")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, ProbeSurface>{{"model", ProbeSurface::QuadraticModel}, {"energy", ProbeSurface::Energy}}))
+      ->option_text("{model,energy}=model");
   command->add_option("--init", o.initial_model,
                       "start a fresh run from this model's weights (its shape replaces --width, --layers, --modes, "
                       "--lifting, --projection, --combined), e.g. models/fnopt-32.pt");

@@ -10,7 +10,6 @@
 #include "optimizer/learned/learned_pqn.hpp"
 #include "optimizer/learned/learned_update.hpp"
 #include "training/energy_loss.hpp"
-#include "training/probe_loss.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
 
@@ -36,6 +35,11 @@ void TrainOptions::validate() const {
   require(average_decay >= 0.0 && average_decay < 1.0, "train.average_decay", "must lie in [0, 1)");
   require(objective == TrainObjective::Energy || (pool.subspace == 0 && !score_after_subspace_step),
           "train.objective", "the probe objective takes no subspace step (the pool follows Newton's solution)");
+  probe.validate();
+  require(objective == TrainObjective::Probe || probe.iterations == 1, "train.probe_iterations",
+          "applies to the probe objective only");
+  require(objective == TrainObjective::Probe || probe.surface == ProbeSurface::QuadraticModel, "train.probe_surface",
+          "applies to the probe objective only");
   require(!score_after_subspace_step || pool.subspace > 0, "train.score_after_subspace_step",
           "needs a pool that takes the subspace step (subspace > 0: fnopt train --subspace K)");
 }
@@ -49,6 +53,8 @@ std::string TrainOptions::signature() const {
     << " batch=" << batch << " lr=" << learning_rate << " newton_weight=" << newton_weight << " seed=" << seed;
   if (loss_normalisation == LossNormalisation::Batch) s << " loss=batch";
   if (objective == TrainObjective::Probe) s << " objective=probe";
+  if (probe.iterations != 1) s << " probe_iterations=" << probe.iterations;
+  if (probe.surface == ProbeSurface::Energy) s << " probe_surface=energy";
   return s.str();
 }
 
@@ -218,7 +224,8 @@ void MetaTrainer::probe_step(const std::vector<int>& order, TrainStepStats& stat
     StepProblem problem(env.objective(), env.dirichlet());
     VecX g;
     problem.value_gradient(env.acceleration(), g);
-    losses.push_back(std::make_unique<ProbeLoss>(problem, env.acceleration(), g));
+    losses.push_back(
+        std::make_unique<ProbeLoss>(problem, env.acceleration(), g, options_.probe, &env.reference_acceleration()));
     gradients.push_back(to_coordinate_samples(g, env.grid()));
     masks.push_back(free_mask(env.dirichlet(), env.grid()).expand({k, 1, env.grid().rows, env.grid().cols}));
   }

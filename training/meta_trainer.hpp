@@ -24,6 +24,7 @@
 #include "fno/fno2d.hpp"
 #include "parallel/communicator.hpp"
 #include "training/energy_loss.hpp"
+#include "training/probe_loss.hpp"
 #include "training/training_env.hpp"
 #include "training/weight_average.hpp"
 
@@ -42,6 +43,9 @@ enum class TrainObjective {
 
 struct TrainOptions {
   TrainObjective objective = TrainObjective::Energy;
+  // Probe: what the loss scores (probe_loss.hpp): how many pqn iterations after the probe, on the
+  // step's quadratic model or its energy; pqn's parameters are fnopt-pqn's defaults.
+  ProbeLossOptions probe;
   // Weights a fresh run starts from (a model file of the same shape; empty: random). Not part of
   // the signature: a resumed run takes its weights from the checkpoint.
   std::string initial_model;
@@ -80,7 +84,7 @@ struct TrainStepStats {
   double loss = 0.0;
   double newton_loss = 0.0;      // the auxiliary term, unweighted
   double mean_ratio = 0.0;       // mean r_e (remaining error fraction after the update; Probe: R)
-  double ratio_without_probe = NAN;  // Probe: mean R0, pqn's first iteration without the probe
+  double ratio_without_probe = NAN;  // Probe: mean R0, pqn's iterations without the probe
   double gradient_norm = 0.0;    // before clipping
   double learning_rate = 0.0;
   int renewed = 0;               // environments replaced after a non-finite update

@@ -137,9 +137,11 @@ TEST(TrainCli, TheProbeObjectiveStartsFromAModelAndLogsPqnAlone) {
   ASSERT_EQ(run_fnopt("train --out " + first.string() + " --steps 2" + kTinyModel).status, 0);
   const std::string init = " --objective probe --init " + (first / "model.pt").string();
   // The shape is the initial model's: the shape flags of kTinyModel are not needed.
-  const CommandResult r = run_fnopt("train --out " + probe.string() + " --steps 4 --res 8 --envs 4 --batch 2 --threads 1" + init);
+  const CommandResult r = run_fnopt("train --out " + probe.string() +
+                                    " --steps 4 --res 8 --envs 4 --batch 2 --threads 1 --probe-iterations 3 --probe-surface energy" + init);
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("objective probe"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("scored after 3 pqn iterations on the step's energy"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("starting from the weights of " + (first / "model.pt").string()), std::string::npos) << r.output;
   EXPECT_TRUE(std::filesystem::exists(probe / "model.pt"));
   std::istringstream log(read_text(probe / "train_log.csv"));
@@ -155,6 +157,9 @@ TEST(TrainCli, TheProbeObjectiveStartsFromAModelAndLogsPqnAlone) {
 
   for (const auto& [arguments, error] : std::vector<std::pair<std::string, std::string>>{
            {init + " --validate-res 12", "validate-res: validates fnopt-ss rollouts, not a probe"},
+           {" --probe-iterations 3", "probe_iterations: applies to the probe objective only"},
+           {" --probe-surface energy", "probe_surface: applies to the probe objective only"},
+           {init + " --probe-iterations 0", "probe.iterations: must lie in [1, 100]"},
            {" --init " + (tmp.path() / "missing.pt").string(), (tmp.path() / "missing.pt").string()}}) {
     const CommandResult bad = run_fnopt("train --out " + (tmp.path() / "bad").string() + " --steps 2" + arguments);
     EXPECT_EQ(bad.status, 2) << arguments << "\n" << bad.output;
