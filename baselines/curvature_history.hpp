@@ -3,6 +3,7 @@
 // last m curvature pairs of a minimisation, and the two-loop recursion that applies their
 // inverse-Hessian approximation (Nocedal & Wright 2006, Alg. 7.4) on any initial H0.
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "util/types.hpp"
@@ -14,6 +15,13 @@ struct CurvaturePair {
   VecX s, y;
   double rho = 0.0;
 };
+
+// Whether a pair's curvature is clearly positive: s.y above 1e-10 |s| |y| (a cosine; the norms
+// in the method's metric, their product given). Pairs of near-zero or negative curvature would
+// make the inverse-Hessian model indefinite, so L-BFGS and pqn drop them.
+inline bool clearly_positive_curvature(double sy, double norm_product) {
+  return std::isfinite(sy) && sy > 1e-10 * norm_product;
+}
 
 // direction = -H g, H the L-BFGS inverse Hessian built from `pairs` (oldest first) on the initial
 // inverse Hessian H0, which apply_h0(q) applies in place (q <- H0 q). `alphas` is scratch space.

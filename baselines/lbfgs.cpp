@@ -29,11 +29,11 @@ void LbfgsOptimizer::begin(SmoothProblem&, const VecX&, double, const VecX&) { h
 
 void LbfgsOptimizer::remember(const VecX& x_old, const VecX& g_old, const VecX& x_new, const VecX& g_new,
                               const VecX& inverse_metric) {
-  // Keep only pairs of clearly positive curvature (cosine in the metric above 1e-10).
+  // Keep only pairs of clearly positive curvature, the cosine in the metric.
   const bool stored = history_.push(x_old, g_old, x_new, g_new, [&](const CurvaturePair& pair, double sy) {
     const double s_norm2 = pair.s.cwiseQuotient(inverse_metric).dot(pair.s);  // s.P s
     const double y_norm2 = pair.y.cwiseProduct(inverse_metric).dot(pair.y);   // y.P^-1 y
-    return std::isfinite(sy) && sy > 1e-10 * std::sqrt(s_norm2 * y_norm2);
+    return clearly_positive_curvature(sy, std::sqrt(s_norm2 * y_norm2));
   });
   if (!stored) ++skipped_pairs_;
 }

@@ -66,9 +66,8 @@ std::optional<SolveStatus> PqnOptimizer::step(SmoothProblem& problem, VecX& x, d
 }
 
 bool PqnOptimizer::add_pair(const VecX& x_old, const VecX& g_old, const VecX& x_new, const VecX& g_new) {
-  // Keep only pairs of clearly positive curvature (cosine above 1e-10).
   return history_.push(x_old, g_old, x_new, g_new, [](const CurvaturePair& pair, double sy) {
-    return std::isfinite(sy) && sy > 1e-10 * pair.s.norm() * pair.y.norm();
+    return clearly_positive_curvature(sy, pair.s.norm() * pair.y.norm());
   });
 }
 

@@ -4,6 +4,7 @@
 #include <deque>
 #include <functional>
 
+#include "baselines/curvature_history.hpp"
 #include "util/error.hpp"
 
 namespace fnopt {
@@ -155,12 +156,11 @@ torch::Tensor ProbeLoss::surface_after_pqn(const torch::Tensor& probe) const {
     return quadratic ? g0 + apply(maps_->hessian, d) : apply(maps_->energy_gradient, d);
   };
   std::deque<TensorPair> history;  // oldest first, as pqn's ring
-  // pqn's test for a pair (baselines/pqn.cpp): s.y above 1e-10 |s| |y|.
+  // pqn's test for a pair (baselines/pqn.cpp).
   auto keep = [&](const torch::Tensor& s, const torch::Tensor& y) {
     if (options_.pqn.history == 0) return;
     const torch::Tensor sy = s.dot(y);
-    const double value = sy.item<double>();
-    if (!(std::isfinite(value) && value > 1e-10 * s.norm().item<double>() * y.norm().item<double>())) return;
+    if (!clearly_positive_curvature(sy.item<double>(), s.norm().item<double>() * y.norm().item<double>())) return;
     if (static_cast<int>(history.size()) == options_.pqn.history) history.pop_front();
     history.push_back({s, y, 1.0 / sy});
   };
@@ -193,7 +193,9 @@ torch::Tensor ProbeLoss::surface_after_pqn(const torch::Tensor& probe) const {
       slope = g.dot(direction).item<double>();
     }
     // pqn's backtracking (optimizer/line_search.hpp) from the unit step; its step length is
-    // piecewise constant in p, so no derivative flows through it.
+    // piecewise constant in p, so no derivative flows through it. Values only, no gradient per
+    // trial; without that search's acceptance below L's rounding floor, where R has nothing left
+    // to measure.
     const VecX from = to_vec(d), along = to_vec(direction);
     double t = 1.0, trial_value = value;
     bool accepted = false;

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 
 #include "baselines/adam.hpp"
@@ -189,6 +191,28 @@ TEST(Lbfgs, TwoLoopDirectionEqualsDenseBfgs) {
   EXPECT_LT((direction - dense).norm(), 1e-12 * dense.norm());
   // With n independent exact pairs, BFGS recovers the inverse Hessian on their span.
   EXPECT_LT(direction.dot(gradient), 0.0);
+}
+
+// The pair test of L-BFGS and pqn: a cosine between s and y above 1e-10, finite.
+TEST(CurvatureHistory, KeepsOnlyPairsOfClearlyPositiveCurvature) {
+  EXPECT_TRUE(clearly_positive_curvature(1.0, 2.0));
+  EXPECT_TRUE(clearly_positive_curvature(3e-10, 1.0));
+  EXPECT_FALSE(clearly_positive_curvature(1e-10, 1.0));  // at the bound: not clearly positive
+  EXPECT_FALSE(clearly_positive_curvature(0.0, 1.0));
+  EXPECT_FALSE(clearly_positive_curvature(-1.0, 1.0));
+  EXPECT_FALSE(clearly_positive_curvature(std::nan(""), 1.0));
+  EXPECT_FALSE(clearly_positive_curvature(std::numeric_limits<double>::infinity(), 1.0));
+
+  CurvatureHistory history(2);
+  const VecX x0 = VecX::Zero(2), s = VecX::Unit(2, 0);
+  const auto test = [](const CurvaturePair& pair, double sy) {
+    return clearly_positive_curvature(sy, pair.s.norm() * pair.y.norm());
+  };
+  EXPECT_FALSE(history.push(x0, x0, s, -s, test));  // negative curvature: the history stays empty
+  EXPECT_EQ(history.size(), 0);
+  EXPECT_TRUE(history.push(x0, x0, s, 2.0 * s, test));
+  EXPECT_EQ(history.size(), 1);
+  EXPECT_DOUBLE_EQ(history.newest().rho, 0.5);
 }
 
 TEST(FirstOrderOptimizers, NeverMoveAHandleAndDecreaseARealClothStep) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <utility>
 
 #include "fno/fno_io.hpp"
 #include "optimizer/learned/grid_tensor.hpp"
@@ -30,6 +31,18 @@ TrainOptions tiny_training() {
   o.batch = 2;
   o.steps = 100;
   return o;
+}
+
+// Adam steps that lower `loss` on a fixed batch: its value before and after.
+template <class Loss>
+std::pair<double, double> train_on_fixed_batch(torch::optim::Adam& adam, Loss&& loss, int steps) {
+  const double initial = loss().template item<double>();
+  for (int i = 0; i < steps; ++i) {
+    adam.zero_grad();
+    loss().backward();
+    adam.step();
+  }
+  return {initial, loss().template item<double>()};
 }
 
 TEST(EnergyLoss, GradientMatchesFiniteDifferencesForBothNormalisations) {
@@ -147,13 +160,7 @@ TEST(MetaTraining, TinyModelLowersTheLossOnAFixedBatch) {
     const LearnedStep step = learned_step(model, gradient, LearnedState{}, mask);
     return EnergyLoss::apply(step.delta, &batch);
   };
-  const double initial = loss_now().item<double>();
-  for (int i = 0; i < 30; ++i) {
-    adam.zero_grad();
-    loss_now().backward();
-    adam.step();
-  }
-  const double trained = loss_now().item<double>();
+  const auto [initial, trained] = train_on_fixed_batch(adam, loss_now, 30);
   std::printf("fixed-batch loss: %.5f -> %.5f\n", initial, trained);
   EXPECT_LT(trained, initial - 0.05);
 }
@@ -259,13 +266,7 @@ TEST(MetaTraining, ProbeObjectiveLowersRemainingOnAFixedBatch) {
                         probes[i]->free_dofs(gate_coordinates(step.delta.narrow(0, 3 * i, 3), gradients[i])));
       return sum / 2;
     };
-    const double initial = remaining_now().item<double>();
-    for (int i = 0; i < 60; ++i) {
-      adam.zero_grad();
-      remaining_now().backward();
-      adam.step();
-    }
-    const double trained = remaining_now().item<double>();
+    const auto [initial, trained] = train_on_fixed_batch(adam, remaining_now, 60);
     std::printf("fixed-batch probe remainder after %d pqn iterations: %.5f -> %.5f (pqn alone %.5f, %.5f)\n",
                 iterations, initial, trained, probes[0]->remaining_without_probe(), probes[1]->remaining_without_probe());
     EXPECT_LT(trained, 0.8 * initial) << iterations << " iterations";
