@@ -1,6 +1,7 @@
 // fnopt bench: timing tables measured in one run (docs/design.md §9): the Newton reference step at
 // several resolutions, and the FNO's forward/backward passes.
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 #include "app/commands.hpp"
@@ -10,6 +11,7 @@
 #include "simulation/rollout.hpp"
 #include "fno/fno_bench.hpp"
 #include "fno/fno_io.hpp"
+#include "io/rollout_file.hpp"
 #include "methods/registry.hpp"
 #include "util/error.hpp"
 #include "util/parse_text.hpp"
@@ -24,7 +26,7 @@ struct BenchFlags {
   int frames = 390;
   int threads = 0;  // the default: set_thread_count
   bool warm_start = false;
-  std::string preconditioner = "factor";
+  std::string keep;  // directory for the Newton rollouts, or empty
   std::string model;
 };
 
@@ -41,24 +43,27 @@ std::vector<int> parse_resolutions(const std::string& list) {
 }
 
 void bench_newton(const BenchFlags& flags, int threads) {
-  std::printf("Newton reference step (||g|| <= 1e-9 ||g0||), corner handles, motion xy_v2, %d frames, dt = 1/60, "
-              "%d thread%s, warm start %s\n",
-              flags.frames, threads, threads == 1 ? "" : "s", flags.warm_start ? "on" : "off");
-  std::printf("%6s %10s %10s %9s %9s %9s %10s %9s %10s %7s %9s\n", "res", "ms/frame", "max ms", "iters", "max it",
-              "factor/st", "cg it/st", "shifted", "projected", "stalls", "converged");
+  const InnerSolveOptions solve = NewtonOptimizer::reference_solve_options();
+  std::printf("Newton reference step (residual acceleration <= %g m/s^2), corner handles, motion xy_v2, %d frames, "
+              "dt = 1/60, %d thread%s, warm start %s\n",
+              solve.acceleration_tolerance, flags.frames, threads, threads == 1 ? "" : "s",
+              flags.warm_start ? "on" : "off");
+  std::printf("%6s %10s %10s %9s %9s %9s %10s %9s %9s %9s\n", "res", "ms/frame", "max ms", "iters", "max it",
+              "factor/st", "cg it/st", "neg curv", "rejected", "converged");
   for (int n : parse_resolutions(flags.resolutions)) {
     Scene scene;
     scene.rows = scene.cols = n;
     scene.frames = flags.frames;
-    NewtonParams params;
-    params.pqn_preconditioner = flags.preconditioner == "pqn";
-    NewtonOptimizer newton(params);
+    NewtonOptimizer newton;
     RolloutOptions options;
-    options.solve = NewtonOptimizer::reference_solve_options();
+    options.solve = solve;
     options.warm_start = flags.warm_start;
     ProgressBar bar("bench " + std::to_string(n) + "^2", scene.frames);
     const RolloutResult r = run_rollout(resolve(scene), newton, options, [&](int done, int, const StepRecord&) { bar.update(done); });
     bar.finish();
+    if (!flags.keep.empty())
+      write_rollout_file((std::filesystem::path(flags.keep) / ("newton_" + std::to_string(n) + ".h5")).string(), r,
+                         to_scene_text(scene), newton.settings());
     const int converged = r.converged_steps();
     int max_iterations = 0;
     double max_ms = 0.0;
@@ -69,10 +74,9 @@ void bench_newton(const BenchFlags& flags, int threads) {
     const double steps = static_cast<double>(r.steps.size());
     const auto& c = newton.counters();
     const double iterations = std::max(1, r.total_iterations());
-    std::printf("%4d^2 %10.1f %10.1f %9.2f %9d %9.2f %10.2f %8.1f%% %9.1f%% %7ld %5d/%d\n", n, r.mean_step_ms(),
-                max_ms, r.total_iterations() / steps, max_iterations, c.factorizations / steps,
-                c.cg_iterations / steps, 100.0 * c.shifted_iterations / iterations,
-                100.0 * c.projected_iterations / iterations, c.stalled_shifts, converged,
+    std::printf("%4d^2 %10.1f %10.1f %9.2f %9d %9.2f %10.2f %8.1f%% %9.2f %5d/%d\n", n, r.mean_step_ms(), max_ms,
+                r.total_iterations() / steps, max_iterations, c.factorizations / steps, c.cg_iterations / steps,
+                100.0 * c.negative_curvature / iterations, c.rejected_trials / steps, converged,
                 static_cast<int>(r.steps.size()));
     std::fflush(stdout);
   }
@@ -100,10 +104,8 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--model", flags->model, "fno: the model whose shape is timed (default: the shipped model)");
   command->add_option("--frames", flags->frames, "frames per resolution (newton)")->capture_default_str();
   add_threads_flag(*command, flags->threads);
-  command->add_option("--preconditioner", flags->preconditioner,
-                      "newton: CG preconditioned by the factor of an earlier Hessian (factor) or by pqn's matrix (pqn)")
-      ->check(CLI::IsMember({"factor", "pqn"}))
-      ->capture_default_str();
+  command->add_option("--keep", flags->keep, "newton: also write each rollout to DIR/newton_<res>.h5 (an existing directory)")
+      ->check(CLI::ExistingDirectory);
   command->add_flag("--warm-start", flags->warm_start, "start each step from the previous acceleration");
   command->callback([flags] { run_bench(*flags); });
 });

@@ -126,7 +126,7 @@ void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
     const auto method = flags.optimizer.make();
     const StepErrorSummary summary = bench.evaluate(*method, flags.optimizer.solve_options());
     std::printf("per-step error of %s (%s), N = %d, on %zu reference states: mean %.4g, median %.4g"
-                "   ((L(a_N) - L*)/(L(a_0) - L*), L* by Newton to 1e-9; %d thread%s)\n",
+                "   ((L(a_N) - L*)/(L(a_0) - L*), L* by the Newton reference; %d thread%s)\n",
                 method->name().c_str(), method->settings().c_str(), flags.optimizer.solve_options().max_iterations,
                 summary.samples.size(), summary.mean, summary.median, threads, threads == 1 ? "" : "s");
     if (!flags.per_step.empty()) {

@@ -78,7 +78,7 @@ void run_simulate(const SimulateFlags& flags) {
   const int steps = static_cast<int>(rollout.steps.size());
   // A method with a tolerance reports how many steps reached it; a fixed budget does not.
   std::string convergence = "fixed budget";
-  if (options.solve.relative_tolerance > 0.0) {
+  if (options.solve.to_tolerance()) {
     convergence = std::to_string(converged) + "/" + std::to_string(steps) + " steps converged";
     if (precision_limited > 0)
       convergence += " (" + std::to_string(precision_limited) + " to the precision of L)";

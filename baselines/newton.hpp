@@ -1,92 +1,72 @@
 #pragma once
 // The Newton reference solve (docs/design.md §6): it defines the exact backward-Euler step of the
-// energy, the ground truth of every error fnopt reports. Each iteration solves
-//   H d = -g,   then   a <- a + alpha d   (backtracking until Armijo's condition holds),
-// run by solve_step() to ||g|| <= 1e-9 ||g_0|| over the free dofs (reference_solve_options()).
+// energy, the ground truth of every error fnopt reports. A trust-region Newton method (Nocedal &
+// Wright 2006, Alg. 4.1) on the exact Hessian H, each subproblem solved by Steihaug–Toint CG
+// (optimizer/steihaug_cg.hpp) preconditioned by one positive-definite matrix,
+//   P = dt^2 M (1 + c dt) + dt^4 K+,   K+ the per-stencil PSD-projected elastic Hessian,
+// which is factorized rarely: its sparse Cholesky factor is kept across iterations and time steps
+// and rebuilt only when a subproblem needed more than refactor_cg_iterations products with H.
+// The trust region is measured in the mass metric W = dt^2 M (1 + c dt), ||d||_W = sqrt(d.W d):
+// P's own norm holds |negative curvature| of the compressed stencils and so made the region
+// tightest along the very buckling directions a step must take (docs/design.md §6).
 //
-// H is the exact Hessian where it is positive definite (quadratic convergence near a minimum).
-// Where it is not (compressed or buckling cloth), that iteration adds a multiple of the inertia
-// term, H + mu dt^2 M, with the smallest mu of a geometric sequence for which Cholesky succeeds
-// (Nocedal & Wright 2006, Alg. 3.3, in the mass metric): the step keeps the exact curvature
-// everywhere else and moves along the negative-curvature directions instead of stalling near a
-// saddle. The per-stencil projected Hessian (negative eigenvalues flipped:
-// cloth/psd_projection.hpp) is the last resort; on its own it needed up to 300 iterations on
-// the first, buckling steps of the 64^2 benchmark.
+// Why this shape: where the cloth is compressed H is indefinite. CG then meets a direction of
+// negative curvature only if the gradient has a component along it, and follows it to the
+// region's boundary, a descent at the rate the region allows (buckling); where it has none (a
+// symmetric, unbuckled saddle) CG never sees it and the iteration converges there quadratically,
+// the branch ARCSim's one linear solve takes (docs/design.md §6, "What the reference converges
+// to"). No Cholesky of an indefinite matrix is tried, and no shift damps the soft modes.
 //
-// Linear solves: a sparse Cholesky factor (CHOLMOD supernodal on OpenBLAS) costs ~20x a
-// triangular solve at 100^2, and H changes little from one iteration or time step to the next.
-// So the factor of an earlier H preconditions conjugate gradients on the current H, solved to
-// the relative residual min(forcing_cap, ||g||/||g_0||) (inexact Newton, Eisenstat & Walker
-// 1996: the forcing term shrinking like ||g|| keeps the convergence quadratic); only when CG
-// needs more than max_cg_iterations is H refactorized and solved directly.
-#include <Eigen/CholmodSupport>
-
+// The reference stops on the residual acceleration max_i |g_i| / (m_i dt^2) (m/s^2), which is
+// a - f(x)/m, the part of Newton's second law the step leaves unbalanced
+// (reference_solve_options()); its size against the errors it measures is in docs/results.md.
 #include "optimizer/inner_optimizer.hpp"
-#include "optimizer/line_search.hpp"
-#include "baselines/pqn_matrix.hpp"
-#include <memory>
+#include "optimizer/sparse_cholesky.hpp"
+#include "optimizer/steihaug_cg.hpp"
 
 namespace fnopt {
 
 struct NewtonParams {
-  // The backtracking line search (optimizer/line_search.hpp).
-  double armijo = 1e-4;             // sufficient-decrease constant c1
-  double backtrack = 0.5;           // step shrink factor per line-search trial
-  int max_backtracks = 40;
-  double forcing_cap = 1e-2;        // largest relative residual accepted from CG
-  int max_cg_iterations = 20;       // beyond this, refactorize (0: always factorize)
-  // Where the exact Hessian is indefinite: H + mu dt^2 M (mu relative to the inertia term),
-  // mu grown by shift_growth until Cholesky succeeds. The search starts at the last mu /
-  // shift_growth while the iterates stay shifted, so the shift decays as they leave a saddle.
-  // Above max_shift the per-stencil projected Hessian is used instead. 0 disables the shift.
-  // Growth 2 keeps mu within a factor 2 of the most negative curvature: first 40 frames of the
-  // 64^2 benchmark, 305 ms/frame and at most 74 iterations, against 389 ms and 160 with 4,
-  // 507 ms and one unconverged step with 8, 487 ms with 1.25 (more trials per iteration).
-  double max_shift = 1e6;
-  double shift_growth = 2.0;
-  // A stall guard for the shift. Where the negative curvature is strong and persists (64^2
-  // benchmark, motion xz_v2, step 114: H + mu dt^2 M indefinite up to mu ~ 105, so mu = 210), the
-  // shift damps every soft mode by mu as well, and ||g|| falls by ~0.5 % per iteration: 200
-  // iterations ended at ||g|| = 6e-3 ||g_0||. After max_slow_shifted_iterations consecutive
-  // shifted iterations that each lower ||g|| by less than a factor slow_shift_progress, one
-  // iteration uses the per-stencil projected Hessian instead, which changes only the compressed
-  // stencils; its factor then preconditions CG on the exact Hessian (there: 47 iterations).
-  // The projection cannot replace the shift everywhere (as the only fallback: 552 iterations on
-  // a 64^2 xy_v2 buckling step, against 74), so the guard waits: the longest slow run measured on
-  // 64^2 xy_v2 is 28 (step 31), and the references of the other benchmark motions (32^2: all 15,
-  // 64^2: 8, 100^2: 3) are bit-identical with it. 0 disables the guard.
-  int max_slow_shifted_iterations = 40;
-  double slow_shift_progress = 0.9;
-  // Preconditioner of CG: the factor of an earlier Hessian (refactorized when CG is slow), or
-  // the fixed prefactored matrix of pqn (baselines/pqn_matrix.hpp), factorized once per scene,
-  // with the shift also searched by CG; factorizations of H only where that fails. The pqn
-  // matrix measured slower (docs/results.md, "Newton reference"): the exact Hessian's soft
-  // transverse modes are far from its isotropic springs, so CG needs ~860 iterations per step
-  // at 32^2 to the reference tolerance, 3.5x the time of the earlier factor's.
-  bool pqn_preconditioner = false;
-  int max_pqn_cg_iterations = 300;
+  // The trust region (Nocedal & Wright Alg. 4.1). Each time step starts with the radius
+  // initial_radius x ||P^-1 g_0||_W, the length of the preconditioned gradient step.
+  double initial_radius = 2.0;
+  double accept_ratio = 1e-4;  // eta: a trial is taken when actual / predicted decrease > eta
+  double shrink_below = 0.25;  // below this ratio the radius shrinks to shrink x ||d||_W
+  double shrink = 0.25;
+  double grow_above = 0.75;    // above it a step that reached the boundary doubles the radius
+  int max_trials = 40;         // rejected trials per iteration before line-search-failed
+  // CG per subproblem to the relative residual min(forcing_cap, ||g|| / ||g_0||) (inexact Newton,
+  // Eisenstat & Walker 1996: the forcing term shrinking like ||g|| keeps convergence quadratic).
+  double forcing_cap = 1e-2;
+  // The reference's stop, residual acceleration in m/s^2 (1e-5 g; 1e-3 gives the same rollouts:
+  // docs/results.md). Also the floor of the forcing term: CG is not asked to reduce the residual
+  // below a tenth of what the stop needs.
+  double acceleration_tolerance = 1e-4;
+  int max_cg_iterations = 200;
+  // P is refactorized at the current iterate when the last subproblem needed more products
+  // with H than this; otherwise its factor is kept, across time steps too when
+  // reuse_factor_across_steps (off: a factor per step, the same solve from the same state
+  // whatever came before, as meta-training's resumable pool needs).
+  int refactor_cg_iterations = 20;
+  bool reuse_factor_across_steps = true;
 
   void validate() const;  // throws Error naming the parameter
-  BacktrackingParams line_search() const { return {armijo, backtrack, max_backtracks}; }
 };
 
 // Work counters, for benchmarks.
 struct NewtonCounters {
   long factorizations = 0;
-  long cg_iterations = 0;
-  long projected_iterations = 0;  // iterations that used the projected Hessian
-  long shifted_iterations = 0;    // iterations that used H + mu dt^2 M
-  long stalled_shifts = 0;        // times the stall guard replaced the shift by the projection
+  long cg_iterations = 0;             // products with H
+  long negative_curvature = 0;        // subproblems that followed a negative-curvature direction
+  long rejected_trials = 0;           // trial steps the trust region turned down
 };
 
 class NewtonOptimizer final : public InnerOptimizer {
  public:
   explicit NewtonOptimizer(NewtonParams params = {});
 
-  // The reference: converged to ||g|| <= 1e-9 ||g_0||. Most steps take 3-10 iterations; where
-  // compressed cloth starts to buckle it takes longer (benchmark scene: at most 27 at 32^2 and 74
-  // at 64^2; at 100^2 one step slides along a nearly neutral mode for 626), hence the generous cap.
-  static InnerSolveOptions reference_solve_options() { return {1000, 1e-9}; }
+  // The reference: residual acceleration <= acceleration_tolerance at every free vertex.
+  static InnerSolveOptions reference_solve_options() { return {200, 0.0, NewtonParams{}.acceleration_tolerance}; }
 
   std::string name() const override { return "newton"; }
   std::string settings() const override;
@@ -97,40 +77,20 @@ class NewtonOptimizer final : public InnerOptimizer {
   const NewtonCounters& counters() const { return counters_; }
 
  private:
-  enum class CgOutcome { Converged, NegativeCurvature, TooManyIterations };
-  // Preconditioned CG on (H + shift D) d = b, D = diag(shift_diagonal) (ignored when shift is 0),
-  // with `precondition(r)` applying the preconditioner in place; d starts at 0.
-  template <class Precondition>
-  CgOutcome preconditioned_cg(const Eigen::SparseMatrix<double>& H, double shift, const VecX& b, double tolerance,
-                              int max_iterations, Precondition&& precondition);
-  // The pqn-preconditioned direction: CG on H, then on H + mu dt^2 M for growing mu.
-  bool pqn_direction(StepProblem& problem, const Eigen::SparseMatrix<double>& H, double tolerance);
-  void set_inertia_diagonal(StepProblem& problem);
-  // Factorizes H (false if it is not positive definite) and solves H d = b directly. `pattern`
-  // is the objective's hessian_pattern_id(): the symbolic analysis is redone when it changes.
-  bool factorize_and_solve(const Eigen::SparseMatrix<double>& H, const VecX& b, long pattern);
-  // Factorizes H + mu dt^2 M for growing mu until Cholesky succeeds (false above max_shift).
-  bool shifted_solve(StepProblem& problem, const Eigen::SparseMatrix<double>& H, const VecX& b, double start);
-  // Computes direction_ for the Hessian at a; returns false if no PD Hessian could be factorized.
-  bool newton_direction(StepProblem& problem, const VecX& a, double tolerance);
+  // Factorizes P at a; false if CHOLMOD fails (P is positive definite by construction).
+  bool factorize_preconditioner(StepProblem& problem, const VecX& a);
 
   NewtonParams params_;
-  std::unique_ptr<PqnFactorCache> pqn_;
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt_;
-  long analysed_pattern_ = -1;
+  SparseCholesky factor_;
   bool have_factor_ = false;
+  int last_cg_iterations_ = 0;
   NewtonCounters counters_;
   double initial_gradient_norm_ = 0.0;
   double start_value_ = 0.0;
-  static constexpr double kMinShift = 1e-4;  // smaller shifts are no better than none
-  double shift_ = 0.0;        // the last mu that made H + mu dt^2 M positive definite
-  bool last_shifted_ = false;  // whether the last iteration used it
-  int slow_shifted_iterations_ = 0;    // consecutive shifted iterations with little gain in ||g||
-  double previous_gradient_norm_ = 0.0;
-  Eigen::SparseMatrix<double> shifted_;
-  VecX inertia_diagonal_;  // dt^2 m per free dof
-  VecX rhs_, direction_, full_direction_, residual_, preconditioned_, search_, product_;
-  LineSearchScratch line_search_;
+  double radius_ = 0.0;  // 0: set at the step's first iteration
+  SteihaugScratch cg_;
+  VecX metric_;  // the trust region's: the inertia weights dt^2 m (1 + c dt) of the free dofs
+  VecX rhs_, step_, full_step_, trial_, trial_gradient_;
 };
 
 }  // namespace fnopt

@@ -1,5 +1,6 @@
 #include "cloth/backward_euler.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 
@@ -96,6 +97,13 @@ const Eigen::SparseMatrix<double>& BackwardEulerObjective::hessian(const VecX& a
   for (Eigen::Index k = 0; k < masses_.size(); ++k)
     assembly_->add_vertex_diagonal(static_cast<int>(k), inertia_weight(static_cast<int>(k)));
   return assembly_->matrix();
+}
+
+double BackwardEulerObjective::residual_acceleration(const VecX& gradient) const {
+  double largest = 0.0;
+  for (Eigen::Index k = 0; k < masses_.size(); ++k)
+    largest = std::max(largest, gradient.segment<3>(3 * k).cwiseAbs().maxCoeff() / masses_[k]);
+  return largest / (dt_ * dt_);
 }
 
 double BackwardEulerObjective::potential(const VecX& x) const {

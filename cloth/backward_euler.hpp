@@ -54,6 +54,11 @@ class BackwardEulerObjective {
   // Writes grad L(a) (every dof, handles included: masking is the caller's) and returns L(a).
   double value_gradient(const VecX& a, VecX& grad) const;
 
+  // max_i |g_i| / (m_i dt^2) over the dofs of a gradient g of L: since g = dt^2 (M a - f(x)),
+  // the acceleration (m/s^2) that the forces leave unbalanced at a. Zero exactly at a stationary
+  // point, in the same unit at every resolution.
+  double residual_acceleration(const VecX& gradient) const;
+
   // hess L(a) restricted to the free vertices (free_index[v] >= 0), each stencil projected to
   // PSD if `project`. The sparsity pattern is built on the first call for a given free set.
   const Eigen::SparseMatrix<double>& hessian(const VecX& a, const std::vector<int>& free_index,

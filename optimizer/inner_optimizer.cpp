@@ -22,7 +22,9 @@ InnerSolveResult solve_step(InnerOptimizer& optimizer, StepProblem& problem, Vec
       result.status = SolveStatus::NonFinite;
       return result;
     }
-    if (options.relative_tolerance > 0.0 && gradient_norm <= tolerance) {
+    if ((options.relative_tolerance > 0.0 && gradient_norm <= tolerance) ||
+        (options.acceleration_tolerance > 0.0 &&
+         problem.objective().residual_acceleration(gradient) <= options.acceleration_tolerance)) {
       result.status = SolveStatus::Converged;
       return result;
     }

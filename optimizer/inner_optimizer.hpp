@@ -30,6 +30,11 @@ class InnerOptimizer {
 struct InnerSolveOptions {
   int max_iterations = 10;          // the iteration budget N per time step
   double relative_tolerance = 0.0;  // stop at ||g|| <= tol ||g_0||; 0 runs the whole budget
+  // Stop once the residual acceleration max_i |g_i| / (m_i dt^2), in m/s^2, is at most this (the
+  // part of a = f(x)/m the step leaves unbalanced: BackwardEulerObjective::residual_acceleration).
+  double acceleration_tolerance = 0.0;
+  // Whether the solve stops at a tolerance (else it runs its budget).
+  bool to_tolerance() const { return relative_tolerance > 0.0 || acceleration_tolerance > 0.0; }
 };
 
 struct InnerSolveResult {

@@ -15,7 +15,7 @@ bool is_converged_run(const RunSpec& spec) {
   return spec.budget == 0 && method_traits(spec.method).budget == BudgetKind::ToTolerance;
 }
 
-std::string budget_text(const RunSpec& spec) { return is_converged_run(spec) ? "tol1e-9" : std::to_string(spec.budget); }
+std::string budget_text(const RunSpec& spec) { return is_converged_run(spec) ? "converged" : std::to_string(spec.budget); }
 
 double plotted_ms(const RunResult& r, int threads) {
   return threads == 1 && std::isfinite(r.cpu_share) ? r.ms * std::min(1.0, r.cpu_share) : r.ms;

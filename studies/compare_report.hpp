@@ -32,7 +32,7 @@ struct RunResult {
 
 // Newton to its reference tolerance (not a budgeted Newton run).
 bool is_converged_run(const RunSpec& spec);
-// "10", or "tol1e-9" for a converged run (the CSV's N).
+// "10", or "converged" for a converged run (the CSV's N).
 std::string budget_text(const RunSpec& spec);
 // The run time a plot or report shows: with one thread, wall time x the CPU share the process
 // got (what it would take on an idle core of this shared machine); otherwise wall time.

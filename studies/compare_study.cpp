@@ -293,7 +293,7 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
   // or motions) stay in it: resuming with a subset never drops finished work.
   for (const auto& row : resumed.unplanned(planned)) {
     int budget = 0;
-    parse_int(row[1], budget);  // "tol1e-9": 0, a converged run
+    parse_int(row[1], budget);  // "converged" (earlier "tol1e-9"): 0, a converged run
     unplanned_rows.push_back(result_of_row({row[0], budget}, row));
   }
   auto all_results = [&] {
@@ -346,7 +346,7 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
     for (std::size_t n : reference_states) state_texts.push_back(std::to_string(n));
     std::vector<std::string> notes = {
         joined(frame_texts, " or ") + " frames" + (frames.size() > 1 ? " (see each row)" : "") + " at dt = " +
-            dt_text(base.dt) + " s; N = iterations per time step; errors vs a Newton rollout converged to 1e-9; " +
+            dt_text(base.dt) + " s; N = iterations per time step; errors vs the converged Newton rollout (residual acceleration <= 1e-4 m/s^2); " +
             "per-step error on " + (state_texts.empty() ? std::to_string(study.step_samples) : joined(state_texts, " or ")) +
             " reference states; e_CD with " + std::to_string(chamfer.samples) + " points per mesh",
         "motions: " + joined(motion_names_used)};

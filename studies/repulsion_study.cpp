@@ -63,7 +63,7 @@ RunResult run_one(const Scene& base, const std::string& preset, bool repulsion, 
   const auto optimizer = choice.make();
   RolloutOptions options;
   options.solve = choice.solve_options();
-  const bool tolerance = options.solve.relative_tolerance > 0.0;
+  const bool tolerance = options.solve.to_tolerance();
   const RolloutResult rollout = run_rollout(resolve(scene), *optimizer, options, on_step);
 
   RunResult result;
@@ -205,7 +205,7 @@ void run_repulsion_study(const RepulsionStudy& study) {
   // Progress in frame-cost units (methods/registry.hpp), as compare and stability count it.
   auto cost = [&](const OptimizerChoice& choice) {
     const InnerSolveOptions solve = choice.solve_options();
-    return base.frames * frame_cost(choice.name, solve.max_iterations, solve.relative_tolerance > 0.0,
+    return base.frames * frame_cost(choice.name, solve.max_iterations, solve.to_tolerance(),
                                     base.rows * base.cols);
   };
   double total_cost = 0.0, done_cost = 0.0;

@@ -28,7 +28,7 @@ namespace fs = std::filesystem;
 
 // Relative cost of one frame (methods/registry.hpp), for the progress bar's ETA only.
 double frame_cost(const StabilityMethod& m, const Scene& scene) {
-  return fnopt::frame_cost(m.method, m.solve.max_iterations, m.reference && m.solve.relative_tolerance > 0.0,
+  return fnopt::frame_cost(m.method, m.solve.max_iterations, m.reference && m.solve.to_tolerance(),
                            scene.rows * scene.cols);
 }
 
@@ -69,7 +69,7 @@ void write_report(const Outputs& out, const StabilityStudy& study, const std::ve
   MarkdownReport report("fnopt stability");
   report.paragraph(std::string(complete ? "" : "**Partial: the study is still running or was stopped.** ") +
                    "Stiff and extreme cases, every inner optimizer on each, against the case's Newton reference "
-                   "(run to ||g|| <= 1e-9 ||g0|| each step; steps that stop short are counted below). fnopt " FNOPT_VERSION ", started " + started +
+                   "(run to a residual acceleration of 1e-4 m/s^2 each step; steps that stop short are counted below). fnopt " FNOPT_VERSION ", started " + started +
                    ", " + std::to_string(threads) + " thread" + (threads == 1 ? "" : "s") + ".");
   report.code(study.command_line);
   std::vector<std::string> setup = {
@@ -84,7 +84,7 @@ void write_report(const Outputs& out, const StabilityStudy& study, const std::ve
   std::string optimizers;
   for (const auto& m : methods)
     optimizers += (optimizers.empty() ? "" : ", ") + m.method + " (" +
-                  (m.solve.relative_tolerance > 0 ? budget_text(m.solve) : "N=" + std::to_string(m.solve.max_iterations)) + ")";
+                  (m.solve.to_tolerance() ? budget_text(m.solve) : "N=" + std::to_string(m.solve.max_iterations)) + ")";
   setup.push_back("optimizers (iterations per time step): " + optimizers +
                   "; gd and adam at their default learning rates (gd 1/lambda_max, adam 0.003)" +
                   (study.model.empty() ? "" : "; fnopt model " + study.model));

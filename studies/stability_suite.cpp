@@ -172,7 +172,7 @@ int count_unconverged_steps(const RolloutResult& rollout, const InnerSolveOption
   std::map<SolveStatus, int> counts;
   for (const StepRecord& s : rollout.steps) {
     const bool normal = is_converged(s.status) ||
-                        (solve.relative_tolerance <= 0.0 && s.status == SolveStatus::IterationBudget);
+                        (!solve.to_tolerance() && s.status == SolveStatus::IterationBudget);
     if (!normal) ++counts[s.status];
   }
   statuses.clear();
@@ -261,8 +261,9 @@ const std::vector<std::string>& stability_columns() {
 }
 
 std::string budget_text(const InnerSolveOptions& solve) {
-  if (solve.relative_tolerance > 0.0)
-    return "tol " + number_text(solve.relative_tolerance) + " (max " + std::to_string(solve.max_iterations) + ")";
+  const std::string max = " (max " + std::to_string(solve.max_iterations) + ")";
+  if (solve.acceleration_tolerance > 0.0) return "tol " + number_text(solve.acceleration_tolerance) + " m/s^2" + max;
+  if (solve.relative_tolerance > 0.0) return "tol " + number_text(solve.relative_tolerance) + max;
   return std::to_string(solve.max_iterations);
 }
 
@@ -291,10 +292,13 @@ StabilityRow stability_row_from_csv(const std::vector<std::string>& cells) {
   StabilityRow r;
   r.case_name = cells[0];
   r.method = cells[1];
-  // "N": "100" or "tol 1e-09 (max 1000)"
+  // "N": "100", "tol 1e-06 m/s^2 (max 200)" or "tol 1e-09 (max 1000)" (relative)
   if (cells[2].rfind("tol ", 0) == 0) {
     const auto open = cells[2].find("(max ");
-    r.solve.relative_tolerance = number_or_nan(cells[2].substr(4, open == std::string::npos ? std::string::npos : open - 5));
+    const auto unit = cells[2].find(" m/s^2");
+    const auto end = std::min(open == std::string::npos ? cells[2].size() : open - 1, unit);
+    (unit == std::string::npos ? r.solve.relative_tolerance : r.solve.acceleration_tolerance) =
+        number_or_nan(cells[2].substr(4, end - 4));
     if (open != std::string::npos) parse_int(cells[2].substr(open + 5, cells[2].size() - open - 6), r.solve.max_iterations);
   } else {
     parse_int(cells[2], r.solve.max_iterations);

@@ -35,7 +35,7 @@ LearnedParams pool_rule(int subspace) {
 
 NewtonParams reference_newton() {
   NewtonParams p;
-  p.max_cg_iterations = 0;  // a fresh factorization per iteration: deterministic, so resumable
+  p.reuse_factor_across_steps = false;  // a step's solve depends on its state alone: resumable
   return p;
 }
 

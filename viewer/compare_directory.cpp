@@ -62,7 +62,7 @@ CompareDirectory read_compare_directory(const std::string& path) {
     CompareRun run;
     run.cells = row;
     // The name compare --keep-rollouts gives a run's rollout (studies/compare_study.cpp): the
-    // budget is left out for the converged reference run ("tol1e-9").
+    // budget is left out for the converged reference run ("converged").
     const std::string method = row[column("method")], budget = row[column("N")];
     const std::string label = row[column("resolution")] + "_" + row[column("motion")];
     const bool numeric_budget =

@@ -46,6 +46,29 @@ TEST(Cli, SimulateWritesARolloutAndSaysSo) {
   std::filesystem::remove_all(dir);
 }
 
+// bench newton prints the reference's table and, with --keep, writes the rollout it timed: the
+// same Newton rollout simulate writes.
+TEST(Cli, BenchNewtonKeepsTheRolloutItTimed) {
+  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_cli_bench";
+  std::filesystem::create_directories(dir);
+  const CommandResult r = run_fnopt("bench newton --res 8 --frames 4 --threads 1 --keep " + dir.string());
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("residual acceleration <= 0.0001 m/s^2"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("4/4"), std::string::npos) << r.output;
+  const auto kept = (dir / "newton_8.h5").string();
+  ASSERT_TRUE(std::filesystem::exists(kept));
+  const auto simulated = (dir / "simulated.h5").string();
+  ASSERT_EQ(run_fnopt("simulate --optimizer newton --res 8 --frames 4 --threads 1 --out " + simulated).status, 0);
+  const fnopt::TrajectoryFrames a = fnopt::read_trajectory_frames(kept), b = fnopt::read_trajectory_frames(simulated);
+  ASSERT_EQ(a.positions.size(), 5u);
+  ASSERT_EQ(b.positions.size(), a.positions.size());
+  for (std::size_t f = 0; f < a.positions.size(); ++f) EXPECT_EQ(a.positions[f], b.positions[f]) << f;
+  EXPECT_NE(fnopt::read_rollout_provenance(kept).optimizer_settings.find("trust-region"), std::string::npos);
+  const CommandResult missing = run_fnopt("bench newton --res 8 --frames 1 --keep " + (dir / "nope").string());
+  EXPECT_EQ(missing.status, 2) << missing.output;
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Cli, SimulateRunsPqnByDefaultAndTheShippedModelOneFlagAway) {
   const fnopt::testing::TempDir tmp;
   const auto out = (tmp.path() / "default.h5").string();

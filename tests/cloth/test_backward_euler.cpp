@@ -98,6 +98,26 @@ TEST(BackwardEulerObjective, ElasticForcesVanishAtRest) {
   EXPECT_LT(g.norm(), 1e-18);
 }
 
+// The residual acceleration is a - f/m in m/s^2: a cloth at rest, not yet accelerated, leaves
+// gravity unbalanced (9.81 at every vertex, whatever the grid or density); accelerated by
+// gravity it leaves nothing, since the elastic forces vanish at rest and x(a) moves rigidly.
+TEST(BackwardEulerObjective, ResidualAccelerationIsTheUnbalancedForcePerMass) {
+  for (int n : {4, 9}) {
+    const Grid grid = Grid::make(n, n + 2, 1.0);
+    Material material;
+    material.density = 0.37 * n;
+    material.damping = 0.0;
+    BackwardEulerObjective objective(grid, material, 1.0 / 60.0, Vec3(0.0, 0.0, -9.81));
+    objective.begin_step(grid.rest_positions(), VecX::Zero(grid.dof_count()));
+    VecX a = VecX::Zero(grid.dof_count()), g;
+    objective.value_gradient(a, g);
+    EXPECT_NEAR(objective.residual_acceleration(g), 9.81, 1e-9);
+    for (int k = 0; k < grid.vertex_count(); ++k) a[3 * k + 2] = -9.81;
+    objective.value_gradient(a, g);
+    EXPECT_LT(objective.residual_acceleration(g), 1e-9);
+  }
+}
+
 TEST(ClothTerms, StencilCountsAndMasses) {
   const Grid grid = Grid::make(5, 7, 1.0);
   EXPECT_EQ(grid_edges(grid).size(), 5u * 6 + 4u * 7);

@@ -220,6 +220,13 @@ TEST(StabilitySuite, CaseSelectionAndCsvRoundTrip) {
   EXPECT_EQ(back.outcome, StabilityOutcome::Diverged);
   EXPECT_EQ(back.diverged_step, 12);
   EXPECT_NEAR(back.e3d, 0.0123, 1e-9);
+  // The reference's stop, a residual acceleration in m/s^2, reads back as such.
+  row.solve = {200, 0.0, 1e-4};
+  const StabilityRow reference = stability_row_from_csv(stability_csv_row(row));
+  EXPECT_EQ(stability_csv_row(row)[2], "tol 0.0001 m/s^2 (max 200)");
+  EXPECT_EQ(reference.solve.max_iterations, 200);
+  EXPECT_DOUBLE_EQ(reference.solve.acceleration_tolerance, 1e-4);
+  EXPECT_EQ(reference.solve.relative_tolerance, 0.0);
 }
 
 TEST(StabilitySuite, PlotMarksDivergedRunsAndConsoleTableNamesThem) {
