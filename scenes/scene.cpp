@@ -36,6 +36,7 @@ void Scene::validate() const {
   scene_checks::handle_preset_name(handles);
   scene_checks::motion_name(motion);
   const Grid grid = Grid::make(rows, cols, size);
+  scene_checks::grid_units(grid, material, dt, gravity);
   const HandleSet handle_set = scene_handles(*this, grid);
   // A named motion is cheap to build and checks itself against the handle count (rot_h1 needs
   // two handles); a CSV is only opened by resolve().

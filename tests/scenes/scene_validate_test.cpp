@@ -59,6 +59,28 @@ TEST(SceneValidate, RejectsNaNAndInfinityInEveryRealField) {
   }
 }
 
+// Every value finite, but a grid unit (docs/design.md §2) out of range: refused before work,
+// naming the field, not a rollout that diverges at step 1.
+TEST(SceneValidate, RejectsScenesWhoseGridUnitsOverflow) {
+  expect_invalid([](Scene& s) { s.material.stretch = 1e300; }, "stretch: 1e+300 N/m overflows in grid units");
+  expect_invalid([](Scene& s) { s.material.shear = 1e300; }, "shear: 1e+300 N/m overflows in grid units");
+  expect_invalid([](Scene& s) { s.material.bend = 1e305; }, "bend: 1e+305 N m overflows in grid units");
+  expect_invalid([](Scene& s) { s.gravity = Vec3(0, 0, -1e307); }, "gravity: ");
+  expect_invalid([](Scene& s) { s.material.damping = 1e307; s.dt = 100.0; }, "damping: ");
+  expect_invalid([](Scene& s) { s.material.repulsion_stiffness = 1e300; }, "repulsion-stiffness: ");
+  // The scales themselves: a step too long or too short to square, a vertex mass or a cell too
+  // small to represent.
+  expect_invalid([](Scene& s) { s.dt = 1e200; }, "dt: 1e+200 s is out of range in grid units");
+  expect_invalid([](Scene& s) { s.dt = 1e-170; }, "dt: ");
+  expect_invalid([](Scene& s) { s.material.density = 1e-320; }, "density: ");
+  expect_invalid([](Scene& s) { s.size = 1e-80; }, "size: ");
+  // Stiff but representable scenes stay valid (the stability suite runs stretch x1000).
+  Scene stiff;
+  stiff.material.stretch *= 1000.0;
+  stiff.rows = stiff.cols = 200;
+  EXPECT_NO_THROW(stiff.validate());
+}
+
 TEST(SceneValidate, RejectsNegativeMaterialValues) {
   expect_invalid([](Scene& s) { s.material.density = -0.187; }, "density: ");
   expect_invalid([](Scene& s) { s.material.stretch = -1.0; }, "stretch: ");
