@@ -8,7 +8,7 @@ void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice) {
   command.add_option("--optimizer", choice.name, "inner optimizer: " + optimizer_names())->capture_default_str();
   command
       .add_option("--iters", choice.iterations,
-                  "iterations per time step (default 10; newton: at most this many, default 200, to a "
+                  "iterations per time step (default 10; newton: at most this many, default 1000, to a "
                   "residual acceleration of 1e-4 m/s^2)")
       ->check(CLI::Validator(
           [](std::string& text) -> std::string {

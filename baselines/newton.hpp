@@ -65,8 +65,10 @@ class NewtonOptimizer final : public InnerOptimizer {
  public:
   explicit NewtonOptimizer(NewtonParams params = {});
 
-  // The reference: residual acceleration <= acceleration_tolerance at every free vertex.
-  static InnerSolveOptions reference_solve_options() { return {200, 0.0, NewtonParams{}.acceleration_tolerance}; }
+  // The reference: residual acceleration <= acceleration_tolerance at every free vertex. The
+  // benchmark's steps take at most 151 iterations (100^2 rot_h0); the stability suite's
+  // stretch x1000 needs more than 200 on two steps, hence the generous cap.
+  static InnerSolveOptions reference_solve_options() { return {1000, 0.0, NewtonParams{}.acceleration_tolerance}; }
 
   std::string name() const override { return "newton"; }
   std::string settings() const override;
