@@ -3,8 +3,7 @@
 // Conn, Gould & Toint 2000, §7.5.1): approximately minimises the trust-region model
 //   m(d) = g.d + 1/2 d.H d   subject to   ||d||_W = sqrt(sum_i w_i d_i^2) <= radius,
 // with the preconditioner P symmetric positive definite (applied as P^-1), the region's metric
-// W a positive diagonal, and H symmetric, possibly indefinite. CG
-// runs from d = 0 and stops
+// W a positive diagonal, and H symmetric, possibly indefinite. CG runs from d = 0 and stops
 //   - inside the region once ||H d + g|| <= tolerance ||g|| (inexact Newton),
 //   - on the boundary where its path leaves the region, or where it meets a direction p with
 //     p.H p <= 0, which it follows to the boundary (the descent along a buckling mode).
