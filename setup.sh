@@ -21,10 +21,14 @@ packages=(
   # Debian's libtorch links the reference BLAS through the libblas.so.3 alternative; OpenBLAS
   # switches that alternative and makes the FNO's dense layers ~5x faster (docs/design.md §9).
   libopenblas0-openmp
+  # The Python module fnopt, for Debian's own python3 (docs/api.md).
+  pybind11-dev python3-dev python3-numpy python3-scipy
 )
 # Chromium, for the test that draws the viewer's page headless (~40 s and 81 MB to install; the
 # test is skipped without it, docs/design.md §11).
 ((tests)) && packages+=(chromium)
+# The Python module's tests.
+((tests)) && packages+=(python3-pytest)
 
 missing=()
 for p in "${packages[@]}"; do

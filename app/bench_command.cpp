@@ -7,15 +7,15 @@
 #include "app/commands.hpp"
 #include "app/scene_flags.hpp"
 #include "app/threads.hpp"
-#include "baselines/newton.hpp"
-#include "simulation/rollout.hpp"
-#include "fno/fno_bench.hpp"
-#include "fno/fno_io.hpp"
-#include "io/rollout_file.hpp"
-#include "methods/registry.hpp"
-#include "util/error.hpp"
-#include "util/parse_text.hpp"
-#include "util/progress_bar.hpp"
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/simulation/rollout.hpp>
+#include <fnopt/fno/fno_bench.hpp>
+#include <fnopt/fno/fno_io.hpp>
+#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/methods/registry.hpp>
+#include <fnopt/util/error.hpp>
+#include <fnopt/util/parse_text.hpp>
+#include <fnopt/util/progress_bar.hpp>
 
 namespace fnopt::app {
 namespace {
@@ -93,7 +93,7 @@ void run_bench(const BenchFlags& flags) {
     std::printf("%s", table.str().c_str());
   }
   if (flags.what != "newton" && flags.what != "fno" && flags.what != "all")
-    throw Error("bench: unknown benchmark '" + flags.what + "' (choose newton, fno or all)");
+    throw Error("bench", "unknown benchmark '" + flags.what + "' (choose newton, fno or all)");
 }
 
 const RegisterCommand kRegister([](CLI::App& app) {

@@ -10,12 +10,12 @@
 #include "app/optimizer_flags.hpp"
 #include "app/scene_flags.hpp"
 #include "app/threads.hpp"
-#include "boundary/trajectory.hpp"
-#include "studies/compare_study.hpp"
-#include "util/command_line.hpp"
-#include "util/error.hpp"
-#include "util/output_path.hpp"
-#include "util/parse_text.hpp"
+#include <fnopt/boundary/trajectory.hpp>
+#include <fnopt/studies/compare_study.hpp>
+#include <fnopt/util/command_line.hpp>
+#include <fnopt/util/error.hpp>
+#include <fnopt/util/output_path.hpp>
+#include <fnopt/util/parse_text.hpp>
 
 namespace fnopt::app {
 namespace {
@@ -114,14 +114,13 @@ void run_compare(const CompareFlags& flags) {
       flags.motions == "eval" ? benchmark_motion_names() : name_list("motions", flags.motions);
   const std::vector<std::string> methods = name_list("optimizers", flags.optimizers);
   const std::vector<int> default_budgets = int_list("iters", flags.iters);
-  std::map<std::string, std::vector<int>> budgets, given_budgets;  // given: by --iters-for
-  for (const auto& method : methods) budgets[method] = default_budgets;
+  std::map<std::string, std::vector<int>> given_budgets;  // by --iters-for
   for (const std::string& entry : flags.iters_for) {
     const auto equals = entry.find('=');
     require(equals != std::string::npos, "iters-for", "expected METHOD=N,N,..., got '" + entry + "'");
     const std::string method(trim(entry.substr(0, equals)));
-    require(budgets.count(method) > 0, "iters-for", "'" + method + "' is not in --optimizers");
-    budgets[method] = given_budgets[method] = int_list("iters-for", entry.substr(equals + 1));
+    require(std::find(methods.begin(), methods.end(), method) != methods.end(), "iters-for", "'" + method + "' is not in --optimizers");
+    given_budgets[method] = int_list("iters-for", entry.substr(equals + 1));
   }
   std::vector<double> error_levels = number_list("error-levels", flags.error_levels);
   for (double& level : error_levels) level *= 1e-3;
@@ -162,25 +161,10 @@ void run_compare(const CompareFlags& flags) {
       scenes.push_back(scene);
       if (!base.trajectory.empty()) break;  // a trajectory file replaces the motion list
     }
-  // A method that runs to its tolerance runs so, and also at the budgets --iters-for gives it
-  // (newton=1,2,3: Newton capped at that many iterations); a one-solve method runs once.
-  std::vector<RunSpec> runs;
-  for (const auto& method : methods) {
-    switch (method_traits(method).budget) {
-      case BudgetKind::ToTolerance:
-        runs.push_back({method, 0});
-        for (int budget : given_budgets[method]) runs.push_back({method, budget});
-        break;
-      case BudgetKind::OneSolve: runs.push_back({method, 1}); break;
-      case BudgetKind::Iterations:
-        for (int budget : budgets[method]) runs.push_back({method, budget});
-        break;
-    }
-  }
   CompareStudy study;
   study.scenes = scenes;
   study.methods = methods;
-  study.runs = runs;
+  study.runs = compare_runs(methods, default_budgets, given_budgets);
   study.settings = flags.settings;
   study.learning_rates = lr_candidates;
   study.out = flags.out;

@@ -7,13 +7,13 @@
 #include "app/commands.hpp"
 #include "app/optimizer_flags.hpp"
 #include "app/threads.hpp"
-#include "io/csv_table.hpp"
-#include "io/hdf5_file.hpp"
-#include "io/rollout_file.hpp"
-#include "metrics/step_error.hpp"
-#include "metrics/trajectory_error.hpp"
-#include "util/error.hpp"
-#include "util/output_path.hpp"
+#include <fnopt/io/csv_table.hpp>
+#include <fnopt/io/hdf5_file.hpp>
+#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/metrics/step_error.hpp>
+#include <fnopt/metrics/trajectory_error.hpp>
+#include <fnopt/util/error.hpp>
+#include <fnopt/util/output_path.hpp>
 
 namespace fnopt::app {
 namespace {
@@ -103,7 +103,7 @@ void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
   if (!divergence.empty())
     std::printf("diverged:  %s; the errors and the strain below cover the frames before it\n", divergence.c_str());
   std::printf("matched:   %s\n", c.describe_matching().c_str());
-  if (c.matches.empty()) throw Error("evaluate: the two trajectories have no frames at matching times");
+  if (c.matches.empty()) throw Error("evaluate", "the two trajectories have no frames at matching times");
   if (options.chamfer_enabled)
     std::printf("e_CD x 10^3 = %.4f   (mean over %zu frames; %d points per mesh sampled by area, seed %llu)\n",
                 1e3 * c.chamfer, c.matches.size(), flags.chamfer.samples,

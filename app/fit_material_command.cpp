@@ -7,14 +7,14 @@
 #include <cstdio>
 
 #include "app/commands.hpp"
-#include "util/flag_names.hpp"
+#include <fnopt/util/flag_names.hpp>
 #include "app/scene_flags.hpp"
 #include "app/threads.hpp"
-#include "studies/material_fit.hpp"
-#include "util/error.hpp"
-#include "util/output_path.hpp"
-#include "util/parse_text.hpp"
-#include "util/progress_bar.hpp"
+#include <fnopt/studies/material_fit.hpp>
+#include <fnopt/util/error.hpp>
+#include <fnopt/util/output_path.hpp>
+#include <fnopt/util/parse_text.hpp>
+#include <fnopt/util/progress_bar.hpp>
 
 namespace fnopt::app {
 namespace {

@@ -11,9 +11,10 @@
 #include <string>
 
 #include "app/commands.hpp"
-#include "parallel/communicator.hpp"
-#include "util/error.hpp"
-#include "util/retained_heap.hpp"
+#include <fnopt/parallel/communicator.hpp>
+#include <fnopt/util/error.hpp>
+#include <fnopt/util/retained_heap.hpp>
+#include <fnopt/version.hpp>
 
 namespace {
 

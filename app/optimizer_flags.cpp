@@ -1,6 +1,6 @@
 #include "app/optimizer_flags.hpp"
 
-#include "util/parse_text.hpp"
+#include <fnopt/util/parse_text.hpp>
 
 namespace fnopt::app {
 

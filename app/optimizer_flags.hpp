@@ -3,7 +3,7 @@
 // the per-method settings, shared by simulate, evaluate, compare and stability.
 #include <CLI/CLI.hpp>
 
-#include "methods/registry.hpp"
+#include <fnopt/methods/registry.hpp>
 
 namespace fnopt::app {
 

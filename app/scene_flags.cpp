@@ -1,7 +1,6 @@
 #include "app/scene_flags.hpp"
 
-#include "util/error.hpp"
-#include "util/parse_text.hpp"
+#include <fnopt/scenes/scene_settings.hpp>
 
 namespace fnopt::app {
 namespace {
@@ -11,7 +10,7 @@ struct FlagSpec {
   const char* help;
 };
 
-// Applied in this order: the grid, the material preset, its overrides, then everything else.
+// In the order of --help; they apply in apply_scene_settings's order (scenes/scene_settings.hpp).
 const FlagSpec kFlags[] = {
     {"res", "grid resolution N (N x N vertices)"},
     {"rows", "grid rows R (non-square grids)"},
@@ -61,20 +60,13 @@ void SceneFlags::add_to(CLI::App& command, bool with_resolution) {
 }
 
 Scene SceneFlags::scene() const {
-  Scene scene = scene_file_.empty() ? Scene{} : load_scene_file(scene_file_);
-  for (const FlagSpec& flag : kFlags) {
-    const auto option = options_.find(flag.key);
-    if (option == options_.end() || option->second->count() == 0) continue;
-    const std::string& value = values_.at(flag.key);
-    // In a scene file an empty list clears an earlier one; on the command line it is a mistake.
-    require(!trim(value).empty(), flag.key, "is empty: give a value or leave the flag out");
-    apply_scene_setting(scene, flag.key, value);
-  }
-  if (repulsion_flag_ && repulsion_flag_->count() > 0) apply_scene_setting(scene, "repulsion", "true");
-  if (no_repulsion_flag_ && no_repulsion_flag_->count() > 0) apply_scene_setting(scene, "repulsion", "false");
-  resolve_repulsion(scene);
-  scene.validate();
-  return scene;
+  const Scene base = scene_file_.empty() ? Scene{} : load_scene_file(scene_file_);
+  std::map<std::string, std::string> settings;
+  for (const auto& [key, option] : options_)
+    if (option->count() > 0) settings[key] = values_.at(key);
+  if (repulsion_flag_ && repulsion_flag_->count() > 0) settings["repulsion"] = "true";
+  if (no_repulsion_flag_ && no_repulsion_flag_->count() > 0) settings["repulsion"] = "false";
+  return apply_scene_settings(base, settings);
 }
 
 }  // namespace fnopt::app

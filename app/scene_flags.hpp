@@ -5,7 +5,7 @@
 #include <map>
 #include <string>
 
-#include "scenes/scene.hpp"
+#include <fnopt/scenes/scene.hpp>
 
 namespace fnopt::app {
 

@@ -7,12 +7,12 @@
 #include "app/optimizer_flags.hpp"
 #include "app/scene_flags.hpp"
 #include "app/threads.hpp"
-#include "cloth/grid_units.hpp"
-#include "io/obj_file.hpp"
-#include "io/rollout_file.hpp"
-#include "util/error.hpp"
-#include "util/output_path.hpp"
-#include "util/progress_bar.hpp"
+#include <fnopt/cloth/grid_units.hpp>
+#include <fnopt/io/obj_file.hpp>
+#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/util/error.hpp>
+#include <fnopt/util/output_path.hpp>
+#include <fnopt/util/progress_bar.hpp>
 
 namespace fnopt::app {
 namespace {
@@ -89,7 +89,7 @@ void run_simulate(const SimulateFlags& flags) {
               100 * rollout.max_strain(), steps ? static_cast<double>(rollout.total_iterations()) / steps : 0.0,
               max_iterations, convergence.c_str(), rollout.diverged ? rollout.divergence.c_str() : "finite",
               flags.out.c_str());
-  if (rollout.diverged) throw Error("simulate: " + rollout.divergence);
+  if (rollout.diverged) throw Error("simulate", rollout.divergence);
 }
 
 const RegisterCommand kRegister([](CLI::App& app) {

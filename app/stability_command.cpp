@@ -8,11 +8,11 @@
 #include "app/optimizer_flags.hpp"
 #include "app/scene_flags.hpp"
 #include "app/threads.hpp"
-#include "studies/stability_study.hpp"
-#include "util/command_line.hpp"
-#include "util/error.hpp"
-#include "util/output_path.hpp"
-#include "util/parse_text.hpp"
+#include <fnopt/studies/stability_study.hpp>
+#include <fnopt/util/command_line.hpp>
+#include <fnopt/util/error.hpp>
+#include <fnopt/util/output_path.hpp>
+#include <fnopt/util/parse_text.hpp>
 
 namespace fnopt::app {
 namespace {

@@ -1,15 +1,12 @@
 #pragma once
 #include <CLI/CLI.hpp>
 
+#include <fnopt/methods/thread_count.hpp>  // set_thread_count
+
 namespace fnopt::app {
 
 // --threads, the same for every subcommand: a count from 1 to 4 per core (more only
-// oversubscribes); `threads` keeps 0 (the default, see set_thread_count) unless it is given.
+// oversubscribes); `threads` keeps 0 (the default of fnopt::set_thread_count) unless it is given.
 CLI::Option* add_threads_flag(CLI::App& command, int& threads);
-
-// Sets the OpenMP and LibTorch thread counts and returns the count in effect, to be printed
-// with every timing. 0 means the default, the same for every subcommand: OMP_NUM_THREADS when
-// it is set to a positive count, else 1.
-int set_thread_count(int threads);
 
 }  // namespace fnopt::app

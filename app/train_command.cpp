@@ -14,18 +14,18 @@
 #include <sstream>
 
 #include "app/commands.hpp"
-#include "util/flag_names.hpp"
+#include <fnopt/util/flag_names.hpp>
 #include "app/threads.hpp"
-#include "parallel/communicator.hpp"
-#include "fno/fno_io.hpp"
-#include "optimizer/learned/learned_update.hpp"
-#include "training/meta_trainer.hpp"
-#include "training/rollout_validation.hpp"
-#include "util/atomic_file.hpp"
-#include "util/error.hpp"
-#include "util/output_path.hpp"
-#include "util/parse_text.hpp"
-#include "util/progress_bar.hpp"
+#include <fnopt/parallel/communicator.hpp>
+#include <fnopt/fno/fno_io.hpp>
+#include <fnopt/learned/learned_update.hpp>
+#include <fnopt/training/meta_trainer.hpp>
+#include <fnopt/training/rollout_validation.hpp>
+#include <fnopt/util/atomic_file.hpp>
+#include <fnopt/util/error.hpp>
+#include <fnopt/util/output_path.hpp>
+#include <fnopt/util/parse_text.hpp>
+#include <fnopt/util/progress_bar.hpp>
 
 namespace fnopt::app {
 namespace {

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "app/commands.hpp"
-#include "viewer/viewer_server.hpp"
+#include <fnopt/viewer/viewer_server.hpp>
 
 namespace fnopt::app {
 namespace {

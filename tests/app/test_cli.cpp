@@ -4,7 +4,7 @@
 
 #include <filesystem>
 
-#include "io/rollout_file.hpp"
+#include <fnopt/io/rollout_file.hpp>
 #include "tests/app/run_fnopt.hpp"
 #include "tests/boundary/temp_dir.hpp"
 

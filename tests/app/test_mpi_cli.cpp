@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "tests/app/run_fnopt.hpp"
-#include "util/parse_text.hpp"
+#include <fnopt/util/parse_text.hpp>
 
 namespace {
 

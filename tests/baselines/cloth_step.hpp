@@ -3,8 +3,8 @@
 // top corners held and moving.
 #include <vector>
 
-#include "cloth/backward_euler.hpp"
-#include "optimizer/step_problem.hpp"
+#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/optimizer/step_problem.hpp>
 
 namespace fnopt {
 

@@ -9,11 +9,11 @@
 #include <limits>
 #include <random>
 
-#include "baselines/adam.hpp"
-#include "baselines/gradient_descent.hpp"
-#include "baselines/lbfgs.hpp"
-#include "baselines/newton.hpp"
-#include "cloth/backward_euler.hpp"
+#include <fnopt/baselines/adam.hpp>
+#include <fnopt/baselines/gradient_descent.hpp>
+#include <fnopt/baselines/lbfgs.hpp>
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/cloth/backward_euler.hpp>
 #include "tests/baselines/cloth_step.hpp"
 
 namespace fnopt {

@@ -5,8 +5,8 @@
 
 #include <Eigen/Dense>
 
-#include "baselines/implicit_euler.hpp"
-#include "optimizer/inner_optimizer.hpp"
+#include <fnopt/baselines/implicit_euler.hpp>
+#include <fnopt/optimizer/inner_optimizer.hpp>
 #include "tests/baselines/cloth_step.hpp"
 
 namespace fnopt {

@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "baselines/newton.hpp"
-#include "cloth/backward_euler.hpp"
-#include "optimizer/inner_optimizer.hpp"
-#include "optimizer/sparse_cholesky.hpp"
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/optimizer/inner_optimizer.hpp>
+#include <fnopt/optimizer/sparse_cholesky.hpp>
 
 namespace fnopt {
 namespace {

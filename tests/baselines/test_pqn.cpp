@@ -9,11 +9,11 @@
 #include <random>
 #include <string>
 
-#include "baselines/newton.hpp"
-#include "baselines/pqn.hpp"
-#include "optimizer/inner_optimizer.hpp"
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/baselines/pqn.hpp>
+#include <fnopt/optimizer/inner_optimizer.hpp>
 #include "tests/baselines/cloth_step.hpp"
-#include "util/error.hpp"
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

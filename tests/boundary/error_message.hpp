@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "util/error.hpp"
+#include <fnopt/util/error.hpp>
 
 namespace fnopt::testing {
 

@@ -1,4 +1,4 @@
-#include "boundary/handles.hpp"
+#include <fnopt/boundary/handles.hpp>
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "boundary/trajectory.hpp"
+#include <fnopt/boundary/trajectory.hpp>
 #include "tests/boundary/error_message.hpp"
 
 namespace fnopt {

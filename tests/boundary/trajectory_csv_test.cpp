@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "boundary/trajectory.hpp"
+#include <fnopt/boundary/trajectory.hpp>
 #include "tests/boundary/error_message.hpp"
 #include "tests/boundary/temp_dir.hpp"
 

@@ -5,11 +5,11 @@
 #include <Eigen/Eigenvalues>
 #include <random>
 
-#include "cloth/backward_euler.hpp"
-#include "cloth/cloth_terms.hpp"
-#include "cloth/grid_units.hpp"
-#include "cloth/lumped_mass.hpp"
-#include "util/error.hpp"
+#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/cloth/cloth_terms.hpp>
+#include <fnopt/cloth/grid_units.hpp>
+#include <fnopt/cloth/lumped_mass.hpp>
+#include <fnopt/util/error.hpp>
 #include "tests/util/finite_difference.hpp"
 
 namespace fnopt {

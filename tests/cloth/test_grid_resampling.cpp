@@ -5,8 +5,8 @@
 
 #include <random>
 
-#include "cloth/grid_resampling.hpp"
-#include "util/error.hpp"
+#include <fnopt/cloth/grid_resampling.hpp>
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

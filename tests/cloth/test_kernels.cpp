@@ -5,8 +5,8 @@
 #include <Eigen/Geometry>
 #include <random>
 
-#include "cloth/angle_kernel.hpp"
-#include "cloth/stretch_kernel.hpp"
+#include <fnopt/cloth/angle_kernel.hpp>
+#include <fnopt/cloth/stretch_kernel.hpp>
 #include "tests/util/finite_difference.hpp"
 
 namespace fnopt {

@@ -9,13 +9,13 @@
 #include <random>
 #include <set>
 
-#include "baselines/newton.hpp"
-#include "cloth/backward_euler.hpp"
-#include "cloth/cloth_terms.hpp"
-#include "cloth/hessian_assembly.hpp"
-#include "cloth/repulsion_term.hpp"
-#include "cloth/spatial_hash.hpp"
-#include "metrics/self_contact.hpp"
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/cloth/cloth_terms.hpp>
+#include <fnopt/cloth/hessian_assembly.hpp>
+#include <fnopt/cloth/repulsion_term.hpp>
+#include <fnopt/cloth/spatial_hash.hpp>
+#include <fnopt/metrics/self_contact.hpp>
 #include "tests/util/finite_difference.hpp"
 
 namespace fnopt {

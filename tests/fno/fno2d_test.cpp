@@ -5,10 +5,10 @@
 
 #include <string>
 
-#include "fno/fno2d.hpp"
-#include "fno/pointwise_linear.hpp"
+#include <fnopt/fno/fno2d.hpp>
+#include <fnopt/fno/pointwise_linear.hpp>
 #include "naive_spectral_conv.hpp"
-#include "util/error.hpp"
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

@@ -8,8 +8,8 @@
 #include <fstream>
 #include <string>
 
-#include "fno/fno_io.hpp"
-#include "util/error.hpp"
+#include <fnopt/fno/fno_io.hpp>
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

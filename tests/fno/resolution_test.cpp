@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "fno/fno2d.hpp"
-#include "fno/spectral_conv2d.hpp"
+#include <fnopt/fno/fno2d.hpp>
+#include <fnopt/fno/spectral_conv2d.hpp>
 #include "naive_spectral_conv.hpp"
 
 namespace fnopt {

@@ -5,9 +5,9 @@
 #include <tuple>
 #include <vector>
 
-#include "fno/spectral_conv2d.hpp"
+#include <fnopt/fno/spectral_conv2d.hpp>
 #include "naive_spectral_conv.hpp"
-#include "util/error.hpp"
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

@@ -6,7 +6,7 @@
 #include <thread>
 #include <vector>
 
-#include "fno/spectral_conv2d.hpp"
+#include <fnopt/fno/spectral_conv2d.hpp>
 #include "naive_spectral_conv.hpp"
 
 namespace fnopt {

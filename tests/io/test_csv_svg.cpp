@@ -6,8 +6,8 @@
 #include <fstream>
 #include <random>
 
-#include "io/csv_table.hpp"
-#include "io/svg_plot.hpp"
+#include <fnopt/io/csv_table.hpp>
+#include <fnopt/io/svg_plot.hpp>
 
 namespace fnopt {
 namespace {

@@ -1,4 +1,4 @@
-#include "io/markdown_report.hpp"
+#include <fnopt/io/markdown_report.hpp>
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "util/error.hpp"
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <fstream>
 
-#include "io/hdf5_file.hpp"
-#include "io/obj_file.hpp"
-#include "io/rollout_file.hpp"
-#include "util/error.hpp"
+#include <fnopt/io/hdf5_file.hpp>
+#include <fnopt/io/obj_file.hpp>
+#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

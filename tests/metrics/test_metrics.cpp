@@ -7,15 +7,15 @@
 #include <limits>
 #include <random>
 
-#include "baselines/gradient_descent.hpp"
-#include "baselines/newton.hpp"
-#include "cloth/grid.hpp"
-#include "metrics/chamfer.hpp"
-#include "metrics/frame_matching.hpp"
-#include "metrics/kd_tree.hpp"
-#include "metrics/step_error.hpp"
-#include "metrics/trajectory_error.hpp"
-#include "simulation/rollout.hpp"
+#include <fnopt/baselines/gradient_descent.hpp>
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/cloth/grid.hpp>
+#include <fnopt/metrics/chamfer.hpp>
+#include <fnopt/metrics/frame_matching.hpp>
+#include <fnopt/metrics/kd_tree.hpp>
+#include <fnopt/metrics/step_error.hpp>
+#include <fnopt/metrics/trajectory_error.hpp>
+#include <fnopt/simulation/rollout.hpp>
 
 namespace fnopt {
 namespace {

@@ -3,7 +3,7 @@
 // fails the run: its exit status is non-zero, and mpiexec returns it).
 #include <gtest/gtest.h>
 
-#include "parallel/communicator.hpp"
+#include <fnopt/parallel/communicator.hpp>
 
 int main(int argc, char** argv) {
   const fnopt::MpiSession mpi(argc, argv);

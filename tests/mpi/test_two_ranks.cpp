@@ -5,8 +5,8 @@
 
 #include <filesystem>
 
-#include "parallel/communicator.hpp"
-#include "training/meta_trainer.hpp"
+#include <fnopt/parallel/communicator.hpp>
+#include <fnopt/training/meta_trainer.hpp>
 
 namespace fnopt {
 namespace {

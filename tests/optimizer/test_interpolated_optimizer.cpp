@@ -5,11 +5,11 @@
 
 #include <cmath>
 
-#include "baselines/newton.hpp"
-#include "cloth/backward_euler.hpp"
-#include "optimizer/interpolated_optimizer.hpp"
-#include "simulation/rollout.hpp"
-#include "util/error.hpp"
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/optimizer/interpolated_optimizer.hpp>
+#include <fnopt/simulation/rollout.hpp>
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

@@ -5,8 +5,8 @@
 
 #include <random>
 
-#include "optimizer/secant_subspace.hpp"
-#include "util/error.hpp"
+#include <fnopt/optimizer/secant_subspace.hpp>
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <Eigen/Dense>
 
-#include "optimizer/steihaug_cg.hpp"
+#include <fnopt/optimizer/steihaug_cg.hpp>
 
 namespace fnopt {
 namespace {

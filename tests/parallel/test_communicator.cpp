@@ -3,8 +3,8 @@
 // tested under mpirun (tests/mpi).
 #include <gtest/gtest.h>
 
-#include "parallel/communicator.hpp"
-#include "util/error.hpp"
+#include <fnopt/parallel/communicator.hpp>
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

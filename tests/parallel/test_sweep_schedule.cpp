@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <random>
 
-#include "parallel/sweep_schedule.hpp"
-#include "util/error.hpp"
+#include <fnopt/parallel/sweep_schedule.hpp>
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

@@ -3,7 +3,7 @@
 
 #include <filesystem>
 
-#include "scenes/scene.hpp"
+#include <fnopt/scenes/scene.hpp>
 #include "tests/boundary/error_message.hpp"
 #include "tests/boundary/temp_dir.hpp"
 

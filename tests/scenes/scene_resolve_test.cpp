@@ -4,7 +4,7 @@
 #include <cmath>
 #include <map>
 
-#include "scenes/scene.hpp"
+#include <fnopt/scenes/scene.hpp>
 #include "tests/boundary/error_message.hpp"
 #include "tests/boundary/temp_dir.hpp"
 

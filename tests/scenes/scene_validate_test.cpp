@@ -4,7 +4,7 @@
 #include <functional>
 #include <limits>
 
-#include "scenes/scene.hpp"
+#include <fnopt/scenes/scene.hpp>
 #include "tests/boundary/error_message.hpp"
 
 namespace fnopt {

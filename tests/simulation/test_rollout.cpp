@@ -2,8 +2,8 @@
 // handles on their trajectory; a diverging optimizer is detected, stopped and reported.
 #include <gtest/gtest.h>
 
-#include "baselines/newton.hpp"
-#include "simulation/rollout.hpp"
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/simulation/rollout.hpp>
 
 namespace fnopt {
 namespace {

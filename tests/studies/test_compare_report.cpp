@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "studies/compare_report.hpp"
+#include <fnopt/studies/compare_report.hpp>
 
 namespace fnopt {
 namespace {

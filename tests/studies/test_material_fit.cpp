@@ -1,17 +1,17 @@
 // Fitting the material to reference rollouts: the fit recovers the coefficients an fnopt rollout
 // was made with, references of both kinds load into the scene that reproduces them, and the
 // material file it writes reads back.
-#include "studies/material_fit.hpp"
+#include <fnopt/studies/material_fit.hpp>
 
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <filesystem>
 
-#include "baselines/newton.hpp"
-#include "io/hdf5_file.hpp"
-#include "simulation/rollout.hpp"
-#include "util/error.hpp"
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/io/hdf5_file.hpp>
+#include <fnopt/simulation/rollout.hpp>
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

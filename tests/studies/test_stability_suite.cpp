@@ -7,11 +7,11 @@
 
 #include <stdexcept>
 
-#include "baselines/gradient_descent.hpp"
-#include "baselines/lbfgs.hpp"
-#include "baselines/newton.hpp"
-#include "studies/stability_suite.hpp"
-#include "util/error.hpp"
+#include <fnopt/baselines/gradient_descent.hpp>
+#include <fnopt/baselines/lbfgs.hpp>
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/studies/stability_suite.hpp>
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

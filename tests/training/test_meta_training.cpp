@@ -5,14 +5,14 @@
 #include <filesystem>
 #include <utility>
 
-#include "fno/fno_io.hpp"
-#include "optimizer/learned/grid_tensor.hpp"
-#include "optimizer/learned/learned_pqn.hpp"
-#include "optimizer/learned/learned_update.hpp"
-#include "training/energy_loss.hpp"
-#include "training/meta_trainer.hpp"
-#include "training/probe_loss.hpp"
-#include "util/error.hpp"
+#include <fnopt/fno/fno_io.hpp>
+#include <fnopt/learned/grid_tensor.hpp>
+#include <fnopt/learned/learned_pqn.hpp>
+#include <fnopt/learned/learned_update.hpp>
+#include <fnopt/training/energy_loss.hpp>
+#include <fnopt/training/meta_trainer.hpp>
+#include <fnopt/training/probe_loss.hpp>
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

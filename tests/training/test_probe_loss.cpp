@@ -7,9 +7,9 @@
 #include <Eigen/Dense>
 #include <random>
 
-#include "baselines/first_order.hpp"
-#include "baselines/newton.hpp"
-#include "training/probe_loss.hpp"
+#include <fnopt/baselines/first_order.hpp>
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/training/probe_loss.hpp>
 #include "tests/optimizer/learned/falling_cloth_step.hpp"
 
 namespace fnopt {

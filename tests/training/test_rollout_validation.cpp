@@ -6,12 +6,12 @@
 #include <cmath>
 #include <filesystem>
 
-#include "baselines/newton.hpp"
-#include "fno/fno_io.hpp"
-#include "io/rollout_file.hpp"
-#include "training/rollout_validation.hpp"
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/fno/fno_io.hpp>
+#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/training/rollout_validation.hpp>
 #include "tests/boundary/temp_dir.hpp"
-#include "util/error.hpp"
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

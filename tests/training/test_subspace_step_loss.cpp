@@ -5,8 +5,8 @@
 
 #include <random>
 
-#include "optimizer/learned/proposal_rule.hpp"
-#include "training/subspace_step_loss.hpp"
+#include <fnopt/learned/proposal_rule.hpp>
+#include <fnopt/training/subspace_step_loss.hpp>
 #include "tests/optimizer/learned/falling_cloth_step.hpp"
 
 namespace fnopt {

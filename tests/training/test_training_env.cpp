@@ -3,10 +3,10 @@
 // step scale stuck at its floor starts the next time step afresh.
 #include <gtest/gtest.h>
 
-#include "cloth/grid_units.hpp"
-#include "optimizer/learned/grid_tensor.hpp"
-#include "training/training_env.hpp"
-#include "util/error.hpp"
+#include <fnopt/cloth/grid_units.hpp>
+#include <fnopt/learned/grid_tensor.hpp>
+#include <fnopt/training/training_env.hpp>
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

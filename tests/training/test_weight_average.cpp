@@ -3,10 +3,10 @@
 // survives a checkpoint, and starts at the trained weights of a checkpoint saved without one.
 #include <gtest/gtest.h>
 
-#include "training/meta_trainer.hpp"
-#include "training/weight_average.hpp"
+#include <fnopt/training/meta_trainer.hpp>
+#include <fnopt/training/weight_average.hpp>
 #include "tests/boundary/temp_dir.hpp"
-#include "util/error.hpp"
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {

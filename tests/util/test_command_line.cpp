@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/util/shell.hpp"
-#include "util/command_line.hpp"
+#include <fnopt/util/command_line.hpp>
 
 namespace fnopt {
 namespace {

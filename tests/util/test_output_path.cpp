@@ -6,8 +6,8 @@
 #include <string>
 
 #include "tests/boundary/temp_dir.hpp"
-#include "util/error.hpp"
-#include "util/output_path.hpp"
+#include <fnopt/util/error.hpp>
+#include <fnopt/util/output_path.hpp>
 
 namespace fnopt {
 namespace {

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "util/parse_text.hpp"
+#include <fnopt/util/parse_text.hpp>
 
 namespace fnopt {
 namespace {

@@ -1,4 +1,4 @@
-#include "util/retained_heap.hpp"
+#include <fnopt/util/retained_heap.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "util/serial_openmp_scope.hpp"
+#include <fnopt/util/serial_openmp_scope.hpp>
 
 #include <gtest/gtest.h>
 

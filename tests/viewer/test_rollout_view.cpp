@@ -5,13 +5,13 @@
 
 #include <fstream>
 
-#include "cloth/grid.hpp"
-#include "cloth/strain.hpp"
-#include "io/hdf5_file.hpp"
+#include <fnopt/cloth/grid.hpp>
+#include <fnopt/cloth/strain.hpp>
+#include <fnopt/io/hdf5_file.hpp>
 #include "tests/boundary/temp_dir.hpp"
 #include "tests/viewer/viewer_fixture.hpp"
-#include "util/error.hpp"
-#include "viewer/rollout_view.hpp"
+#include <fnopt/util/error.hpp>
+#include <fnopt/viewer/rollout_view.hpp>
 
 namespace fnopt {
 namespace {

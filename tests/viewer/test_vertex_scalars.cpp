@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "cloth/grid.hpp"
-#include "viewer/vertex_scalars.hpp"
+#include <fnopt/cloth/grid.hpp>
+#include <fnopt/viewer/vertex_scalars.hpp>
 
 namespace fnopt {
 namespace {

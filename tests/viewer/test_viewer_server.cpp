@@ -6,11 +6,11 @@
 
 #include <filesystem>
 
-#include "io/csv_table.hpp"
-#include "io/hdf5_file.hpp"
+#include <fnopt/io/csv_table.hpp>
+#include <fnopt/io/hdf5_file.hpp>
 #include "tests/boundary/temp_dir.hpp"
 #include "tests/viewer/viewer_fixture.hpp"
-#include "util/error.hpp"
+#include <fnopt/util/error.hpp>
 // Last: httplib pulls in <resolv.h>, whose macro _res breaks Eigen's headers.
 #include <httplib.h>
 

@@ -14,10 +14,10 @@
 #include <thread>
 #include <vector>
 
-#include "baselines/pqn.hpp"
-#include "io/rollout_file.hpp"
-#include "simulation/rollout.hpp"
-#include "viewer/viewer_server.hpp"
+#include <fnopt/baselines/pqn.hpp>
+#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout.hpp>
+#include <fnopt/viewer/viewer_server.hpp>
 
 namespace fnopt::testing {
 

@@ -1,0 +1,191 @@
+// Measuring an optimizer, fnopt's or one written in Python, as `fnopt compare` measures it:
+// against a converged Newton rollout of the same scene (docs/design.md §8).
+#include <filesystem>
+#include <random>
+
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/io/csv_table.hpp>
+#include <fnopt/metrics/step_error.hpp>
+#include <fnopt/metrics/trajectory_error.hpp>
+#include <fnopt/studies/compare_study.hpp>
+#include <fnopt/util/error.hpp>
+#include <fnopt/util/output_path.hpp>
+
+#include "common.hpp"
+#include "method.hpp"
+#include "rollouts.hpp"
+#include "step_problem.hpp"
+
+namespace fnopt::python {
+namespace {
+
+// A Python callable fn(problem, a, iters) -> a as an inner optimizer: called once per time
+// step with the whole budget (it loops itself), the GIL held only during the call. Its answer's
+// handle entries are ignored (the prescription is kept).
+class CallableOptimizer final : public InnerOptimizer {
+ public:
+  CallableOptimizer(py::function function, int budget) : function_(std::move(function)), budget_(budget) {
+    name_ = py::str(py::getattr(function_, "__qualname__", py::str("callable"))).cast<std::string>();
+  }
+  std::string name() const override { return "python"; }
+  std::string settings() const override {
+    return "python " + name_ + ", " + std::to_string(budget_) + " iterations per step";
+  }
+  void begin_step(StepProblem&, const VecX&, double, const VecX&) override {}
+  std::optional<SolveStatus> iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) override {
+    {
+      py::gil_scoped_acquire gil;
+      const auto alive = std::make_shared<bool>(true);
+      const int rows = problem.grid().rows, cols = problem.grid().cols;
+      const py::object answer = function_(StepProblemView(problem, a, alive), grid_array(a, rows, cols), budget_);
+      *alive = false;
+      VecX next = grid_vector(answer, rows, cols, "optimizer result");
+      for (int v : problem.dirichlet().fixed_vertices()) next.segment<3>(3 * v) = a.segment<3>(3 * v);
+      a = next;
+    }
+    value = problem.value_gradient(a, gradient);
+    return SolveStatus::IterationBudget;  // the callable spent the budget
+  }
+
+ private:
+  py::function function_;
+  int budget_;
+  std::string name_;
+};
+
+// The method of evaluate_optimizer: a callable, or a name with the usual keywords.
+struct Method {
+  std::unique_ptr<InnerOptimizer> optimizer;
+  InnerSolveOptions solve;
+};
+
+Method method_of(const py::object& method, int iters, const py::object& model, const py::object& lr,
+                 bool gd_curvature_scaled) {
+  require(iters >= 1, "iters", "must be a positive iteration budget");
+  if (py::isinstance<py::function>(method) || (!py::isinstance<py::str>(method) && PyCallable_Check(method.ptr())))
+    return {std::make_unique<CallableOptimizer>(method, iters), InnerSolveOptions{iters, 0.0}};
+  const OptimizerChoice choice =
+      optimizer_choice(method.cast<std::string>(), iters, model, lr, gd_curvature_scaled);
+  return {choice.make(), choice.solve_options()};
+}
+
+py::dict evaluate_optimizer(const py::object& method, const Scene& scene, int iters, const py::object& reference,
+                            int samples, int cd_stride, int chamfer_samples, const py::object& model,
+                            const py::object& lr, bool gd_curvature_scaled) {
+  require(samples >= 1, "samples", "must be positive");
+  require(cd_stride >= 1, "cd_stride", "must be at least 1");
+  Method m = method_of(method, iters, model, lr, gd_curvature_scaled);
+  TrajectoryComparisonOptions compare;
+  compare.chamfer.samples = chamfer_samples;
+  compare.chamfer.validate();
+  compare.chamfer_stride = cd_stride;
+  TrajectoryFrames reference_frames;
+  if (reference.is_none()) {
+    NewtonOptimizer newton;
+    RolloutOptions options;
+    options.solve = NewtonOptimizer::reference_solve_options();
+    reference_frames = frames_of(run_python_rollout(scene, newton, options).result);
+  } else {
+    reference_frames = frames_from(reference);
+  }
+  RolloutOptions options;
+  options.solve = m.solve;
+  const PyRollout run = run_python_rollout(scene, *m.optimizer, options);
+  TrajectoryComparison c;
+  StepErrorSummary steps;
+  {
+    py::gil_scoped_release release;
+    c = compare_trajectories(reference_frames, frames_of(run.result), run.result.grid.spacing, compare);
+    StepErrorBench bench(scene, reference_frames, samples);
+    steps = bench.evaluate(*m.optimizer, m.solve);
+  }
+  py::dict row;
+  row["optimizer"] = run.settings;
+  row["iters"] = iters;
+  row["ms_per_frame"] = ms_per_frame(run.result);
+  row["e_cd"] = 1e3 * c.chamfer;
+  row["e_3d"] = 1e2 * c.e3d;
+  row["step_error_mean"] = steps.mean;
+  row["step_error_median"] = steps.median;
+  py::list per_step;
+  for (const StepErrorSample& s : steps.samples) per_step.append(s.error);
+  row["step_errors"] = per_step;
+  row["max_strain"] = run.result.max_strain();
+  row["frames"] = static_cast<int>(run.result.positions.size()) - 1;
+  row["diverged"] = run.result.diverged;
+  row["divergence"] = run.result.divergence;
+  return row;
+}
+
+// fnopt compare's study on the given scenes; its rows (compare.csv) as dicts of strings.
+py::list compare(const py::object& scenes, const std::vector<std::string>& optimizers, const std::vector<int>& iters,
+                 const py::object& out, const py::object& model, int step_samples, int cd_stride, int chamfer_samples,
+                 bool resume) {
+  CompareStudy study;
+  if (py::isinstance<Scene>(scenes)) {
+    study.scenes.push_back(scenes.cast<Scene>());
+  } else {
+    for (const py::handle scene : scenes) study.scenes.push_back(scene.cast<Scene>());
+  }
+  require(!study.scenes.empty(), "scenes", "give at least one scene");
+  require(!optimizers.empty(), "optimizers", "give at least one optimizer");
+  study.methods = optimizers;
+  if (!model.is_none()) study.settings.model = py::str(model).cast<std::string>();
+  for (const auto& name : optimizers) {  // fail on a bad name before any work
+    OptimizerChoice choice = study.settings;
+    choice.name = name;
+    choice.make();
+  }
+  study.runs = compare_runs(optimizers, iters);
+  require(step_samples >= 1, "step_samples", "must be positive");
+  require(cd_stride >= 1, "cd_stride", "must be at least 1");
+  study.step_samples = step_samples;
+  study.cd_stride = cd_stride;
+  study.chamfer.samples = chamfer_samples;
+  study.chamfer.validate();
+  study.resume = resume;
+  study.threads = thread_count();
+  if (out.is_none()) {
+    std::random_device entropy;
+    study.out = (std::filesystem::temp_directory_path() / ("fnopt_compare_" + std::to_string(entropy()))).string();
+  } else {
+    study.out = py::str(out).cast<std::string>();
+  }
+  require_writable_directory(study.out, "out");
+  study.command_line = "fnopt.compare (Python)";
+  {
+    py::gil_scoped_release release;
+    run_compare_study(study);
+  }
+  const CsvTable table = CsvTable::read((std::filesystem::path(study.out) / "compare.csv").string());
+  py::list rows;
+  for (const auto& values : table.rows()) {
+    py::dict row;
+    for (std::size_t k = 0; k < values.size(); ++k) row[py::str(table.columns()[k])] = values[k];
+    rows.append(row);
+  }
+  return rows;
+}
+
+}  // namespace
+
+void define_evaluation(py::module_& m) {
+  m.def("evaluate_optimizer", &evaluate_optimizer, py::arg("optimizer"), py::arg("scene"), py::arg("iters"),
+        py::arg("reference") = py::none(), py::arg("samples") = 16, py::arg("cd_stride") = 2,
+        py::arg("chamfer_samples") = 10000, py::arg("model") = py::none(), py::arg("lr") = py::none(),
+        py::arg("gd_curvature_scaled") = true,
+        R"(compare's row for one optimizer on one scene: ms_per_frame, e_cd (x 10^3) and e_3d (x 10^2)
+against a converged Newton rollout (run now, or `reference`: a Rollout or rollout file of it),
+step_error_mean/median over `samples` reference states, max_strain, frames, diverged.
+optimizer: a name (with model, lr, gd_curvature_scaled as in Simulator) or a Python callable
+fn(problem, a, iters) -> a, called once per time step with the StepProblem, the start a_0
+and the budget.)");
+  m.def("compare", &compare, py::arg("scenes"), py::arg("optimizers"), py::arg("iters") = std::vector<int>{10},
+        py::arg("out") = py::none(), py::arg("model") = py::none(), py::arg("step_samples") = 16,
+        py::arg("cd_stride") = 2, py::arg("chamfer_samples") = 10000, py::arg("resume") = false,
+        R"(`fnopt compare` on one Scene or a list of them: every optimizer at every budget in `iters`
+(Newton to its tolerance) against the Newton reference; writes compare.csv, compare.svg and
+report.md to `out` (default: a new temporary directory) and returns compare.csv's rows as dicts.)");
+}
+
+}  // namespace fnopt::python

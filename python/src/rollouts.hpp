@@ -1,0 +1,22 @@
+#pragma once
+// fnopt.Rollout, shared by the rollout functions and the evaluation of optimizers.
+#include <string>
+
+#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout.hpp>
+
+#include "common.hpp"
+
+namespace fnopt::python {
+
+struct PyRollout {
+  RolloutResult result;
+  std::string scene_text, settings;  // stored in its file
+};
+
+// The scene's frames with `optimizer`, the GIL released.
+PyRollout run_python_rollout(const Scene& scene, InnerOptimizer& optimizer, const RolloutOptions& options);
+// The frames of a Rollout or of a rollout file's path.
+TrajectoryFrames frames_from(const py::handle& source);
+
+}  // namespace fnopt::python

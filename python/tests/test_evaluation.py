@@ -1,0 +1,50 @@
+"""Optimizers written in Python, measured as fnopt compare measures fnopt's own."""
+import numpy as np
+import pytest
+
+import fnopt
+
+
+def test_gradient_descent_in_python_gives_the_built_in_gds_per_step_error():
+    scene = fnopt.Scene(res=8, frames=12)
+    reference = fnopt.run_rollout(scene, optimizer="newton")
+    lr = 0.5
+
+    def gradient_descent(problem, a, iters):
+        for _ in range(iters):
+            a = a - lr * (problem.inverse_metric * problem.gradient(a))
+        return a
+
+    mine = fnopt.evaluate_optimizer(gradient_descent, scene, iters=20, reference=reference, samples=4)
+    built_in = fnopt.evaluate_optimizer("gd", scene, iters=20, reference=reference, samples=4, lr=lr,
+                                        gd_curvature_scaled=False)
+    assert mine["step_error_mean"] == pytest.approx(built_in["step_error_mean"], rel=1e-9)
+    assert mine["e_cd"] == pytest.approx(built_in["e_cd"], rel=1e-9)
+    assert 0.0 < mine["step_error_mean"] < 1.0
+    assert mine["frames"] == 12 and not mine["diverged"]
+
+
+def test_a_newton_reference_is_zero_from_itself_and_pqn_is_close():
+    scene = fnopt.Scene(res=8, frames=10)
+    newton = fnopt.run_rollout(scene, optimizer="newton")
+    same = fnopt.compare_trajectories(newton, newton)
+    assert same["e_cd"] == 0.0 and same["e_3d"] == 0.0
+    row = fnopt.evaluate_optimizer("pqn", scene, iters=10, reference=newton, samples=4)
+    assert 0.0 < row["e_cd"] < 1.0
+    assert abs(row["step_error_mean"]) < 0.5
+
+
+def test_an_optimizer_that_raises_stops_the_evaluation_with_its_error():
+    def broken(problem, a, iters):
+        raise RuntimeError("my optimizer failed")
+
+    with pytest.raises(RuntimeError, match="my optimizer failed"):
+        fnopt.evaluate_optimizer(broken, fnopt.Scene(res=6, frames=2), iters=3)
+
+
+def test_compare_returns_its_rows(tmp_path):
+    rows = fnopt.compare(fnopt.Scene(res=8, frames=6), ["pqn", "newton"], iters=[5], out=str(tmp_path),
+                         step_samples=2)
+    assert [(r["method"], r["N"]) for r in rows] == [("pqn", "5"), ("newton", "converged")]
+    assert float(rows[0]["e_cd_x1e3"]) > 0.0
+    assert (tmp_path / "compare.csv").exists()

@@ -1,0 +1,128 @@
+"""fnopt.Simulator and run_rollout: the command line's rollouts, step by step and whole."""
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import fnopt
+
+
+def test_a_16x16_rollout_equals_the_command_lines_bit_for_bit(run_cli, tmp_path):
+    out = tmp_path / "cli.h5"
+    cli = run_cli("simulate", "--res", "16", "--frames", "20", "--optimizer", "pqn", "--iters", "10",
+                  "--threads", "1", "--out", str(out))
+    assert cli.returncode == 0, cli.stderr
+    expected = fnopt.read_rollout(str(out))
+    scene = fnopt.Scene(res=16, frames=20)
+    frames = fnopt.Simulator(scene, optimizer="pqn", iters=10).rollout(20)
+    assert frames.shape == (21, 16, 16, 3)
+    assert np.array_equal(frames, expected["positions"])
+    whole = fnopt.run_rollout(scene, optimizer="pqn", iters=10)
+    assert np.array_equal(whole.positions, expected["positions"])
+    assert np.array_equal(whole.times, expected["times"])
+    assert expected["scene"].text == scene.text
+
+
+def test_a_rollout_file_round_trips(tmp_path):
+    rollout = fnopt.run_rollout(fnopt.Scene(res=8, frames=5), optimizer="lbfgs", iters=5)
+    path = tmp_path / "r.h5"
+    rollout.write(str(path))
+    back = fnopt.read_rollout(str(path))
+    assert np.array_equal(back["positions"], rollout.positions)
+    assert back["optimizer"] == rollout.optimizer_settings
+    assert back["version"] == fnopt.__version__
+    assert rollout.steps["iterations"].shape == (5,)
+
+
+def test_stepping_with_the_trajectorys_handles_equals_the_rollout():
+    scene = fnopt.Scene(res=8, frames=6)
+    whole = fnopt.Simulator(scene).rollout(6)
+    sim = fnopt.Simulator(scene)
+    for t in range(1, 7):
+        handles = sim.trajectory_targets(t * scene.dt)
+        assert np.array_equal(sim.step(handles=handles), whole[t])
+    assert sim.steps_done == 6 and sim.time == pytest.approx(6 * scene.dt)
+    ij = sim.handle_vertices
+    assert np.allclose(sim.positions[ij[:, 0], ij[:, 1]], sim.trajectory_targets(sim.time), atol=1e-12)
+
+
+def test_closed_loop_handles_go_where_they_are_told():
+    scene = fnopt.Scene(res=8, motion="static")
+    sim = fnopt.Simulator(scene, optimizer="pqn", iters=10)
+    ij = sim.handle_vertices
+    for _ in range(5):
+        handles = sim.positions[ij[:, 0], ij[:, 1]] + np.array([0.0, 0.0, 0.01])  # lift 1 cm per step
+        x = sim.step(handles=handles)
+        assert np.allclose(x[ij[:, 0], ij[:, 1]], handles, atol=1e-12)
+    with pytest.raises(ValueError, match="handles"):
+        sim.step(handles=np.zeros((ij.shape[0] + 1, 3)))
+
+
+def test_gradient_agrees_with_central_differences_of_energy():
+    scene = fnopt.Scene(res=6, frames=2)
+    sim = fnopt.Simulator(scene)
+    sim.step()
+    problem = sim.problem()
+    rng = np.random.default_rng(7)
+    a = problem.start + rng.normal(scale=2.0, size=problem.start.shape) * problem.free_mask[..., None]
+    g = problem.gradient(a)
+    assert np.all(g[~problem.free_mask] == 0.0)
+    direction = rng.normal(size=a.shape) * problem.free_mask[..., None]
+    eps = 1e-4
+    fd = (problem.energy(a + eps * direction) - problem.energy(a - eps * direction)) / (2 * eps)
+    assert fd == pytest.approx(np.sum(g * direction), rel=1e-6)
+
+
+def test_hessian_agrees_with_differences_of_the_gradient():
+    sim = fnopt.Simulator(fnopt.Scene(res=5, frames=2))
+    problem = sim.problem()
+    a = problem.start
+    H = problem.hessian(a)
+    assert H.shape == (75, 75)
+    rng = np.random.default_rng(3)
+    direction = rng.normal(size=a.shape) * problem.free_mask[..., None]
+    eps = 1e-5
+    fd = (problem.gradient(a + eps * direction) - problem.gradient(a - eps * direction)) / (2 * eps)
+    assert np.allclose(H @ direction.ravel(), fd.ravel(), rtol=1e-5, atol=1e-9 * np.abs(fd).max())
+    # A Newton step with it solves the step: the answer Newton gives.
+    from scipy.sparse.linalg import spsolve
+    step = spsolve(H.tocsc(), -problem.gradient(a).ravel()).reshape(a.shape)
+    newton = a + step
+    for _ in range(10):
+        newton = newton + spsolve(problem.hessian(newton).tocsc(), -problem.gradient(newton).ravel()).reshape(a.shape)
+    assert problem.residual_acceleration(newton) < 1e-6
+
+
+def test_a_step_with_ones_own_acceleration_and_a_stale_problem():
+    sim = fnopt.Simulator(fnopt.Scene(res=6, frames=3))
+    problem = sim.problem()
+    a = problem.start
+    x = sim.step(acceleration=a)  # free fall for one step
+    assert x.shape == (6, 6, 3)
+    with pytest.raises(ValueError, match="problem: its time step is over"):
+        problem.energy(a)
+
+
+def test_another_python_thread_runs_while_a_rollout_does():
+    sim = fnopt.Simulator(fnopt.Scene(res=24, frames=40), optimizer="newton")
+    ticks = []
+    done = threading.Event()
+
+    def tick():
+        while not done.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.001)
+
+    thread = threading.Thread(target=tick)
+    thread.start()
+    time.sleep(0.01)
+    before = len(ticks)
+    start = time.perf_counter()
+    sim.rollout(40)
+    seconds = time.perf_counter() - start
+    during = len(ticks) - before
+    done.set()
+    thread.join()
+    assert seconds > 0.1
+    assert during > 10, f"{during} ticks in {seconds:.2f} s of rollout"

@@ -1,0 +1,121 @@
+#include <fnopt/baselines/newton.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <fnopt/util/error.hpp>
+#include <fnopt/util/serial_openmp_scope.hpp>
+
+namespace fnopt {
+
+void NewtonParams::validate() const {
+  require(initial_radius > 0.0, "newton.initial_radius", "must be positive");
+  require(accept_ratio >= 0.0 && accept_ratio < shrink_below, "newton.accept_ratio", "must lie in [0, shrink_below)");
+  require(shrink_below > 0.0 && shrink_below < grow_above, "newton.shrink_below", "must lie in (0, grow_above)");
+  require(grow_above < 1.0, "newton.grow_above", "must be less than 1");
+  require(shrink > 0.0 && shrink < 1.0, "newton.shrink", "must lie in (0, 1)");
+  require(max_trials > 0, "newton.max_trials", "must be positive");
+  require(forcing_cap > 0.0 && forcing_cap < 1.0, "newton.forcing_cap", "must lie in (0, 1)");
+  require(max_cg_iterations > 0, "newton.max_cg_iterations", "must be positive");
+  require(acceleration_tolerance > 0.0, "newton.acceleration_tolerance", "must be positive");
+  require(refactor_cg_iterations >= 0, "newton.refactor_cg_iterations", "must not be negative");
+}
+
+NewtonOptimizer::NewtonOptimizer(NewtonParams params) : params_(params) { params_.validate(); }
+
+std::string NewtonOptimizer::settings() const {
+  // Every parameter that can change the solution: the string is part of the key of compare's
+  // cached references.
+  std::ostringstream out;
+  out << "newton: trust-region initial_radius=" << params_.initial_radius << " accept_ratio=" << params_.accept_ratio
+      << " shrink_below=" << params_.shrink_below << " shrink=" << params_.shrink
+      << " grow_above=" << params_.grow_above << " max_trials=" << params_.max_trials
+      << " forcing_cap=" << params_.forcing_cap << " acceleration_tolerance=" << params_.acceleration_tolerance
+      << " max_cg_iterations=" << params_.max_cg_iterations
+      << " refactor_cg_iterations=" << params_.refactor_cg_iterations
+      << " reuse_factor_across_steps=" << params_.reuse_factor_across_steps;
+  return out.str();
+}
+
+bool NewtonOptimizer::factorize_preconditioner(StepProblem& problem, const VecX& a) {
+  BackwardEulerObjective& objective = problem.objective();
+  const Eigen::SparseMatrix<double>& projected = objective.hessian(a, problem.dirichlet().free_index(), true);
+  ++counters_.factorizations;
+  have_factor_ = factor_.factorize_matrix(projected, objective.hessian_pattern_id());
+  return have_factor_;
+}
+
+void NewtonOptimizer::begin_step(StepProblem&, const VecX&, double value, const VecX& gradient) {
+  start_value_ = value;
+  initial_gradient_norm_ = gradient.norm();
+  radius_ = 0.0;
+  if (!params_.reuse_factor_across_steps) have_factor_ = false;
+}
+
+std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& a, double& value,
+                                                    VecX& gradient) {
+  const DirichletSet& dirichlet = problem.dirichlet();
+  dirichlet.gather_free(gradient, rhs_);
+  const double gradient_norm = rhs_.norm();
+  const bool stale = !have_factor_ || factor_.rows() != rhs_.size() ||
+                     last_cg_iterations_ > params_.refactor_cg_iterations;
+  if (stale && !factorize_preconditioner(problem, a)) return SolveStatus::FactorizationFailed;
+  auto precondition = [&](VecX& r) { factor_.solve_in_place(r.data(), static_cast<int>(r.size()), 1); };
+  if (radius_ == 0.0) {  // the step's first iteration: the metric, the preconditioned gradient step's length
+    const BackwardEulerObjective& objective = problem.objective();
+    metric_.resize(rhs_.size());
+    for (int v = 0; v < dirichlet.vertex_count(); ++v)
+      if (const int f = dirichlet.free_index()[v]; f >= 0) metric_.segment<3>(3 * f).setConstant(objective.inertia_weight(v));
+    step_ = rhs_;
+    precondition(step_);
+    radius_ = params_.initial_radius * std::sqrt((step_.array().square() * metric_.array()).sum());
+    if (!(radius_ > 0.0)) return SolveStatus::PrecisionLimit;  // g = 0 to the last bit
+  }
+  const Eigen::SparseMatrix<double>& H = problem.objective().hessian(a, dirichlet.free_index(), false);
+  auto multiply = [&](const VecX& p, VecX& out) { out.noalias() = H * p; };
+  // The forcing term, but no finer than the stop needs (the residual acceleration scales with g).
+  const double needed = 0.1 * params_.acceleration_tolerance / problem.objective().residual_acceleration(gradient);
+  const double forcing =
+      std::min(params_.forcing_cap, std::max(gradient_norm / initial_gradient_norm_, needed));
+  // L sums terms larger than itself (inertia, gravity, elastic), so its rounding error is a few
+  // hundred ulps of |L| (10^4 stencils); below it a change of L says nothing.
+  const double rounding = 1e-12 * (std::abs(value) + std::abs(start_value_));
+  last_cg_iterations_ = 0;
+  for (int trial = 0; trial < params_.max_trials; ++trial) {
+    const SteihaugResult sub = steihaug_cg(rhs_, radius_, forcing, params_.max_cg_iterations, multiply,
+                                           precondition, metric_, step_, cg_);
+    counters_.cg_iterations += sub.iterations;
+    last_cg_iterations_ = std::max(last_cg_iterations_, sub.iterations);
+    if (sub.end == SteihaugEnd::NegativeCurvature) ++counters_.negative_curvature;
+    dirichlet.scatter_free(step_, full_step_);
+    trial_ = a + full_step_;
+    const double trial_value = problem.value_gradient(trial_, trial_gradient_);
+    const double predicted = -sub.model;
+    bool accept = false;
+    if (predicted <= rounding) {
+      // L cannot judge a step this small: take it if it lowers ||g|| and does not raise L beyond
+      // its rounding; otherwise this iterate is a stationary point to the precision of L.
+      accept = std::isfinite(trial_value) && trial_value <= value + rounding &&
+               trial_gradient_.norm() < gradient_norm;
+      if (!accept) return SolveStatus::PrecisionLimit;
+    } else {
+      const double ratio = std::isfinite(trial_value) ? (value - trial_value) / predicted : -INFINITY;
+      if (ratio < params_.shrink_below)
+        radius_ = params_.shrink * sub.step_norm;
+      else if (ratio > params_.grow_above && sub.on_boundary())
+        radius_ *= 2.0;
+      accept = ratio > params_.accept_ratio;
+    }
+    if (accept) {
+      a.swap(trial_);
+      gradient.swap(trial_gradient_);
+      value = trial_value;
+      return std::nullopt;
+    }
+    ++counters_.rejected_trials;
+  }
+  return SolveStatus::LineSearchFailed;
+}
+
+}  // namespace fnopt

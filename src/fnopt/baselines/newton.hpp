@@ -1,0 +1,98 @@
+#pragma once
+// The Newton reference solve (docs/design.md §6): it defines the exact backward-Euler step of the
+// energy, the ground truth of every error fnopt reports. A trust-region Newton method (Nocedal &
+// Wright 2006, Alg. 4.1) on the exact Hessian H, each subproblem solved by Steihaug–Toint CG
+// (optimizer/steihaug_cg.hpp) preconditioned by one positive-definite matrix,
+//   P = dt^2 M (1 + c dt) + dt^4 K+,   K+ the per-stencil PSD-projected elastic Hessian,
+// which is factorized rarely: its sparse Cholesky factor is kept across iterations and time steps
+// and rebuilt only when a subproblem needed more than refactor_cg_iterations products with H.
+// The trust region is measured in the mass metric W = dt^2 M (1 + c dt), ||d||_W = sqrt(d.W d):
+// P's own norm holds |negative curvature| of the compressed stencils and so made the region
+// tightest along the very buckling directions a step must take (docs/design.md §6).
+//
+// Why this shape: where the cloth is compressed H is indefinite. CG then meets a direction of
+// negative curvature only if the gradient has a component along it, and follows it to the
+// region's boundary, a descent at the rate the region allows (buckling); where it has none (a
+// symmetric, unbuckled saddle) CG never sees it and the iteration converges there quadratically,
+// the branch ARCSim's one linear solve takes (docs/design.md §6, "What the reference converges
+// to"). No Cholesky of an indefinite matrix is tried, and no shift damps the soft modes.
+//
+// The reference stops on the residual acceleration max_i |g_i| / (m_i dt^2) (m/s^2), which is
+// a - f(x)/m, the part of Newton's second law the step leaves unbalanced
+// (reference_solve_options()); its size against the errors it measures is in docs/results.md.
+#include <fnopt/optimizer/inner_optimizer.hpp>
+#include <fnopt/optimizer/sparse_cholesky.hpp>
+#include <fnopt/optimizer/steihaug_cg.hpp>
+
+namespace fnopt {
+
+struct NewtonParams {
+  // The trust region (Nocedal & Wright Alg. 4.1). Each time step starts with the radius
+  // initial_radius x ||P^-1 g_0||_W, the length of the preconditioned gradient step.
+  double initial_radius = 2.0;
+  double accept_ratio = 1e-4;  // eta: a trial is taken when actual / predicted decrease > eta
+  double shrink_below = 0.25;  // below this ratio the radius shrinks to shrink x ||d||_W
+  double shrink = 0.25;
+  double grow_above = 0.75;    // above it a step that reached the boundary doubles the radius
+  int max_trials = 40;         // rejected trials per iteration before line-search-failed
+  // CG per subproblem to the relative residual min(forcing_cap, ||g|| / ||g_0||) (inexact Newton,
+  // Eisenstat & Walker 1996: the forcing term shrinking like ||g|| keeps convergence quadratic).
+  double forcing_cap = 1e-2;
+  // The reference's stop, residual acceleration in m/s^2 (1e-5 g; 1e-3 gives the same rollouts:
+  // docs/results.md). Also the floor of the forcing term: CG is not asked to reduce the residual
+  // below a tenth of what the stop needs.
+  double acceleration_tolerance = 1e-4;
+  int max_cg_iterations = 200;
+  // P is refactorized at the current iterate when the last subproblem needed more products
+  // with H than this; otherwise its factor is kept, across time steps too when
+  // reuse_factor_across_steps (off: a factor per step, the same solve from the same state
+  // whatever came before, as meta-training's resumable pool needs).
+  int refactor_cg_iterations = 20;
+  bool reuse_factor_across_steps = true;
+
+  void validate() const;  // throws Error naming the parameter
+};
+
+// Work counters, for benchmarks.
+struct NewtonCounters {
+  long factorizations = 0;
+  long cg_iterations = 0;             // products with H
+  long negative_curvature = 0;        // subproblems that followed a negative-curvature direction
+  long rejected_trials = 0;           // trial steps the trust region turned down
+};
+
+class NewtonOptimizer final : public InnerOptimizer {
+ public:
+  explicit NewtonOptimizer(NewtonParams params = {});
+
+  // The reference: residual acceleration <= acceleration_tolerance at every free vertex. The
+  // benchmark's steps take at most 151 iterations (100^2 rot_h0); the stability suite's
+  // stretch x1000 needs more than 200 on two steps, hence the generous cap.
+  static InnerSolveOptions reference_solve_options() { return {1000, 0.0, NewtonParams{}.acceleration_tolerance}; }
+
+  std::string name() const override { return "newton"; }
+  std::string settings() const override;
+  void begin_step(StepProblem& problem, const VecX& a, double value, const VecX& gradient) override;
+  std::optional<SolveStatus> iterate(StepProblem& problem, VecX& a, double& value,
+                                     VecX& gradient) override;
+
+  const NewtonCounters& counters() const { return counters_; }
+
+ private:
+  // Factorizes P at a; false if CHOLMOD fails (P is positive definite by construction).
+  bool factorize_preconditioner(StepProblem& problem, const VecX& a);
+
+  NewtonParams params_;
+  SparseCholesky factor_;
+  bool have_factor_ = false;
+  int last_cg_iterations_ = 0;
+  NewtonCounters counters_;
+  double initial_gradient_norm_ = 0.0;
+  double start_value_ = 0.0;
+  double radius_ = 0.0;  // 0: set at the step's first iteration
+  SteihaugScratch cg_;
+  VecX metric_;  // the trust region's: the inertia weights dt^2 m (1 + c dt) of the free dofs
+  VecX rhs_, step_, full_step_, trial_, trial_gradient_;
+};
+
+}  // namespace fnopt

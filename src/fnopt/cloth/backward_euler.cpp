@@ -1,0 +1,123 @@
+#include <fnopt/cloth/backward_euler.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include <fnopt/cloth/cloth_terms.hpp>
+#include <fnopt/cloth/lumped_mass.hpp>
+#include <fnopt/cloth/repulsion_term.hpp>
+#include <fnopt/util/error.hpp>
+
+namespace fnopt {
+
+BackwardEulerObjective::BackwardEulerObjective(const Grid& grid, const Material& material, double dt,
+                                               const Vec3& gravity)
+    : grid_(grid),
+      material_(material),
+      dt_(dt),
+      damping_(material.damping),
+      gravity_(gravity),
+      masses_(lumped_masses(grid, material.density)),
+      terms_(make_cloth_terms(grid, material)),
+      x_trial_(grid.dof_count()),
+      grad_x_(grid.dof_count()) {
+  require(std::isfinite(dt) && dt > 0.0, "dt", "must be a positive time step in seconds");
+  material.validate();
+  for (const auto& term : terms_)
+    if (auto* r = dynamic_cast<RepulsionTerm*>(term.get())) repulsion_ = r;
+  begin_step(grid.rest_positions(), VecX::Zero(grid.dof_count()));
+}
+
+void BackwardEulerObjective::begin_step(const VecX& x, const VecX& v) {
+  x_start_ = x;
+  v_start_ = v;
+  x_inertial_ = x + dt_ * v;
+  if (repulsion_) repulsion_->begin_step(x_start_, x_inertial_);
+}
+
+double BackwardEulerObjective::value(const VecX& a) const {
+  trial_positions(a, x_trial_);
+  double total = 0.0;
+  for (Eigen::Index k = 0; k < masses_.size(); ++k) {
+    const auto ak = a.segment<3>(3 * k);
+    total += masses_[k] * dt_ * dt_ * (0.5 * ak.squaredNorm() - gravity_.dot(ak));
+    if (damping_ > 0.0)
+      total += damping_ * masses_[k] / (2.0 * dt_) *
+               (x_trial_.segment<3>(3 * k) - x_start_.segment<3>(3 * k)).squaredNorm();
+  }
+  for (const auto& term : terms_) total += term->energy(x_trial_);
+  return total;
+}
+
+double BackwardEulerObjective::value_gradient(const VecX& a, VecX& grad) const {
+  trial_positions(a, x_trial_);
+  grad_x_.setZero();
+  double total = 0.0;
+  for (const auto& term : terms_) total += term->accumulate_gradient(x_trial_, grad_x_);
+  const double dt2 = dt_ * dt_;
+  grad.resize(a.size());
+  for (Eigen::Index k = 0; k < masses_.size(); ++k) {
+    const auto ak = a.segment<3>(3 * k);
+    total += masses_[k] * dt2 * (0.5 * ak.squaredNorm() - gravity_.dot(ak));
+    Vec3 gk = dt2 * (masses_[k] * (ak - gravity_) + grad_x_.segment<3>(3 * k));
+    if (damping_ > 0.0) {
+      const Vec3 dx = x_trial_.segment<3>(3 * k) - x_start_.segment<3>(3 * k);
+      total += damping_ * masses_[k] / (2.0 * dt_) * dx.squaredNorm();
+      gk += dt2 * damping_ * masses_[k] / dt_ * dx;
+    }
+    grad.segment<3>(3 * k) = gk;
+  }
+  return total;
+}
+
+namespace {
+std::atomic<long> next_pattern_id{0};  // hessian_pattern_id() of the next pattern built
+}  // namespace
+
+const Eigen::SparseMatrix<double>& BackwardEulerObjective::hessian(const VecX& a,
+                                                                    const std::vector<int>& free_index,
+                                                                    bool project) {
+  const long generation = repulsion_ ? repulsion_->pattern_generation() : 0;
+  if (!assembly_ || free_index != hessian_free_index_ || generation != assembled_generation_) {
+    hessian_free_index_ = free_index;
+    assembled_generation_ = generation;
+    pattern_id_ = next_pattern_id.fetch_add(1) + 1;
+    assembly_ = std::make_unique<HessianAssembly>(free_index);
+    term_handles_.clear();
+    for (const auto& term : terms_) term_handles_.push_back(term->register_hessian(*assembly_));
+    assembly_->finalize();
+  }
+  trial_positions(a, x_trial_);
+  assembly_->set_zero();
+  for (std::size_t t = 0; t < terms_.size(); ++t)
+    if (term_handles_[t] >= 0) terms_[t]->accumulate_hessian(x_trial_, project, *assembly_, term_handles_[t]);
+  const double dt2 = dt_ * dt_;
+  assembly_->scale(dt2 * dt2);
+  for (Eigen::Index k = 0; k < masses_.size(); ++k)
+    assembly_->add_vertex_diagonal(static_cast<int>(k), inertia_weight(static_cast<int>(k)));
+  return assembly_->matrix();
+}
+
+double BackwardEulerObjective::residual_acceleration(const VecX& gradient) const {
+  double largest = 0.0;
+  for (Eigen::Index k = 0; k < masses_.size(); ++k)
+    largest = std::max(largest, gradient.segment<3>(3 * k).cwiseAbs().maxCoeff() / masses_[k]);
+  return largest / (dt_ * dt_);
+}
+
+double BackwardEulerObjective::potential(const VecX& x) const {
+  double total = 0.0;
+  for (const auto& term : terms_) total += term->energy(x);
+  for (Eigen::Index k = 0; k < masses_.size(); ++k) total -= masses_[k] * gravity_.dot(x.segment<3>(3 * k));
+  return total;
+}
+
+double BackwardEulerObjective::kinetic(const VecX& v) const {
+  double total = 0.0;
+  for (Eigen::Index k = 0; k < masses_.size(); ++k)
+    total += 0.5 * masses_[k] * v.segment<3>(3 * k).squaredNorm();
+  return total;
+}
+
+}  // namespace fnopt

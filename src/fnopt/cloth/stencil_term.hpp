@@ -1,0 +1,83 @@
+#pragma once
+// The one generic assembly of every per-stencil energy (ipc-toolkit style): a Kernel evaluates
+// energy, gradient and Hessian of one stencil on fixed-size Eigen types; StencilTerm gathers
+// each stencil's coordinates, evaluates all stencils in parallel (OpenMP) into per-stencil
+// buffers, and scatters serially (stencils share vertices, so a parallel scatter would race).
+// The buffers are allocated once; a StencilTerm is not safe to evaluate from two threads.
+#include <array>
+#include <string>
+#include <vector>
+
+#include <fnopt/cloth/energy_term.hpp>
+
+namespace fnopt {
+
+template <class Kernel>
+class StencilTerm final : public EnergyTerm {
+ public:
+  static constexpr int N = Kernel::kVertices;
+  // Below this many stencils a parallel region costs more than it saves.
+  static constexpr long kParallelThreshold = 2048;
+  using Stencil = std::array<int, N>;
+  using LocalVec = typename Kernel::Vec;
+  using LocalMat = typename Kernel::Mat;
+
+  StencilTerm(std::string name, Kernel kernel, std::vector<Stencil> stencils)
+      : name_(std::move(name)),
+        kernel_(kernel),
+        stencils_(std::move(stencils)),
+        gradients_(stencils_.size()),
+        hessians_(stencils_.size()) {}
+
+  const std::string& name() const override { return name_; }
+  const std::vector<Stencil>& stencils() const { return stencils_; }
+  const Kernel& kernel() const { return kernel_; }
+
+  double energy(const VecX& x) const override {
+    const long count = static_cast<long>(stencils_.size());
+    double total = 0.0;
+#pragma omp parallel for reduction(+ : total) schedule(static) if (count >= kParallelThreshold)
+    for (long s = 0; s < count; ++s) total += kernel_.energy(gather(x, stencils_[s]));
+    return total;
+  }
+
+  double accumulate_gradient(const VecX& x, VecX& grad) const override {
+    const long count = static_cast<long>(stencils_.size());
+    double total = 0.0;
+#pragma omp parallel for reduction(+ : total) schedule(static) if (count >= kParallelThreshold)
+    for (long s = 0; s < count; ++s)
+      total += kernel_.gradient(gather(x, stencils_[s]), gradients_[s]);
+    for (long s = 0; s < count; ++s)
+      for (int i = 0; i < N; ++i)
+        grad.segment<3>(3 * stencils_[s][i]) += gradients_[s].template segment<3>(3 * i);
+    return total;
+  }
+
+  int register_hessian(HessianAssembly& assembly) const override {
+    return assembly.add_stencils(stencils_.empty() ? nullptr : stencils_[0].data(),
+                                 stencils_.size(), N);
+  }
+
+  void accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly,
+                          int handle) const override {
+    const long count = static_cast<long>(stencils_.size());
+#pragma omp parallel for schedule(static) if (count >= kParallelThreshold)
+    for (long s = 0; s < count; ++s) kernel_.hessian(gather(x, stencils_[s]), hessians_[s], project);
+    for (long s = 0; s < count; ++s) assembly.scatter<N>(handle, s, hessians_[s]);
+  }
+
+ private:
+  static LocalVec gather(const VecX& x, const Stencil& stencil) {
+    LocalVec local;
+    for (int i = 0; i < N; ++i) local.template segment<3>(3 * i) = x.segment<3>(3 * stencil[i]);
+    return local;
+  }
+
+  std::string name_;
+  Kernel kernel_;
+  std::vector<Stencil> stencils_;
+  mutable std::vector<LocalVec> gradients_;
+  mutable std::vector<LocalMat> hessians_;
+};
+
+}  // namespace fnopt

@@ -1,0 +1,40 @@
+#pragma once
+// fnopt::core in one include (docs/api.md): scenes, the cloth's backward-Euler step, the
+// classical inner optimizers, rollouts step by step or whole, rollout files and the metrics.
+// The learned optimizers and the registry of optimizers by name are <fnopt/learned.hpp>.
+#include <fnopt/version.hpp>
+
+#include <fnopt/util/error.hpp>
+#include <fnopt/util/types.hpp>
+
+#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/cloth/grid.hpp>
+#include <fnopt/cloth/material.hpp>
+#include <fnopt/cloth/strain.hpp>
+
+#include <fnopt/boundary/dirichlet.hpp>
+#include <fnopt/boundary/handles.hpp>
+#include <fnopt/boundary/trajectory.hpp>
+
+#include <fnopt/scenes/scene.hpp>
+
+#include <fnopt/optimizer/inner_optimizer.hpp>
+#include <fnopt/optimizer/solve_status.hpp>
+#include <fnopt/optimizer/step_problem.hpp>
+
+#include <fnopt/baselines/adam.hpp>
+#include <fnopt/baselines/gradient_descent.hpp>
+#include <fnopt/baselines/implicit_euler.hpp>
+#include <fnopt/baselines/lbfgs.hpp>
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/baselines/pqn.hpp>
+
+#include <fnopt/simulation/newton_reference.hpp>
+#include <fnopt/simulation/rollout.hpp>
+#include <fnopt/simulation/simulator.hpp>
+
+#include <fnopt/io/rollout_file.hpp>
+
+#include <fnopt/metrics/chamfer.hpp>
+#include <fnopt/metrics/step_error.hpp>
+#include <fnopt/metrics/trajectory_error.hpp>

@@ -1,0 +1,130 @@
+#include <fnopt/io/rollout_file.hpp>
+
+#include <utility>
+#include <vector>
+
+#include <fnopt/io/hdf5_file.hpp>
+#include <fnopt/util/atomic_file.hpp>
+#include <fnopt/util/error.hpp>
+#include <fnopt/version.hpp>
+
+namespace fnopt {
+
+void write_rollout_file(const std::string& path, const RolloutResult& rollout, const std::string& scene_text,
+                        const std::string& optimizer_settings) {
+  write_atomically(path, [&](const std::string& temporary) {
+    Hdf5File file(temporary, Hdf5File::Mode::Create);
+    const Grid& g = rollout.grid;
+    const hsize_t T = rollout.positions.size(), R = g.rows, C = g.cols, H = rollout.handle_vertices.size();
+
+    std::vector<float> positions(T * R * C * 3);
+    for (hsize_t t = 0; t < T; ++t)
+      std::copy(rollout.positions[t].data(), rollout.positions[t].data() + R * C * 3, &positions[t * R * C * 3]);
+    file.write("positions", {T, R, C, 3}, positions.data());
+
+    std::vector<float> handles;
+    for (const auto& frame : rollout.handle_targets)
+      for (const Vec3& p : frame)
+        for (int c = 0; c < 3; ++c) handles.push_back(static_cast<float>(p[c]));
+    file.write("handle_positions", {T, H, 3}, handles.data());
+    file.write("handle_vertices", {H}, rollout.handle_vertices.data());
+
+    const Eigen::VectorXf rest = g.rest_positions().cast<float>();
+    file.write("rest_positions", {R, C, 3}, rest.data());
+    const auto faces = g.triangles();
+    file.write("faces", {static_cast<hsize_t>(faces.rows()), 3}, faces.data());
+    file.write("times_s", {T}, rollout.times.data());
+
+    // One entry per step that produced a kept frame (S = T - 1). A step that diverged kept no
+    // frame: it is described by the attributes diverged_step and divergence, not by NaNs here.
+    const hsize_t S = T - 1;
+    auto column = [&](auto member) {
+      std::vector<double> values;
+      for (hsize_t k = 0; k < S; ++k) values.push_back(rollout.steps[k].*member);
+      return values;
+    };
+    file.write("step_wall_ms", {S}, column(&StepRecord::wall_ms).data());
+    file.write("step_loss", {S}, column(&StepRecord::loss).data());
+    file.write("step_initial_loss", {S}, column(&StepRecord::initial_loss).data());
+    file.write("step_gradient_norm", {S}, column(&StepRecord::gradient_norm).data());
+    file.write("step_initial_gradient_norm", {S}, column(&StepRecord::initial_gradient_norm).data());
+    file.write("step_max_strain", {S}, column(&StepRecord::max_strain).data());
+    file.write("step_energy", {S}, column(&StepRecord::energy).data());
+    std::vector<int> iterations, status;
+    for (hsize_t k = 0; k < S; ++k) {
+      iterations.push_back(rollout.steps[k].iterations);
+      status.push_back(static_cast<int>(rollout.steps[k].status));
+    }
+    file.write("step_iterations", {S}, iterations.data());
+    file.write("step_status", {S}, status.data());
+    std::string legend;
+    for (int k = 0; k <= static_cast<int>(SolveStatus::PrecisionLimit); ++k)
+      legend += (k ? ", " : "") + std::to_string(k) + " " + to_string(static_cast<SolveStatus>(k));
+    file.set_attribute("legend", legend, "step_status");
+    for (const auto& [dataset, unit] : std::vector<std::pair<const char*, const char*>>{
+             {"positions", "m"},
+             {"handle_positions", "m"},
+             {"rest_positions", "m"},
+             {"times_s", "s"},
+             {"step_wall_ms", "ms"},
+             {"step_loss", "J (L(a) of the step's objective, relative to x^)"},
+             {"step_initial_loss", "J"},
+             {"step_gradient_norm", "J s^2/m (|dL/da| over the free dofs)"},
+             {"step_initial_gradient_norm", "J s^2/m"},
+             {"step_max_strain", "fraction (|e|/h - 1 of the longest edge)"},
+             {"step_energy", "J (kinetic + potential after the step)"}})
+      file.set_attribute("unit", std::string(unit), dataset);
+
+    file.set_attribute("rows", g.rows);
+    file.set_attribute("cols", g.cols);
+    file.set_attribute("dt", rollout.dt);
+    file.set_attribute("dt_unit", std::string("s"));
+    file.set_attribute("scene", scene_text);
+    file.set_attribute("optimizer", optimizer_settings);
+    file.set_attribute("fnopt_version", std::string(FNOPT_VERSION));
+    file.set_attribute("diverged", rollout.diverged ? 1 : 0);
+    file.set_attribute("diverged_step", rollout.diverged ? static_cast<int>(rollout.steps.size()) : 0);
+    file.set_attribute("divergence", rollout.divergence);
+  });
+}
+
+TrajectoryFrames read_trajectory_frames(const std::string& path) {
+  const Hdf5File file(path, Hdf5File::Mode::Read);
+  require(file.has("positions"), path, "no 'positions' dataset: not an fnopt rollout or ARCSim file");
+  require(file.has("times_s"), path, "no 'times_s' dataset: not an fnopt rollout or ARCSim file");
+  const auto dims = file.dims("positions");
+  require(dims.size() == 4 && dims[3] == 3 && dims[0] > 0, path, "'positions' must have shape [T, R, C, 3]");
+  TrajectoryFrames frames;
+  frames.rows = static_cast<int>(dims[1]);
+  frames.cols = static_cast<int>(dims[2]);
+  frames.times = file.read_doubles("times_s");
+  require(frames.times.size() == dims[0], path, "'times_s' and 'positions' disagree on the frame count");
+  const std::vector<float> all = file.read_floats("positions");
+  const std::size_t per_frame = dims[1] * dims[2] * 3;
+  for (std::size_t t = 0; t < dims[0]; ++t)
+    frames.positions.push_back(Eigen::Map<const Eigen::VectorXf>(&all[t * per_frame], per_frame));
+  return frames;
+}
+
+TrajectoryFrames frames_of(const RolloutResult& rollout) {
+  TrajectoryFrames frames;
+  frames.rows = rollout.grid.rows;
+  frames.cols = rollout.grid.cols;
+  frames.times = rollout.times;
+  frames.positions = rollout.positions;
+  return frames;
+}
+
+Scene read_rollout_scene(const std::string& path) {
+  const Hdf5File file(path, Hdf5File::Mode::Read);
+  require(file.has_attribute("scene"), path, "no 'scene' attribute: not an fnopt rollout");
+  return load_scene_text(file.string_attribute("scene"), path + " (scene attribute)");
+}
+
+RolloutProvenance read_rollout_provenance(const std::string& path) {
+  const Hdf5File file(path, Hdf5File::Mode::Read);
+  auto text = [&](const char* name) { return file.has_attribute(name) ? file.string_attribute(name) : std::string(); };
+  return {text("optimizer"), text("fnopt_version"), text("divergence")};
+}
+
+}  // namespace fnopt

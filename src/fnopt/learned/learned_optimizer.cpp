@@ -1,0 +1,65 @@
+#include <fnopt/learned/learned_optimizer.hpp>
+
+#include <fnopt/learned/grid_tensor.hpp>
+
+namespace fnopt {
+
+LearnedOptimizer::LearnedOptimizer(const std::string& model_path, LearnedParams params)
+    : LearnedOptimizer(load_learned_model(model_path), model_path, params) {}
+
+LearnedOptimizer::LearnedOptimizer(FNO2d model, std::string model_name, LearnedParams params)
+    : model_(std::move(model)), model_name_(std::move(model_name)), rule_(params) {
+  check_learned_model(model_->options, model_name_);
+  model_->eval();
+}
+
+std::string LearnedOptimizer::name() const {
+  const LearnedParams& p = rule_.params();
+  if (p.subspace > 0) return "fnopt-ss";
+  return p.line_search ? "fnopt-ls" : "fnopt";
+}
+
+std::string LearnedOptimizer::settings() const {
+  const auto& o = model_->options;
+  const LearnedParams& p = rule_.params();
+  return name() + ": model=" + model_name_ + " width=" + std::to_string(o.width()) + " layers=" +
+         std::to_string(o.fourier_layers()) + " modes=" + std::to_string(o.modes_x()) + "x" +
+         std::to_string(o.modes_y()) + (o.in_channels() == 9 ? " combined" : "") +
+         " safeguard=" + (p.safeguard ? "on" : "off") + " line_search=" + (p.line_search ? "on" : "off") +
+         (p.subspace > 0 ? " subspace=" + std::to_string(p.subspace) + (p.carry_subspace ? " carried" : "") : "");
+}
+
+void LearnedOptimizer::begin_step(StepProblem& problem, const VecX&, double, const VecX&) {
+  const Grid& grid = problem.grid();
+  if (mask_owner_ != &problem.dirichlet() || !mask_.defined() || mask_.size(2) != grid.rows ||
+      mask_.size(3) != grid.cols) {
+    mask_ = free_mask(problem.dirichlet(), grid);
+    mask_owner_ = &problem.dirichlet();
+    state_.scale = torch::Tensor();
+    rule_.pairs().clear();
+  }
+  state_.gradient = torch::Tensor();
+  state_.delta = torch::Tensor();
+  const LearnedParams& p = rule_.params();
+  if (!p.carry_subspace || !continues_previous_step(problem.objective())) rule_.pairs().clear();
+  if (p.subspace > 0) previous_start_ = problem.objective().start_positions();
+}
+
+bool LearnedOptimizer::continues_previous_step(const BackwardEulerObjective& objective) const {
+  const VecX& x = objective.start_positions();
+  if (previous_start_.size() != x.size()) return false;
+  // Backward Euler advanced the previous step's start by x_{t+1} = x_t + dt v_{t+1}.
+  const double mismatch = (x - objective.dt() * objective.start_velocities() - previous_start_).lpNorm<Eigen::Infinity>();
+  return mismatch <= kContinuationTolerance * (1.0 + x.lpNorm<Eigen::Infinity>());
+}
+
+std::optional<SolveStatus> LearnedOptimizer::iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
+  torch::NoGradGuard no_grad;
+  const torch::Tensor g =
+      to_model_layout(to_coordinate_samples(gradient, problem.grid()), samples_per_environment(model_->options));
+  const LearnedStep proposal = learned_step(model_, g, state_, mask_);
+  state_ = rule_.apply(problem, g, proposal, a, value, gradient);
+  return std::nullopt;
+}
+
+}  // namespace fnopt

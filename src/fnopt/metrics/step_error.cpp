@@ -1,0 +1,88 @@
+#include <fnopt/metrics/step_error.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/util/error.hpp>
+
+namespace fnopt {
+
+StepErrorBench::~StepErrorBench() = default;
+
+StepErrorBench::StepErrorBench(const Scene& scene, const TrajectoryFrames& reference, int samples) {
+  require(samples >= 1, "step-error samples", "must be positive");
+  const ResolvedScene setup = resolve(scene);
+  grid_ = setup.grid;
+  require(reference.rows == grid_.rows && reference.cols == grid_.cols, "step error",
+          "the reference trajectory's grid differs from the scene's");
+  dt_ = scene.dt;
+  const int frames = static_cast<int>(reference.positions.size());
+  require(frames >= 2, "step error", "the reference trajectory needs at least two frames");
+  for (int t = 0; t < frames; ++t)
+    require(std::abs(reference.times[t] - t * dt_) <= 1e-6 * dt_ * std::max(1, t), "step error",
+            "the reference must hold a frame every time step (an fnopt rollout of the same scene)");
+
+  objective_ = std::make_unique<BackwardEulerObjective>(grid_, scene.material, scene.dt, scene.gravity);
+  dirichlet_ = DirichletSet(grid_.vertex_count(), setup.handles.vertices);
+  problem_ = std::make_unique<StepProblem>(*objective_, dirichlet_);
+  const int handle_count = static_cast<int>(setup.handles.vertices.size());
+
+  // Steps 0 .. frames-2 start from a stored state; spread the samples evenly over them.
+  const int available = frames - 1;
+  samples = std::min(samples, available);
+  NewtonOptimizer newton;
+  for (int k = 0; k < samples; ++k) {
+    const int t = std::min(available - 1, static_cast<int>((k + 0.5) * available / samples));
+    if (!steps_.empty() && steps_.back() == t) continue;
+    State state;
+    state.x = reference.positions[t].cast<double>();
+    state.v = t > 0 ? VecX((state.x - reference.positions[t - 1].cast<double>()) / dt_)
+                    : VecX(VecX::Zero(grid_.dof_count()));
+    for (int h = 0; h < handle_count; ++h) state.targets.push_back(setup.trajectory->position(h, (t + 1) * dt_));
+    objective_->begin_step(state.x, state.v);
+    VecX a = VecX::Zero(grid_.dof_count());
+    dirichlet_.prescribe(a, state.x, state.v, state.targets, dt_);
+    state.newton_value = solve_step(newton, *problem_, a, NewtonOptimizer::reference_solve_options()).value;
+    steps_.push_back(t);
+    states_.push_back(std::move(state));
+  }
+}
+
+StepErrorSummary StepErrorBench::evaluate(InnerOptimizer& method, const InnerSolveOptions& options) {
+  StepErrorSummary summary;
+  std::vector<double> errors;
+  for (std::size_t k = 0; k < states_.size(); ++k) {
+    const State& state = states_[k];
+    objective_->begin_step(state.x, state.v);
+    VecX a = VecX::Zero(grid_.dof_count());
+    dirichlet_.prescribe(a, state.x, state.v, state.targets, dt_);
+    const InnerSolveResult result = solve_step(method, *problem_, a, options);
+    StepErrorSample sample;
+    sample.step = steps_[k];
+    sample.initial_value = result.initial_value;
+    sample.newton_value = state.newton_value;
+    sample.method_value = result.value;
+    sample.status = result.status;
+    const double gap = result.initial_value - state.newton_value;
+    sample.error = result.status == SolveStatus::NonFinite || !std::isfinite(result.value)
+                       ? std::numeric_limits<double>::infinity()
+                       : (result.value - state.newton_value) / gap;
+    summary.samples.push_back(sample);
+    errors.push_back(sample.error);
+  }
+  if (errors.empty()) {
+    summary.mean = summary.median = std::nan("");
+    return summary;
+  }
+  double sum = 0.0;
+  for (double e : errors) sum += e;
+  summary.mean = sum / errors.size();
+  std::sort(errors.begin(), errors.end());
+  const std::size_t n = errors.size();
+  summary.median = n % 2 ? errors[n / 2] : 0.5 * (errors[n / 2 - 1] + errors[n / 2]);
+  return summary;
+}
+
+}  // namespace fnopt

@@ -1,0 +1,82 @@
+#include <fnopt/scenes/scene.hpp>
+
+#include <fnopt/util/memory_limit.hpp>
+#include <fnopt/scenes/scene_checks.hpp>
+
+namespace fnopt {
+namespace {
+
+// An explicit vertex list beats the preset.
+HandleSet scene_handles(const Scene& scene, const Grid& grid) {
+  if (!scene.handle_vertices.empty()) return handle_vertices_from_list(grid, scene.handle_vertices);
+  return handle_preset(grid, scene.handles);
+}
+
+std::vector<Vec3> rest_positions_of(const Grid& grid, const HandleSet& handles) {
+  const VecX rest = grid.rest_positions();
+  std::vector<Vec3> positions;
+  for (int v : handles.vertices) positions.push_back(vertex(rest, v));
+  return positions;
+}
+
+}  // namespace
+
+void Scene::validate() const {
+  scene_checks::grid_extent("rows", rows);
+  scene_checks::grid_extent("cols", cols);
+  scene_checks::positive("size", size, "length in metres");
+  scene_checks::positive("dt", dt, "time step in seconds");
+  scene_checks::frame_count(frames);
+  scene_checks::fits_in_memory(rows, cols, frames, usable_memory_bytes());
+  scene_checks::positive("speed", speed, "factor");
+  scene_checks::gravity(gravity);
+  material.validate();
+  // Both names are checked even when an explicit list or a CSV overrides them: a typo in a
+  // field that happens to be unused is still a typo.
+  scene_checks::handle_preset_name(handles);
+  scene_checks::motion_name(motion);
+  const Grid grid = Grid::make(rows, cols, size);
+  scene_checks::grid_units(grid, material, dt, gravity);
+  const HandleSet handle_set = scene_handles(*this, grid);
+  // A named motion is cheap to build and checks itself against the handle count (rot_h1 needs
+  // two handles); a CSV is only opened by resolve().
+  if (trajectory.empty()) make_motion(motion, std::vector<Vec3>(handle_set.vertices.size()), speed);
+}
+
+bool repulsion_enabled(const Scene& scene) {
+  switch (scene.repulsion) {
+    case RepulsionMode::On: return true;
+    case RepulsionMode::Off: return false;
+    case RepulsionMode::Auto: break;
+  }
+  return scene.handle_vertices.empty() &&
+         (scene.handles == "corner-center" || scene.handles == "single-mid-edge");
+}
+
+std::string repulsion_mode_name(RepulsionMode mode) {
+  switch (mode) {
+    case RepulsionMode::On: return "true";
+    case RepulsionMode::Off: return "false";
+    case RepulsionMode::Auto: break;
+  }
+  return "auto";
+}
+
+void resolve_repulsion(Scene& scene) { scene.material.repulsion = repulsion_enabled(scene); }
+
+ResolvedScene resolve(const Scene& scene) {
+  scene.validate();
+  ResolvedScene setup{scene, Grid::make(scene.rows, scene.cols, scene.size), {}, nullptr};
+  setup.handles = scene_handles(scene, setup.grid);
+  const int handle_count = static_cast<int>(setup.handles.vertices.size());
+  setup.trajectory =
+      scene.trajectory.empty()
+          ? make_motion(scene.motion, rest_positions_of(setup.grid, setup.handles), scene.speed)
+          : load_trajectory_csv(scene.trajectory, handle_count, scene.speed);
+  require(setup.trajectory->handle_count() == handle_count, "trajectory",
+          "moves " + std::to_string(setup.trajectory->handle_count()) +
+              " handle(s), the scene has " + std::to_string(handle_count));
+  return setup;
+}
+
+}  // namespace fnopt

@@ -1,0 +1,93 @@
+#pragma once
+// A scene: everything a rollout needs except the optimizer (docs/design.md §7). Built from defaults,
+// a preset, a scene file and command-line flags, in that order; validated once, then resolved
+// into the grid, handles and trajectory it names.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fnopt/boundary/handles.hpp>
+#include <fnopt/boundary/trajectory.hpp>
+#include <fnopt/cloth/grid.hpp>
+#include <fnopt/cloth/material.hpp>
+#include <fnopt/util/types.hpp>
+
+namespace fnopt {
+
+// Self-repulsion: on, off, or decided by the handles (see repulsion_enabled).
+enum class RepulsionMode { Auto, On, Off };
+
+struct Scene {
+  int rows = 32;
+  int cols = 32;
+  double size = 1.0;                   // side of the longer edge [m]
+  std::string material_name = "default";
+  Material material;                   // resolved values (material_preset, then overrides)
+  std::string handles = "corner";      // preset name
+  std::string handle_vertices;         // explicit "i,j;..." list; overrides `handles` if set
+  std::string motion = "xy_v2";
+  std::string trajectory;              // CSV path; overrides `motion` if set
+  double speed = 1.0;                  // handle speed factor alpha
+  double dt = 1.0 / 60.0;              // [s]
+  int frames = 390;
+  Vec3 gravity{0.0, 0.0, -9.81};       // [m/s^2]
+  RepulsionMode repulsion = RepulsionMode::Auto;
+
+  // Checks every field; throws Error("<field>: <problem>") for the first bad one (rows < 3,
+  // size, dt, frames <= 0, speed <= 0, non-finite gravity, material.*, unknown handle preset or
+  // motion name, a handle-vertices entry that is malformed or off the grid, a rot_h1 motion with
+  // one handle). NaN fails every check. Does not open files: resolve() does.
+  void validate() const;
+};
+
+// Scene file: one "key = value" per line, blank lines ignored; '#' at the start of a line or
+// after a blank starts a comment (so "trajectory = motions.csv#xy_v2" keeps its '#'). Keys are
+// the `fnopt simulate` flag names: res (rows = cols = N), rows, cols, size, material, stretch,
+// shear, bend, density, damping, handles, handle-vertices, motion, trajectory, speed,
+// dt (a number or a fraction "1/60"), frames, gravity ("x,y,z"), repulsion (auto, true or
+// false; also 1/0, on/off), repulsion-stiffness (lambda [N/m]), repulsion-range (delta / h).
+// Settings apply in order on top of `base`, later ones winning: `material = NAME` resets all
+// material values to material_preset(NAME) and later stretch/shear/bend/density/damping lines
+// override single values; `handles` clears an earlier handle-vertices and `motion` an earlier
+// trajectory; an empty handle-vertices or trajectory clears it. A relative trajectory path, or
+// a material file next to the scene file, is taken relative to the scene file. Throws
+// Error("<path>:<line>: <key>: ...") for an unknown key, a malformed or out-of-range value
+// (the checks of Scene::validate that need no other field), and Error("scene", "...") for an
+// unreadable file.
+Scene load_scene_file(const std::string& path, Scene base = {});
+// The same format from memory (e.g. the scene a rollout file stores): `name` starts every error
+// message ("<name>:<line>: <key>: ..."); relative paths are taken as given.
+Scene load_scene_text(const std::string& text, const std::string& name, Scene base = {});
+// Applies one "key = value" setting (the same keys and checks as the file format, paths taken
+// as given). Throws Error("<key>: ...").
+void apply_scene_setting(Scene& scene, const std::string& key, const std::string& value);
+// The one rule for self-repulsion: On and Off as given; Auto is on exactly for the handle presets
+// whose cloth folds onto itself, `corner-center` and `single-mid-edge` (and off for an explicit
+// handle-vertices list).
+bool repulsion_enabled(const Scene& scene);
+// "auto", "true" or "false".
+std::string repulsion_mode_name(RepulsionMode mode);
+// Writes repulsion_enabled(scene) into scene.material.repulsion, which is what the objective
+// reads. apply_scene_setting (so scene files and flags) does this after every setting; code
+// that changes scene.repulsion, handles or handle_vertices directly calls it before a rollout.
+void resolve_repulsion(Scene& scene);
+
+// The scene as "key = value" lines, readable again by load_scene_file into an identical scene
+// (numbers are written exactly; trajectory and material-file paths are made absolute).
+std::string to_scene_text(const Scene& scene);
+
+// A scene resolved once, at the edge (a command, a study), into what a rollout needs: the grid,
+// the handle vertices and the trajectory, with the scene's physical settings beside them.
+// Cheap to copy: the trajectory (possibly read from a CSV) is shared and immutable.
+struct ResolvedScene {
+  Scene scene;
+  Grid grid;
+  HandleSet handles;
+  std::shared_ptr<const HandleTrajectory> trajectory;
+};
+// Validates first; an explicit handle-vertices list beats the handles preset, a trajectory CSV
+// beats the motion (whose rest positions are the handle vertices' in grid.rest_positions()).
+// Throws Error("trajectory", "...") for a CSV that cannot be replayed on this scene's handles.
+ResolvedScene resolve(const Scene& scene);
+
+}  // namespace fnopt

@@ -1,0 +1,138 @@
+#include <fnopt/simulation/simulator.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include <fnopt/cloth/strain.hpp>
+#include <fnopt/util/error.hpp>
+
+namespace fnopt {
+namespace {
+
+// A strain as on the console: "318 %".
+std::string percent_text(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.0f %%", 100.0 * fraction);
+  return text;
+}
+
+}  // namespace
+
+Simulator::Simulator(const ResolvedScene& scene, InnerOptimizer& optimizer, const RolloutOptions& options)
+    : scene_(scene),
+      optimizer_(&optimizer),
+      options_(options),
+      objective_(scene_.grid, scene_.scene.material, scene_.scene.dt, scene_.scene.gravity),
+      dirichlet_(scene_.grid.vertex_count(), scene_.handles.vertices),
+      problem_(objective_, dirichlet_),
+      x_(scene_.grid.rest_positions()),
+      v_(VecX::Zero(scene_.grid.dof_count())),
+      a_(VecX::Zero(scene_.grid.dof_count())) {}
+
+std::vector<Vec3> Simulator::trajectory_targets(double t) const {
+  const int count = static_cast<int>(scene_.handles.vertices.size());
+  std::vector<Vec3> targets(count);
+  for (int h = 0; h < count; ++h) targets[h] = scene_.trajectory->position(h, t);
+  return targets;
+}
+
+void Simulator::check_running() const {
+  if (diverged()) throw Error("simulation", "the rollout " + divergence_ + "; set a finite state to go on");
+}
+
+StepProblem& Simulator::prepare_step(VecX& start) {
+  return prepare_step(start, trajectory_targets(time_ + scene_.scene.dt));
+}
+
+StepProblem& Simulator::prepare_step(VecX& start, const std::vector<Vec3>& handle_positions) {
+  check_running();
+  require(handle_positions.size() == scene_.handles.vertices.size(), "handles",
+          "expected " + std::to_string(scene_.handles.vertices.size()) + " positions (one per handle vertex), got " +
+              std::to_string(handle_positions.size()));
+  for (const Vec3& p : handle_positions) require(p.allFinite(), "handles", "a handle position is not finite");
+  targets_ = handle_positions;
+  objective_.begin_step(x_, v_);
+  if (!options_.warm_start) a_.setZero();
+  dirichlet_.prescribe(a_, x_, v_, targets_, scene_.scene.dt);
+  start = a_;
+  return problem_;
+}
+
+StepRecord Simulator::step() { return step(trajectory_targets(time_ + scene_.scene.dt)); }
+
+StepRecord Simulator::step(const std::vector<Vec3>& handle_positions) {
+  VecX start;
+  prepare_step(start, handle_positions);
+  const auto begin = std::chrono::steady_clock::now();
+  const InnerSolveResult solve = solve_step(*optimizer_, problem_, a_, options_.solve);
+  const auto end = std::chrono::steady_clock::now();
+  return finish(a_, solve, std::chrono::duration<double, std::milli>(end - begin).count());
+}
+
+StepRecord Simulator::commit(const VecX& a) {
+  check_running();
+  require(a.size() == x_.size(), "acceleration",
+          "expected " + std::to_string(x_.size()) + " values (3 per vertex), got " + std::to_string(a.size()));
+  InnerSolveResult solve;
+  VecX gradient;
+  solve.initial_value = problem_.value_gradient(a_, gradient);  // at the prepared start
+  solve.initial_gradient_norm = gradient.norm();
+  // The handle dofs keep their prescription: a_ holds it since prepare_step.
+  VecX committed = a;
+  for (int k : dirichlet_.fixed_vertices()) committed.segment<3>(3 * k) = a_.segment<3>(3 * k);
+  a_ = committed;
+  solve.iterations = 0;
+  solve.status = committed.allFinite() ? SolveStatus::IterationBudget : SolveStatus::NonFinite;
+  solve.value = problem_.value_gradient(a_, gradient);
+  solve.gradient_norm = gradient.norm();
+  return finish(a_, solve, 0.0);
+}
+
+StepRecord Simulator::finish(const VecX& a, const InnerSolveResult& solve, double wall_ms) {
+  const double dt = scene_.scene.dt;
+  StepRecord record;
+  record.wall_ms = wall_ms;
+  record.status = solve.status;
+  record.iterations = solve.iterations;
+  record.initial_loss = solve.initial_value;
+  record.loss = solve.value;
+  record.initial_gradient_norm = solve.initial_gradient_norm;
+  record.gradient_norm = solve.gradient_norm;
+
+  VecX x = x_, v = v_;
+  if (solve.status != SolveStatus::NonFinite) {
+    v += dt * a;
+    x += dt * v;
+  }
+  const bool finite = solve.status != SolveStatus::NonFinite && x.allFinite();
+  record.max_strain = finite ? max_edge_strain(scene_.grid, x) : INFINITY;
+  record.energy = finite ? objective_.kinetic(v) + objective_.potential(x) : NAN;
+  const double t_next = (steps_ + 1) * dt;
+  if (!finite || record.max_strain > options_.divergence_strain) {
+    std::ostringstream why;
+    why << "diverged at step " << steps_ + 1 << " (t = " << t_next << " s): "
+        << (finite ? "edge strain " + percent_text(record.max_strain) + " above the limit " +
+                         percent_text(options_.divergence_strain)
+                   : std::string("non-finite state"));
+    divergence_ = why.str();
+    return record;
+  }
+  x_ = std::move(x);
+  v_ = std::move(v);
+  ++steps_;
+  time_ = t_next;
+  return record;
+}
+
+void Simulator::set_state(const VecX& positions, const VecX& velocities) {
+  require(positions.size() == x_.size() && velocities.size() == v_.size(), "state",
+          "expected " + std::to_string(x_.size()) + " positions and velocities (3 per vertex)");
+  require(positions.allFinite() && velocities.allFinite(), "state", "positions and velocities must be finite");
+  x_ = positions;
+  v_ = velocities;
+  divergence_.clear();
+}
+
+}  // namespace fnopt

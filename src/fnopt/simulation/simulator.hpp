@@ -1,0 +1,81 @@
+#pragma once
+// A rollout one step at a time (docs/api.md): the state (x, v) of a resolved scene, advanced by
+// backward-Euler steps solved by an inner optimizer. The handles follow the scene's trajectory
+// or, for closed-loop control, positions given per step. run_rollout (rollout.hpp) is this loop
+// over the scene's frames; a Simulator driven by step() reproduces it bit for bit.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fnopt/boundary/dirichlet.hpp>
+#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/optimizer/inner_optimizer.hpp>
+#include <fnopt/optimizer/step_problem.hpp>
+#include <fnopt/scenes/scene.hpp>
+#include <fnopt/simulation/rollout.hpp>
+
+namespace fnopt {
+
+class Simulator {
+ public:
+  // Starts at rest (x = the grid's rest positions, v = 0, t = 0). `optimizer` is used by step()
+  // and must outlive the simulator.
+  Simulator(const ResolvedScene& scene, InnerOptimizer& optimizer, const RolloutOptions& options = {});
+  Simulator(const Simulator&) = delete;  // its StepProblem points into it
+  Simulator& operator=(const Simulator&) = delete;
+
+  // One time step with the handles at the scene's trajectory at t + dt.
+  StepRecord step();
+  // One time step with the handles at `handle_positions` (one per handle vertex, in the order of
+  // handle_vertices()) at t + dt. Throws Error("handles", "...") for a wrong count or a
+  // non-finite position.
+  StepRecord step(const std::vector<Vec3>& handle_positions);
+
+  // The next step's problem, for an optimizer of one's own: the objective at the current state
+  // with the handles prescribed at `handle_positions` (default: the trajectory's at t + dt), and
+  // the start a_0 (0 on the free dofs, the prescribed handle accelerations). Valid until the next
+  // call that moves the state.
+  StepProblem& prepare_step(VecX& start);
+  StepProblem& prepare_step(VecX& start, const std::vector<Vec3>& handle_positions);
+  // Ends the step prepared last with the acceleration `a` (its handle dofs are taken from the
+  // prescription): v += dt a, x += dt v. Returns the step's record (no solve: iterations 0).
+  StepRecord commit(const VecX& a);
+
+  // The handles' positions the scene's trajectory prescribes at time t.
+  std::vector<Vec3> trajectory_targets(double t) const;
+
+  const VecX& positions() const { return x_; }
+  const VecX& velocities() const { return v_; }
+  // Positions and velocities; throws Error("state", "...") for wrong sizes or non-finite values.
+  void set_state(const VecX& positions, const VecX& velocities);
+  double time() const { return time_; }
+  int steps_done() const { return steps_; }
+  // Whether a step ended non-finite or past the divergence strain (and why); the state is then
+  // the last one before it, and step() throws Error("simulation", "...").
+  bool diverged() const { return !divergence_.empty(); }
+  const std::string& divergence() const { return divergence_; }
+
+  const ResolvedScene& scene() const { return scene_; }
+  const Grid& grid() const { return scene_.grid; }
+  const std::vector<int>& handle_vertices() const { return scene_.handles.vertices; }
+  BackwardEulerObjective& objective() { return objective_; }
+  const RolloutOptions& options() const { return options_; }
+
+ private:
+  StepRecord finish(const VecX& a, const InnerSolveResult& solve, double wall_ms);
+  void check_running() const;
+
+  ResolvedScene scene_;
+  InnerOptimizer* optimizer_;
+  RolloutOptions options_;
+  BackwardEulerObjective objective_;
+  DirichletSet dirichlet_;
+  StepProblem problem_;
+  VecX x_, v_, a_;
+  std::vector<Vec3> targets_;  // the handles' positions of the step prepared last
+  double time_ = 0.0;
+  int steps_ = 0;
+  std::string divergence_;
+};
+
+}  // namespace fnopt

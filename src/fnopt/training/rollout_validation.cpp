@@ -1,0 +1,140 @@
+#include <fnopt/training/rollout_validation.hpp>
+
+#include <fnopt/simulation/newton_reference.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <filesystem>
+
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/metrics/trajectory_error.hpp>
+#include <fnopt/learned/learned_optimizer.hpp>
+#include <fnopt/scenes/scene_checks.hpp>
+#include <fnopt/util/error.hpp>
+#include <fnopt/version.hpp>
+
+namespace fnopt {
+
+void ValidationOptions::validate() const {
+  require(resolution >= 3, "validate.resolution", "must be at least 3");
+  require(frames > 0, "validate.frames", "must be positive");
+  require(iterations > 0, "validate.iterations", "must be positive");
+  require(!motions.empty(), "validate.motions", "must name at least one motion");
+  require_subspace_size(subspace, "validate.subspace");
+  try {
+    for (const std::string& motion : motions) scene_checks::motion_name(motion);
+  } catch (const Error& e) {
+    throw Error(std::string("validate.") + e.what());
+  }
+}
+
+namespace {
+
+// The reference file holds this scene's reference if it was solved for this scene, by Newton at
+// these settings, by this version of fnopt; anything else (another scene, solver or version, an
+// unreadable file) means solving it again.
+bool holds_reference(const std::string& path, const Scene& scene, const std::string& newton_settings) {
+  if (!std::filesystem::exists(path)) return false;
+  try {
+    const RolloutProvenance provenance = read_rollout_provenance(path);
+    return to_scene_text(read_rollout_scene(path)) == to_scene_text(scene) &&
+           provenance.optimizer_settings == newton_settings && provenance.version == FNOPT_VERSION;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+FNO2d snapshot(const FNO2d& model) {
+  FNO2d copy(model->options);
+  torch::NoGradGuard no_grad;
+  const auto from = model->parameters();
+  auto to = copy->parameters();
+  for (std::size_t i = 0; i < from.size(); ++i) to[i].copy_(from[i]);
+  return copy;
+}
+
+}  // namespace
+
+Scene RolloutValidation::scene_of(const ValidationOptions& options, const std::string& motion) {
+  Scene scene;
+  scene.rows = scene.cols = options.resolution;
+  scene.motion = motion;
+  scene.frames = options.frames;
+  scene.validate();
+  return scene;
+}
+
+std::string RolloutValidation::reference_file(const std::string& directory, const ValidationOptions& options,
+                                              const std::string& motion) {
+  return newton_reference_path(directory, "validation_" + std::to_string(options.resolution) + "_" + motion,
+                               scene_of(options, motion));
+}
+
+RolloutValidation::RolloutValidation(const ValidationOptions& options, const std::string& reference_directory,
+                                     const StepCallback& on_reference_step)
+    : options_(options) {
+  options_.validate();
+  std::vector<std::string> paths;
+  std::vector<bool> cached;
+  for (const std::string& motion : options_.motions) {
+    const Scene scene = scene_of(options_, motion);
+    scenes_.push_back(scene);
+    resolved_.push_back(resolve(scene));
+    paths.push_back(reference_file(reference_directory, options_, motion));
+    cached.push_back(holds_reference(paths.back(), scene, NewtonOptimizer{}.settings()));
+  }
+  const int to_solve = static_cast<int>(std::count(cached.begin(), cached.end(), false));
+  for (std::size_t i = 0; i < scenes_.size(); ++i) {
+    if (!cached[i]) {
+      const int done_before = references_solved_ * options_.frames;
+      auto progress = [&](int done, int, const StepRecord& record) {
+        if (on_reference_step) on_reference_step(done_before + done, to_solve * options_.frames, record);
+      };
+      NewtonOptimizer newton;
+      RolloutOptions rollout_options;
+      rollout_options.solve = NewtonOptimizer::reference_solve_options();
+      const RolloutResult reference = run_rollout(resolved_[i], newton, rollout_options, progress);
+      require(!reference.diverged, "validate",
+              "the Newton reference of " + scenes_[i].motion + " diverged: " + reference.divergence);
+      write_rollout_file(paths[i], reference, to_scene_text(scenes_[i]), newton.settings());
+      ++references_solved_;
+    }
+    references_.push_back(read_trajectory_frames(paths[i]));
+  }
+}
+
+std::string ValidationOptions::optimizer() const {
+  if (subspace == 0) return "fnopt-ls";
+  return subspace == kFnoptSubspace ? "fnopt-ss" : "fnopt-ss-k" + std::to_string(subspace);
+}
+
+ValidationScore RolloutValidation::score(const FNO2d& model) const {
+  LearnedParams params;
+  params.line_search = options_.subspace == 0;
+  params.subspace = options_.subspace;
+  RolloutOptions rollout_options;
+  rollout_options.solve.max_iterations = options_.iterations;
+  TrajectoryComparisonOptions comparison;
+  comparison.chamfer_enabled = false;
+
+  const FNO2d weights = snapshot(model);
+  ValidationScore s;
+  double e3d_sum = 0.0;
+  for (std::size_t i = 0; i < scenes_.size(); ++i) {
+    // One optimizer per rollout: its step scale carries across steps, not across scenes.
+    LearnedOptimizer optimizer(weights, "training snapshot", params);
+    const RolloutResult rollout = run_rollout(resolved_[i], optimizer, rollout_options);
+    s.max_strain = std::max(s.max_strain, rollout.max_strain());
+    if (rollout.diverged) {
+      s.diverged = true;
+      s.divergence += (s.divergence.empty() ? "" : "; ") + scenes_[i].motion + ": " + rollout.divergence;
+    } else {
+      e3d_sum += compare_trajectories(references_[i], frames_of(rollout), -1.0, comparison).e3d;
+    }
+  }
+  if (!s.diverged) s.e3d = 1e2 * e3d_sum / static_cast<double>(scenes_.size());
+  return s;
+}
+
+}  // namespace fnopt

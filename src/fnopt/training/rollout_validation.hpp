@@ -1,0 +1,77 @@
+#pragma once
+// Validation of a model in training on the grid it will be used on: the learned optimizer's
+// rollouts (fnopt-ss by default, N iterations per step) of benchmark scenes against the Newton references
+// of the same scenes, scored by e_3D (trajectory_error.hpp) averaged over the scenes. Why: training at 32^2 keeps
+// lowering the 32^2 error while it can break larger grids (docs/training-experiments.md: the
+// step-5500 model diverged at 100^2, the step-8800 model reached 174 % strain there, step 7000 did neither),
+// so the training loss alone cannot say which checkpoint to ship.
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <fnopt/fno/fno2d.hpp>
+#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/learned/proposal_rule.hpp>
+#include <fnopt/simulation/rollout.hpp>
+#include <fnopt/scenes/scene.hpp>
+
+namespace fnopt {
+
+struct ValidationOptions {
+  int resolution = 100;  // N x N vertices (default material, corner handles)
+  // Motion names (boundary/trajectory.hpp), one scene each. Not xy_v2 by default: that is the
+  // test scene of the 64^2 and 100^2 tables in docs/results.md, and a checkpoint chosen on it would make
+  // them optimistic. Measured at 100^2, 120 frames, steps 7000-7400: xy_v2 alone moved by up to
+  // 50 % between checkpoints 100 steps apart, so one scene is a noisy judge.
+  std::vector<std::string> motions = {"xyz_v3", "rot_h0"};
+  int frames = 120;     // time steps of each rollout (2 s at dt = 1/60)
+  int iterations = 10;  // the learned optimizer's budget per step
+  // The rule the rollouts take proposals with: fnopt-ss's subspace step over this many
+  // proposals (the shipped learned optimizer), or 0 for fnopt-ls, which the validations in
+  // docs/training.md before fnopt-ss used.
+  int subspace = kFnoptSubspace;
+
+  void validate() const;  // Error("validate.<field>: ...") for a bad value
+  // "fnopt-ss" (K = kFnoptSubspace), "fnopt-ss-kK" (another K) or "fnopt-ls".
+  std::string optimizer() const;
+};
+
+struct ValidationScore {
+  // x 10^2, mean over frames, then over the scenes; inf if any rollout diverged
+  double e3d = std::numeric_limits<double>::infinity();
+  double max_strain = 0.0;  // over all the rollouts
+  bool diverged = false;
+  std::string divergence;   // "<motion>: why and when", empty if none diverged
+};
+
+class RolloutValidation {
+ public:
+  // Reads each scene's Newton reference from `reference_directory` (reference_file) if the
+  // file there was solved for that scene by Newton at its default settings and by this version
+  // of fnopt, else solves it (to NewtonOptimizer::reference_solve_options,
+  // reporting each step to `on_reference_step`, counted over all the scenes to solve) and
+  // writes it there.
+  RolloutValidation(const ValidationOptions& options, const std::string& reference_directory,
+                    const StepCallback& on_reference_step = {});
+
+  // The cache file of a motion's reference in `directory` (studies/newton_reference.hpp).
+  static std::string reference_file(const std::string& directory, const ValidationOptions& options,
+                                    const std::string& motion);
+  // The validation scene of a motion: default material, corner handles.
+  static Scene scene_of(const ValidationOptions& options, const std::string& motion);
+
+  // Scores a snapshot of `model` (its parameters are copied; the model is not touched).
+  ValidationScore score(const FNO2d& model) const;
+
+  const std::vector<Scene>& scenes() const { return scenes_; }
+  int references_solved() const { return references_solved_; }  // by the constructor
+
+ private:
+  ValidationOptions options_;
+  std::vector<Scene> scenes_;
+  std::vector<ResolvedScene> resolved_;  // scenes_, resolved once
+  std::vector<TrajectoryFrames> references_;
+  int references_solved_ = 0;
+};
+
+}  // namespace fnopt

@@ -1,0 +1,89 @@
+// The simulator, a rollout one step at a time: driven along the scene's trajectory it is
+// run_rollout bit for bit; handles given per step go exactly there; an acceleration of one's own
+// is committed with the handles' prescription kept; a divergence stops it with its reason.
+#include <gtest/gtest.h>
+
+#include <fnopt/baselines/pqn.hpp>
+#include <fnopt/simulation/simulator.hpp>
+#include <fnopt/util/error.hpp>
+
+namespace fnopt {
+namespace {
+
+ResolvedScene small_scene(const std::string& motion = "xy_v2") {
+  Scene scene;
+  scene.rows = scene.cols = 8;
+  scene.frames = 12;
+  scene.motion = motion;
+  return resolve(scene);
+}
+
+RolloutOptions pqn_options() {
+  RolloutOptions options;
+  options.solve = {10, 0.0};
+  return options;
+}
+
+TEST(Simulator, SteppedAlongTheTrajectoryItIsTheRolloutBitForBit) {
+  const ResolvedScene scene = small_scene();
+  PqnOptimizer whole_pqn, stepped_pqn;
+  const RolloutResult whole = run_rollout(scene, whole_pqn, pqn_options());
+  Simulator simulator(scene, stepped_pqn, pqn_options());
+  for (int t = 1; t <= scene.scene.frames; ++t) {
+    const StepRecord record = simulator.step();
+    EXPECT_EQ(record.iterations, whole.steps[t - 1].iterations);
+    ASSERT_TRUE((simulator.positions().cast<float>().array() == whole.positions[t].array()).all()) << "frame " << t;
+    EXPECT_EQ(simulator.time(), whole.times[t]);
+  }
+  EXPECT_EQ(simulator.steps_done(), scene.scene.frames);
+}
+
+TEST(Simulator, HandlesGivenPerStepGoExactlyThere) {
+  const ResolvedScene scene = small_scene("static");
+  PqnOptimizer pqn;
+  Simulator simulator(scene, pqn, pqn_options());
+  for (int t = 1; t <= 5; ++t) {
+    std::vector<Vec3> handles;
+    for (int v : simulator.handle_vertices()) handles.push_back(vertex(simulator.positions(), v) + Vec3(0.01, 0, 0.02));
+    simulator.step(handles);
+    for (std::size_t h = 0; h < handles.size(); ++h)
+      EXPECT_LT((vertex(simulator.positions(), simulator.handle_vertices()[h]) - handles[h]).norm(), 1e-12);
+  }
+  EXPECT_THROW(simulator.step(std::vector<Vec3>(1)), Error);
+  EXPECT_THROW(simulator.step(std::vector<Vec3>(2, Vec3(NAN, 0, 0))), Error);
+}
+
+TEST(Simulator, AnAccelerationOfOnesOwnKeepsTheHandlesPrescription) {
+  const ResolvedScene scene = small_scene();
+  PqnOptimizer pqn_a, pqn_b;
+  Simulator built_in(scene, pqn_a, pqn_options()), own(scene, pqn_b, pqn_options());
+  built_in.step();
+  VecX start;
+  StepProblem& problem = own.prepare_step(start);
+  VecX a = start;
+  solve_step(pqn_b, problem, a, pqn_options().solve);
+  for (int v : own.handle_vertices()) a.segment<3>(3 * v).setConstant(1e6);  // ignored
+  own.commit(a);
+  EXPECT_TRUE((own.positions().array() == built_in.positions().array()).all());
+}
+
+TEST(Simulator, ADivergenceStopsItWithItsReasonAndAFiniteStateRestartsIt) {
+  const ResolvedScene scene = small_scene();
+  PqnOptimizer pqn;
+  Simulator simulator(scene, pqn, pqn_options());
+  VecX start;
+  simulator.prepare_step(start);
+  const VecX before = simulator.positions();
+  simulator.commit(VecX::Constant(start.size(), 1e9));  // flung apart
+  ASSERT_TRUE(simulator.diverged());
+  EXPECT_NE(simulator.divergence().find("diverged at step 1"), std::string::npos) << simulator.divergence();
+  EXPECT_TRUE((simulator.positions().array() == before.array()).all());  // the state before it
+  EXPECT_THROW(simulator.step(), Error);
+  EXPECT_THROW(simulator.set_state(before, VecX::Constant(before.size(), NAN)), Error);
+  simulator.set_state(before, VecX::Zero(before.size()));
+  simulator.step();
+  EXPECT_FALSE(simulator.diverged());
+}
+
+}  // namespace
+}  // namespace fnopt
