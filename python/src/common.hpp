@@ -18,6 +18,7 @@ py::array_t<double> grid_array(const VecX& values, int rows, int cols);
 py::array_t<double> grid_array(const Eigen::VectorXf& values, int rows, int cols);
 // (frames, rows, cols, 3) of a sequence of such vectors.
 py::array_t<double> frames_array(const std::vector<Eigen::VectorXf>& frames, int rows, int cols);
+py::array_t<double> frames_array(const std::vector<VecX>& frames, int rows, int cols);
 // The vector of a (rows, cols, 3) or flat (3 rows cols) array-like. Throws Error(field, ...) for
 // another shape or a value that is not a number.
 VecX grid_vector(const py::handle& values, int rows, int cols, const char* field);

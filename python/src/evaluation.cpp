@@ -1,5 +1,8 @@
 // Measuring an optimizer, fnopt's or one written in Python, as `fnopt compare` measures it:
 // against a converged Newton rollout of the same scene (docs/design.md §8).
+#include <pybind11/stl.h>
+
+#include <cmath>
 #include <filesystem>
 #include <random>
 
@@ -103,8 +106,9 @@ py::dict evaluate_optimizer(const py::object& method, const Scene& scene, int it
   row["optimizer"] = run.settings;
   row["iters"] = iters;
   row["ms_per_frame"] = ms_per_frame(run.result);
-  row["e_cd"] = 1e3 * c.chamfer;
-  row["e_3d"] = 1e2 * c.e3d;
+  // As in compare: a diverged run's trajectory errors are undefined (its frames stop early).
+  row["e_cd"] = run.result.diverged ? NAN : 1e3 * c.chamfer;
+  row["e_3d"] = run.result.diverged ? NAN : 1e2 * c.e3d;
   row["step_error_mean"] = steps.mean;
   row["step_error_median"] = steps.median;
   py::list per_step;

@@ -57,12 +57,12 @@ class PySimulator {
   py::array_t<double> rollout(int frames) {
     require(frames >= 0, "frames", "must be zero or more");
     end_problem();
-    std::vector<Eigen::VectorXf> kept{simulator_->positions().cast<float>()};
+    std::vector<VecX> kept{simulator_->positions()};
     {
       py::gil_scoped_release release;
       for (int k = 0; k < frames && !simulator_->diverged(); ++k) {
         last_ = simulator_->step();
-        if (!simulator_->diverged()) kept.push_back(simulator_->positions().cast<float>());
+        if (!simulator_->diverged()) kept.push_back(simulator_->positions());
       }
     }
     if (simulator_->diverged())
@@ -135,7 +135,8 @@ Positions, velocities and accelerations are arrays shaped (rows, cols, 3).)")
 order of handle_vertices (default: the scene's motion). acceleration: the step's answer from an
 optimizer of one's own instead of the built-in one (its handle entries are ignored).)")
       .def("rollout", &PySimulator::rollout, py::arg("frames"),
-           "`frames` steps along the scene's motion; returns (frames + 1, rows, cols, 3), the current state first")
+           "`frames` steps along the scene's motion; returns (frames + 1, rows, cols, 3), the current state first "
+           "(double precision; a rollout file stores float32)")
       .def("problem", &PySimulator::problem, py::arg("handles") = py::none(),
            "The next step's StepProblem (handles as in step), valid until the state moves")
       .def("energy", [](PySimulator& s, const py::handle& a) { return s.problem(py::none()).energy(a); }, py::arg("a"),

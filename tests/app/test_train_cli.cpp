@@ -41,7 +41,7 @@ TEST(TrainCli, ValidatesEveryIntervalAndKeepsTheBestModel) {
   EXPECT_TRUE(std::filesystem::exists(dir / "model-best.pt"));
   EXPECT_NE(r.output.find("best validation: step "), std::string::npos) << r.output;
   // The references are cached next to the log, one file per motion (named by a hash of the scene,
-  // Newton's settings and the version: studies/newton_reference.hpp).
+  // Newton's settings and the version: simulation/newton_reference.hpp).
   for (const std::string label : {"validation_12_xy_v2_", "validation_12_rot_h0_"}) {
     int files = 0;
     for (const auto& entry : std::filesystem::directory_iterator(dir))

@@ -8,7 +8,7 @@
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/fno/fno_io.hpp>
 #include <fnopt/learned/learned_optimizer.hpp>
-#include "tests/optimizer/learned/step_probes.hpp"
+#include "tests/learned/step_probes.hpp"
 #include <fnopt/simulation/rollout.hpp>
 #include <fnopt/util/error.hpp>
 

@@ -13,7 +13,7 @@
 #include <fnopt/learned/learned_pqn.hpp>
 #include <fnopt/learned/learned_update.hpp>
 #include "tests/baselines/cloth_step.hpp"
-#include "tests/optimizer/learned/step_probes.hpp"
+#include "tests/learned/step_probes.hpp"
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {

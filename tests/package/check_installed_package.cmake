@@ -1,6 +1,7 @@
 # The package as a user gets it: `cmake --install` into a fresh prefix, then the C++ examples
 # built with find_package(fnopt) against that prefix alone and run, and `import fnopt` with the
-# documented PYTHONPATH finding the installed module and its installed model. Run by CTest (tests/CMakeLists.txt) as
+# documented PYTHONPATH finding the installed module and its installed model. Run by CTest
+# (tests/CMakeLists.txt) as
 #   cmake -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... -DPYTHON=... -P check_installed_package.cmake
 function(run what)
   execute_process(COMMAND ${ARGN} WORKING_DIRECTORY ${WORK_DIR} RESULT_VARIABLE status OUTPUT_VARIABLE out
@@ -28,8 +29,8 @@ run("closed_loop" ${WORK_DIR}/examples/closed_loop)
 message(STATUS "${output}")
 
 file(GLOB site ${prefix}/lib/python3*/dist-packages)
-run("import fnopt" ${CMAKE_COMMAND} -E env PYTHONPATH=${site} OMP_WAIT_POLICY=PASSIVE ${PYTHON} -c
-    "import fnopt, sys; print(fnopt.__file__); print(fnopt.shipped_model_path()); fnopt.Simulator(fnopt.Scene(res=8, frames=2), optimizer='fnopt-ss').rollout(2)")
+run("import fnopt" ${CMAKE_COMMAND} -E env PYTHONPATH=${site} OMP_WAIT_POLICY=PASSIVE ${PYTHON}
+    ${CMAKE_CURRENT_LIST_DIR}/import_installed.py)
 if(NOT output MATCHES "^${prefix}/lib/python3[^\n]*/fnopt/__init__.py\n${prefix}/share/fnopt/models/fnopt-32.pt")
   message(FATAL_ERROR "the installed module is not the one imported, or its model is not the installed one:\n${output}")
 endif()

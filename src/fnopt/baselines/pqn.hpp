@@ -48,7 +48,7 @@ class PqnOptimizer final : public FirstOrderOptimizer {
   // Adds the curvature pair of a step taken by someone else (x_old -> x_new with gradients
   // g_old, g_new) to this time step's history, under the same positivity test as pqn's own
   // pairs; returns whether it was kept. The hybrid with the learned optimizer feeds its
-  // proposals this way (optimizer/learned/learned_pqn.hpp).
+  // proposals this way (learned/learned_pqn.hpp).
   bool add_pair(const VecX& x_old, const VecX& g_old, const VecX& x_new, const VecX& g_new);
   // The factor of A for the problem of the current time step (after begin_step).
   PqnFactor& factor() const;

@@ -136,6 +136,12 @@ std::string optimizer_names() {
   return joined(names);
 }
 
+std::string reference_method() {
+  for (const auto& entry : optimizer_table())
+    if (entry.traits.reference) return entry.name;
+  throw Error("optimizer", "no reference method in the registry");
+}
+
 MethodTraits method_traits(const std::string& name) {
   for (const auto& entry : optimizer_table())
     if (name == entry.name) return entry.traits;

@@ -43,12 +43,12 @@ struct OptimizerChoice {
   std::string name = "pqn";
   int iterations = 0;           // budget per step; 0 = the method's default
   double learning_rate = 0.0;   // 0 = the method's default
-  // gd's learning rate in units of 1/lambda_max(P^-1 H) (true, the command line's) or of the
-  // inertia step P^-1 g (false: a fixed step, as one would write gradient descent by hand).
-  bool gd_curvature_scaled = GradientDescentParams{}.curvature_scaled;
   std::string model;            // learned optimizer weights
   int pqn_history = PqnParams{}.history;
   std::string pqn_matrix = to_string(PqnParams{}.matrix);
+  // gd's learning rate in units of 1/lambda_max(P^-1 H) (true, the command line's) or of the
+  // inertia step P^-1 g (false: a fixed step, as one would write gradient descent by hand).
+  bool gd_curvature_scaled = GradientDescentParams{}.curvature_scaled;
 
   // Throws Error("optimizer", "...") for an unknown name or invalid settings.
   std::unique_ptr<InnerOptimizer> make() const;
@@ -60,6 +60,8 @@ struct OptimizerChoice {
 };
 
 std::string optimizer_names();  // "newton" ... for help texts
+// The method whose traits say it is the reference (newton): every error is measured against it.
+std::string reference_method();
 // The trained model shipped in the repository (models/fnopt-32.pt), the default of --model.
 std::string shipped_model_path();
 

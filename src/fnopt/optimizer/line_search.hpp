@@ -6,7 +6,7 @@
 //    condition (s.y > 0 keeps its inverse-Hessian model positive definite), which backtracking
 //    does not give.
 // The learned optimizer does not search a line: its rule takes one secant or subspace trial per
-// iteration (optimizer/learned/proposal_rule.hpp), a fixed cost that its training assumes.
+// iteration (learned/proposal_rule.hpp), a fixed cost that its training assumes.
 //
 // Backtracking (Nocedal & Wright 2006, Alg. 3.1):
 // From a with value L(a) and slope = g.d < 0, trials t = 1, shrink, shrink^2, ... until

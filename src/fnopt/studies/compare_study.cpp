@@ -245,7 +245,7 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
     const int vertices = scene.rows * scene.cols;
     const bool all_resumed = std::all_of(runs.begin(), runs.end(), [&](const RunSpec& r) { return resumed_row(s, r); });
     if (!all_resumed && !fs::exists(reference_file(scene))) {
-      reference_tasks.push_back({s, -1, scene.frames * cost_weight("newton", 0, vertices)});
+      reference_tasks.push_back({s, -1, scene.frames * cost_weight(reference_method(), 0, vertices)});
       fresh_reference_scenes.insert(s);
     }
     for (int i = 0; i < static_cast<int>(runs.size()); ++i) {

@@ -1,7 +1,7 @@
 #pragma once
 // `fnopt compare`'s study (docs/design.md §8): every inner optimizer on the same scenes, error
 // against run time. Per scene (resolution x motion): a Newton reference rollout (cached in the
-// output directory, studies/newton_reference.hpp), then one rollout per optimizer and iteration
+// output directory, simulation/newton_reference.hpp), then one rollout per optimizer and iteration
 // budget, each measured the same way: ms/frame after warm-up at a fixed thread count, e_CD x 10^3
 // and e_3D x 10^2 against the reference, the mean per-step optimisation error on sampled
 // reference states, max edge strain, divergence; optionally e_CD against ARCSim. Writes

@@ -143,7 +143,9 @@ void run_stability_study(const StabilityStudy& study, const Communicator& comm) 
     return choice.make();
   };
   // The reference of every case: Newton at the suite's Newton settings.
-  StabilityMethod reference_method{"newton", OptimizerChoice{"newton", 0, 0.0, ""}.solve_options(), true};
+  OptimizerChoice reference;
+  reference.name = fnopt::reference_method();
+  StabilityMethod reference_method{reference.name, reference.solve_options(), true};
   for (const auto& m : methods)
     if (m.reference) reference_method = m;
 

@@ -54,7 +54,7 @@ class RolloutValidation {
   RolloutValidation(const ValidationOptions& options, const std::string& reference_directory,
                     const StepCallback& on_reference_step = {});
 
-  // The cache file of a motion's reference in `directory` (studies/newton_reference.hpp).
+  // The cache file of a motion's reference in `directory` (simulation/newton_reference.hpp).
   static std::string reference_file(const std::string& directory, const ValidationOptions& options,
                                     const std::string& motion);
   // The validation scene of a motion: default material, corner handles.

@@ -24,7 +24,7 @@ std::string scene_text_of(const fs::path& rollout) {
 }
 
 // compare names a reference by its scene's label and a 16-digit hash of the scene and solver
-// (studies/newton_reference.hpp); the label alone is ambiguous ("xy_v2" is a prefix of
+// (simulation/newton_reference.hpp); the label alone is ambiguous ("xy_v2" is a prefix of
 // "xy_v2_opp"), so the hash's shape is checked and the scene stored in both files decides.
 std::string reference_of(const fs::path& directory, const std::string& label, const fs::path& rollout) {
   const std::string prefix = "newton_reference_" + label + "_";
