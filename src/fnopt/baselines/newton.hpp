@@ -19,7 +19,8 @@
 //
 // The reference stops on the residual acceleration max_i |g_i| / (m_i dt^2) (m/s^2), which is
 // a - f(x)/m, the part of Newton's second law the step leaves unbalanced
-// (reference_solve_options()); its size against the errors it measures is in docs/results.md.
+// (reference_solve_options()); its size against the errors it measures is in docs/results.md, "The Newton
+// reference: a trust region", "The stop".
 #include <fnopt/optimizer/inner_optimizer.hpp>
 #include <fnopt/optimizer/sparse_cholesky.hpp>
 #include <fnopt/optimizer/steihaug_cg.hpp>
@@ -65,9 +66,9 @@ class NewtonOptimizer final : public InnerOptimizer {
  public:
   explicit NewtonOptimizer(NewtonParams params = {});
 
-  // The reference: residual acceleration <= acceleration_tolerance at every free vertex. The
-  // benchmark's steps take at most 151 iterations (100^2 rot_h0); the stability suite's
-  // stretch x1000 needs more than 200 on two steps, hence the generous cap.
+  // The reference: residual acceleration <= acceleration_tolerance at every free vertex. The cap is
+  // generous: the stability suite's stiffest cloth needs more than 200 iterations on some steps
+  // (docs/results.md, "The Newton reference: a trust region").
   static InnerSolveOptions reference_solve_options() { return {1000, 0.0, NewtonParams{}.acceleration_tolerance}; }
 
   std::string name() const override { return "newton"; }

@@ -9,7 +9,7 @@
 //    the graph Laplacian of projective dynamics (Bouaziz et al. 2014) weighted by each term's
 //    stiffness; a bending hinge gives its bi-Laplacian. trace(R B R^T) = trace(B), so A does not
 //    depend on how the cloth is rotated, and it stays a fair model of the energy after the cloth
-//    turns, where the anisotropic Hessian of the rest pose does not (docs/results.md).
+//    turns, where the anisotropic Hessian of the rest pose does not (docs/history/results-0.5-experiments.md).
 //    A = S (x) I3 is stored as the scalar n_free x n_free matrix S: a factor 9x smaller, and the
 //    three coordinates are solved together.
 //  - RestHessian: K = the PSD-projected Hessian at the given positions, as it is (3 n_free rows).

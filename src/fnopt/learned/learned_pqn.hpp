@@ -15,7 +15,7 @@
 //      follows: its two-loop recursion corrects A along p with the curvature measured there.
 // The proposal probes; it does not move the cloth: stepping to a + alpha p instead (when L fell
 // there) took the place of a pqn iteration and landed farther from Newton over 390 frames
-// (docs/results.md). The budget N counts pqn's iterations; each proposal adds an FNO pass on
+// (docs/history/results-0.5-experiments.md). The budget N counts pqn's iterations; each proposal adds an FNO pass on
 // the coarse grid and one gradient. The history is pqn's: cleared at every time step.
 #include <memory>
 #include <string>

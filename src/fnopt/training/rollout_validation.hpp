@@ -2,9 +2,8 @@
 // Validation of a model in training on the grid it will be used on: the learned optimizer's
 // rollouts (fnopt-ss by default, N iterations per step) of benchmark scenes against the Newton references
 // of the same scenes, scored by e_3D (trajectory_error.hpp) averaged over the scenes. Why: training at 32^2 keeps
-// lowering the 32^2 error while it can break larger grids (docs/training-experiments.md: the
-// step-5500 model diverged at 100^2, the step-8800 model reached 174 % strain there, step 7000 did neither),
-// so the training loss alone cannot say which checkpoint to ship.
+// lowering the 32^2 error while it can break larger grids (docs/history/training-experiments.md, "Stage 2's
+// end"), so the training loss alone cannot say which checkpoint to ship.
 #include <limits>
 #include <string>
 #include <vector>
@@ -21,14 +20,14 @@ struct ValidationOptions {
   int resolution = 100;  // N x N vertices (default material, corner handles)
   // Motion names (boundary/trajectory.hpp), one scene each. Not xy_v2 by default: that is the
   // test scene of the 64^2 and 100^2 tables in docs/results.md, and a checkpoint chosen on it would make
-  // them optimistic. Measured at 100^2, 120 frames, steps 7000-7400: xy_v2 alone moved by up to
-  // 50 % between checkpoints 100 steps apart, so one scene is a noisy judge.
+  // them optimistic. Two scenes, as one alone is a noisy judge (docs/history/training-experiments.md,
+  // "Stage 2's end").
   std::vector<std::string> motions = {"xyz_v3", "rot_h0"};
   int frames = 120;     // time steps of each rollout (2 s at dt = 1/60)
   int iterations = 10;  // the learned optimizer's budget per step
   // The rule the rollouts take proposals with: fnopt-ss's subspace step over this many
   // proposals (the shipped learned optimizer), or 0 for fnopt-ls, which the validations in
-  // docs/training.md before fnopt-ss used.
+  // docs/history/training-experiments.md before fnopt-ss used.
   int subspace = kFnoptSubspace;
 
   void validate() const;  // Error("validate.<field>: ...") for a bad value

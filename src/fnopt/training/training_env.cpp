@@ -204,10 +204,9 @@ bool TrainingEnv::finish_iteration() {
     return true;
   }
   // A step scale at its floor stays there: the loss's gradient reaches the network scaled by s,
-  // a millionth of a working scale's, too little for AdamW to act on. Once most of the pool sat
-  // there a run stopped learning for good (seed 4 of the shipped recipe at step ~2400: per-step
-  // error 0.92 after 10 iterations; docs/training-experiments.md, "A collapsed step scale").
-  // Such an environment starts its next time step from the initial scale instead.
+  // a millionth of a working scale's, too little for AdamW to act on, and a run whose pool sits
+  // there stops learning for good (docs/history/training-experiments.md, "A collapsed step
+  // scale"). Such an environment starts its next time step from the initial scale instead.
   scale = torch::where(scale <= 1.01 * kMinStepScale, torch::full_like(scale, kInitialStepScale), scale);
   begin_step();
   return true;
