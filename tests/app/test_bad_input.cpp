@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "tests/app/run_fnopt.hpp"
-#include "tests/boundary/temp_dir.hpp"
+#include "tests/util/temp_dir.hpp"
 
 namespace {
 

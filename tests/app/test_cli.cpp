@@ -6,7 +6,7 @@
 
 #include <fnopt/io/rollout_file.hpp>
 #include "tests/app/run_fnopt.hpp"
-#include "tests/boundary/temp_dir.hpp"
+#include "tests/util/temp_dir.hpp"
 
 namespace {
 

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/app/run_fnopt.hpp"
-#include "tests/boundary/temp_dir.hpp"
+#include "tests/util/temp_dir.hpp"
 #include <sys/wait.h>
 
 #include <algorithm>

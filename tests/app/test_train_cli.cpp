@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "run_fnopt.hpp"
-#include "tests/boundary/temp_dir.hpp"
+#include "tests/util/temp_dir.hpp"
 
 namespace {
 

@@ -14,7 +14,7 @@
 #include <fnopt/baselines/lbfgs.hpp>
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/cloth/backward_euler.hpp>
-#include "tests/baselines/cloth_step.hpp"
+#include "tests/util/cloth_step.hpp"
 
 namespace fnopt {
 namespace {

@@ -7,7 +7,7 @@
 
 #include <fnopt/baselines/implicit_euler.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
-#include "tests/baselines/cloth_step.hpp"
+#include "tests/util/cloth_step.hpp"
 
 namespace fnopt {
 namespace {

@@ -12,7 +12,7 @@
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/baselines/pqn.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
-#include "tests/baselines/cloth_step.hpp"
+#include "tests/util/cloth_step.hpp"
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {

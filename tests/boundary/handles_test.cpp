@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/boundary/error_message.hpp"
+#include "tests/util/error_message.hpp"
 
 namespace fnopt {
 namespace {

@@ -8,7 +8,7 @@
 #include <limits>
 
 #include <fnopt/boundary/trajectory.hpp>
-#include "tests/boundary/error_message.hpp"
+#include "tests/util/error_message.hpp"
 
 namespace fnopt {
 namespace {

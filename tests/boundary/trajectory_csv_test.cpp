@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include <fnopt/boundary/trajectory.hpp>
-#include "tests/boundary/error_message.hpp"
-#include "tests/boundary/temp_dir.hpp"
+#include "tests/util/error_message.hpp"
+#include "tests/util/temp_dir.hpp"
 
 namespace fnopt {
 namespace {

@@ -12,8 +12,8 @@
 #include <fnopt/learned/grid_tensor.hpp>
 #include <fnopt/learned/learned_pqn.hpp>
 #include <fnopt/learned/learned_update.hpp>
-#include "tests/baselines/cloth_step.hpp"
 #include "tests/learned/step_probes.hpp"
+#include "tests/util/cloth_step.hpp"
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {

@@ -5,8 +5,8 @@
 #include <map>
 
 #include <fnopt/scenes/scene.hpp>
-#include "tests/boundary/error_message.hpp"
-#include "tests/boundary/temp_dir.hpp"
+#include "tests/util/error_message.hpp"
+#include "tests/util/temp_dir.hpp"
 
 namespace fnopt {
 namespace {

@@ -5,7 +5,7 @@
 #include <limits>
 
 #include <fnopt/scenes/scene.hpp>
-#include "tests/boundary/error_message.hpp"
+#include "tests/util/error_message.hpp"
 
 namespace fnopt {
 namespace {

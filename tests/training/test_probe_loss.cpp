@@ -10,7 +10,7 @@
 #include <fnopt/baselines/first_order.hpp>
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/training/probe_loss.hpp>
-#include "tests/learned/falling_cloth_step.hpp"
+#include "tests/util/falling_cloth_step.hpp"
 
 namespace fnopt {
 namespace {

@@ -10,7 +10,7 @@
 #include <fnopt/fno/fno_io.hpp>
 #include <fnopt/io/rollout_file.hpp>
 #include <fnopt/training/rollout_validation.hpp>
-#include "tests/boundary/temp_dir.hpp"
+#include "tests/util/temp_dir.hpp"
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {

@@ -7,7 +7,7 @@
 
 #include <fnopt/learned/proposal_rule.hpp>
 #include <fnopt/training/subspace_step_loss.hpp>
-#include "tests/learned/falling_cloth_step.hpp"
+#include "tests/util/falling_cloth_step.hpp"
 
 namespace fnopt {
 namespace {

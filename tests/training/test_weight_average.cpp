@@ -5,7 +5,7 @@
 
 #include <fnopt/training/meta_trainer.hpp>
 #include <fnopt/training/weight_average.hpp>
-#include "tests/boundary/temp_dir.hpp"
+#include "tests/util/temp_dir.hpp"
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <string>
 
-#include "tests/boundary/temp_dir.hpp"
+#include "tests/util/temp_dir.hpp"
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/output_path.hpp>
 

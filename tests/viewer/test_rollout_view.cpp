@@ -8,7 +8,7 @@
 #include <fnopt/cloth/grid.hpp>
 #include <fnopt/cloth/strain.hpp>
 #include <fnopt/io/hdf5_file.hpp>
-#include "tests/boundary/temp_dir.hpp"
+#include "tests/util/temp_dir.hpp"
 #include "tests/viewer/viewer_fixture.hpp"
 #include <fnopt/util/error.hpp>
 #include <fnopt/viewer/rollout_view.hpp>

@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "tests/boundary/temp_dir.hpp"
 #include "tests/util/shell.hpp"
+#include "tests/util/temp_dir.hpp"
 #include "tests/viewer/png_image.hpp"
 #include "tests/viewer/viewer_fixture.hpp"
 

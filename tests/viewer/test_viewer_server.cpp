@@ -8,7 +8,7 @@
 
 #include <fnopt/io/csv_table.hpp>
 #include <fnopt/io/hdf5_file.hpp>
-#include "tests/boundary/temp_dir.hpp"
+#include "tests/util/temp_dir.hpp"
 #include "tests/viewer/viewer_fixture.hpp"
 #include <fnopt/util/error.hpp>
 // Last: httplib pulls in <resolv.h>, whose macro _res breaks Eigen's headers.

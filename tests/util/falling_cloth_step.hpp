@@ -1,6 +1,7 @@
 #pragma once
-// The test step of the proposal rule's tests: one time step of a 12 x 12 cloth falling from rest
-// with its two top corners held, at a = 0 with L and its masked gradient there.
+// The test step of the proposal rule's and the training losses' tests: one time step of a 12 x 12
+// cloth falling from rest with its two top corners held, at a = 0 with L and its masked gradient
+// there. Includes fnopt/learned: for LibTorch-linked test folders only.
 #include <fnopt/cloth/grid_units.hpp>
 #include <fnopt/learned/grid_tensor.hpp>
 #include <fnopt/learned/learned_update.hpp>
