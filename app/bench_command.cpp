@@ -4,18 +4,18 @@
 #include <filesystem>
 #include <sstream>
 
-#include "app/commands.hpp"
-#include "app/scene_flags.hpp"
-#include "app/threads.hpp"
 #include <fnopt/baselines/newton.hpp>
-#include <fnopt/simulation/rollout.hpp>
 #include <fnopt/fno/fno_bench.hpp>
 #include <fnopt/fno/fno_io.hpp>
 #include <fnopt/io/rollout_file.hpp>
 #include <fnopt/methods/registry.hpp>
+#include <fnopt/simulation/rollout.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/parse_text.hpp>
 #include <fnopt/util/progress_bar.hpp>
+#include "app/commands.hpp"
+#include "app/scene_flags.hpp"
+#include "app/threads.hpp"
 
 namespace fnopt::app {
 namespace {
@@ -44,10 +44,10 @@ std::vector<int> parse_resolutions(const std::string& list) {
 
 void bench_newton(const BenchFlags& flags, int threads) {
   const InnerSolveOptions solve = NewtonOptimizer::reference_solve_options();
-  std::printf("Newton reference step (residual acceleration <= %g m/s^2), corner handles, motion xy_v2, %d frames, "
-              "dt = 1/60, %d thread%s, warm start %s\n",
-              solve.acceleration_tolerance, flags.frames, threads, threads == 1 ? "" : "s",
-              flags.warm_start ? "on" : "off");
+  std::printf(
+      "Newton reference step (residual acceleration <= %g m/s^2), corner handles, motion xy_v2, %d frames, "
+      "dt = 1/60, %d thread%s, warm start %s\n",
+      solve.acceleration_tolerance, flags.frames, threads, threads == 1 ? "" : "s", flags.warm_start ? "on" : "off");
   std::printf("%6s %10s %10s %9s %9s %9s %10s %9s %9s %9s\n", "res", "ms/frame", "max ms", "iters", "max it",
               "factor/st", "cg it/st", "neg curv", "rejected", "converged");
   for (int n : parse_resolutions(flags.resolutions)) {
@@ -59,7 +59,8 @@ void bench_newton(const BenchFlags& flags, int threads) {
     options.solve = solve;
     options.warm_start = flags.warm_start;
     ProgressBar bar("bench " + std::to_string(n) + "^2", scene.frames);
-    const RolloutResult r = run_rollout(resolve(scene), newton, options, [&](int done, int, const StepRecord&) { bar.update(done); });
+    const RolloutResult r =
+        run_rollout(resolve(scene), newton, options, [&](int done, int, const StepRecord&) { bar.update(done); });
     bar.finish();
     if (!flags.keep.empty())
       write_rollout_file((std::filesystem::path(flags.keep) / ("newton_" + std::to_string(n) + ".h5")).string(), r,
@@ -104,7 +105,9 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--model", flags->model, "fno: the model whose shape is timed (default: the shipped model)");
   command->add_option("--frames", flags->frames, "frames per resolution (newton)")->capture_default_str();
   add_threads_flag(*command, flags->threads);
-  command->add_option("--keep", flags->keep, "newton: also write each rollout to DIR/newton_<res>.h5 (an existing directory)")
+  command
+      ->add_option("--keep", flags->keep,
+                   "newton: also write each rollout to DIR/newton_<res>.h5 (an existing directory)")
       ->check(CLI::ExistingDirectory);
   command->add_flag("--warm-start", flags->warm_start, "start each step from the previous acceleration");
   command->callback([flags] { run_bench(*flags); });

@@ -6,16 +6,16 @@
 #include <string>
 #include <vector>
 
-#include "app/commands.hpp"
-#include "app/optimizer_flags.hpp"
-#include "app/scene_flags.hpp"
-#include "app/threads.hpp"
 #include <fnopt/boundary/trajectory.hpp>
 #include <fnopt/studies/compare_study.hpp>
 #include <fnopt/util/command_line.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/output_path.hpp>
 #include <fnopt/util/parse_text.hpp>
+#include "app/commands.hpp"
+#include "app/optimizer_flags.hpp"
+#include "app/scene_flags.hpp"
+#include "app/threads.hpp"
 
 namespace fnopt::app {
 namespace {
@@ -35,7 +35,7 @@ struct CompareFlags {
   std::string error_levels = "1,0.3,0.1";  // e_CD x 10^3
   std::string preset;
   int preset_frames = 0;  // the preset's frame count, where --frames was not given
-  int threads = 0;  // the default: set_thread_count
+  int threads = 0;        // the default: set_thread_count
   int step_samples = 16;
   int cd_samples = 10000;
   int cd_stride = 2;
@@ -65,8 +65,6 @@ std::vector<double> number_list(const std::string& flag, const std::string& text
   return values;
 }
 
-
-
 // --res: "N" (N x N) or "RxC" (R rows x C columns), comma-separated.
 struct GridSize {
   int rows = 0, cols = 0;
@@ -74,8 +72,10 @@ struct GridSize {
 
 std::vector<GridSize> resolution_list(const std::string& text) {
   std::vector<GridSize> sizes;
-  const std::string expected = "expected resolutions N (N x N) or RxC (R rows x C columns), comma-separated, e.g. "
-                               "'32,64,32x64', got '" + text + "'";
+  const std::string expected =
+      "expected resolutions N (N x N) or RxC (R rows x C columns), comma-separated, e.g. "
+      "'32,64,32x64', got '" +
+      text + "'";
   for (auto piece : split(text, ',')) {
     const std::string item(trim(piece));
     const auto x = item.find_first_of("xX");
@@ -104,8 +104,13 @@ struct Preset {
   int step_samples;
 };
 
-const Preset kSuperres = {"32,32x64,64x32,48,48x80,64,100,128", "fnopt,fnopt-interp32,newton-interp32", "10",
-                          "newton-interp32=300", "xy_v2", 30, 8};
+const Preset kSuperres = {"32,32x64,64x32,48,48x80,64,100,128",
+                          "fnopt,fnopt-interp32,newton-interp32",
+                          "10",
+                          "newton-interp32=300",
+                          "xy_v2",
+                          30,
+                          8};
 
 void run_compare(const CompareFlags& flags) {
   require(!flags.out.empty(), "out", "an output directory is required");
@@ -119,7 +124,8 @@ void run_compare(const CompareFlags& flags) {
     const auto equals = entry.find('=');
     require(equals != std::string::npos, "iters-for", "expected METHOD=N,N,..., got '" + entry + "'");
     const std::string method(trim(entry.substr(0, equals)));
-    require(std::find(methods.begin(), methods.end(), method) != methods.end(), "iters-for", "'" + method + "' is not in --optimizers");
+    require(std::find(methods.begin(), methods.end(), method) != methods.end(), "iters-for",
+            "'" + method + "' is not in --optimizers");
     given_budgets[method] = int_list("iters-for", entry.substr(equals + 1));
   }
   std::vector<double> error_levels = number_list("error-levels", flags.error_levels);
@@ -132,7 +138,8 @@ void run_compare(const CompareFlags& flags) {
     choice.make();
   }
   require(flags.step_samples >= 1, "step-samples", "must be positive");
-  require(flags.cd_stride >= 1, "cd-stride", "must be at least 1 (every matched frame), got " + std::to_string(flags.cd_stride));
+  require(flags.cd_stride >= 1, "cd-stride",
+          "must be at least 1 (every matched frame), got " + std::to_string(flags.cd_stride));
   ChamferOptions chamfer;
   chamfer.samples = flags.cd_samples;
   chamfer.validate();
@@ -206,9 +213,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->add_option(
           "--preset", flags->preset,
           "a prepared study; its values give way to the flags given. 'superres': zero-shot super-resolution: "
-          "--res " + std::string(kSuperres.resolutions) + " --optimizers " + kSuperres.optimizers +
-              " --iters " + kSuperres.iters + " --iters-for " + kSuperres.iters_for + " --motions " +
-              kSuperres.motions + " --frames " + std::to_string(kSuperres.frames) + " --step-samples " +
+          "--res " +
+              std::string(kSuperres.resolutions) + " --optimizers " + kSuperres.optimizers + " --iters " +
+              kSuperres.iters + " --iters-for " + kSuperres.iters_for + " --motions " + kSuperres.motions +
+              " --frames " + std::to_string(kSuperres.frames) + " --step-samples " +
               std::to_string(kSuperres.step_samples) + " (the first " + number_text(kSuperres.frames / 60.0) +
               " s of the motion at dt = 1/60, the handles' first swing; the fine-grid Newton references dominate the "
               "cost, ~1 s of CPU per frame at 100^2; for more frames give --frames and a new --out: --resume keeps "
@@ -217,16 +225,19 @@ const RegisterCommand kRegister([](CLI::App& app) {
               "vertices along the longer edge, interpolate) and newton-interp32 (exact coarse step, interpolate); "
               "also writes superres.svg and a super-resolution table in report.md")
       ->check(CLI::IsMember({"superres"}));
-  command->add_option("--lr-gd", flags->lr_gd,
-                      "gd learning rates (x 1/lambda_max); several: the best per budget on the first scene")
+  command
+      ->add_option("--lr-gd", flags->lr_gd,
+                   "gd learning rates (x 1/lambda_max); several: the best per budget on the first scene")
       ->capture_default_str();
-  command->add_option("--lr-adam", flags->lr_adam,
-                      "adam learning rates (cell widths per step^2); several: the best per budget on the first scene")
+  command
+      ->add_option("--lr-adam", flags->lr_adam,
+                   "adam learning rates (cell widths per step^2); several: the best per budget on the first scene")
       ->capture_default_str();
   add_method_setting_flags(*command, flags->settings);
   command->add_option("--out", flags->out, "output directory (CSV, SVG, cached references)")->required();
-  command->add_option("--error-levels", flags->error_levels,
-                      "e_CD x 10^3 levels at which the fastest method is printed (and in report.md)")
+  command
+      ->add_option("--error-levels", flags->error_levels,
+                   "e_CD x 10^3 levels at which the fastest method is printed (and in report.md)")
       ->capture_default_str();
   command->add_option("--arcsim-dir", flags->arcsim_dir,
                       "also report e_CD against DIR/arcsim_N{res}_{motion}.h5 where it exists");
@@ -239,8 +250,9 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_flag("--keep-rollouts", flags->keep_rollouts, "also write every rollout to DIR");
   command->add_flag("--resume", flags->resume,
                     "keep the runs already in DIR/compare.csv (same method, N, resolution, motion) and run the rest");
-  command->add_option("--cd-stride", flags->cd_stride,
-                      "e_CD on every k-th matched frame (2: every 1/30 s at dt = 1/60, as the ARCSim files)")
+  command
+      ->add_option("--cd-stride", flags->cd_stride,
+                   "e_CD on every k-th matched frame (2: every 1/30 s at dt = 1/60, as the ARCSim files)")
       ->capture_default_str();
   CLI::Option* frames = command->get_option("--frames");
   command->callback([flags, res, motions, optimizers, iters, iters_for, frames, step_samples] {
@@ -254,8 +266,8 @@ const RegisterCommand kRegister([](CLI::App& app) {
       // entries win in run_compare).
       const std::string preset_entry = p.iters_for;
       const auto chosen = name_list("optimizers", flags->optimizers);
-      if (!preset_entry.empty() && std::find(chosen.begin(), chosen.end(),
-                                             preset_entry.substr(0, preset_entry.find('='))) != chosen.end())
+      if (!preset_entry.empty() &&
+          std::find(chosen.begin(), chosen.end(), preset_entry.substr(0, preset_entry.find('='))) != chosen.end())
         flags->iters_for.insert(flags->iters_for.begin(), preset_entry);
       if (frames->count() == 0) flags->preset_frames = p.frames;
       if (step_samples->count() == 0) flags->step_samples = p.step_samples;

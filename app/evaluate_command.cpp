@@ -4,9 +4,6 @@
 #include <cmath>
 #include <cstdio>
 
-#include "app/commands.hpp"
-#include "app/optimizer_flags.hpp"
-#include "app/threads.hpp"
 #include <fnopt/io/csv_table.hpp>
 #include <fnopt/io/hdf5_file.hpp>
 #include <fnopt/io/rollout_file.hpp>
@@ -14,6 +11,9 @@
 #include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/output_path.hpp>
+#include "app/commands.hpp"
+#include "app/optimizer_flags.hpp"
+#include "app/threads.hpp"
 
 namespace fnopt::app {
 namespace {
@@ -112,8 +112,8 @@ void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
     std::printf("e_3D x 10^2 = %.4f   (mean over %zu frames of ||X - X_ref||_F / ||X_ref||_F)\n", 1e2 * c.e3d,
                 c.matches.size());
   else
-    std::printf("e_3D x 10^2 = n/a      (no vertex correspondence: %dx%d against %dx%d)\n", rollout.rows,
-                rollout.cols, reference.rows, reference.cols);
+    std::printf("e_3D x 10^2 = n/a      (no vertex correspondence: %dx%d against %dx%d)\n", rollout.rows, rollout.cols,
+                reference.rows, reference.cols);
   std::printf("max edge strain of the rollout's frames = %.2f %%\n", 100 * c.max_strain);
   if (!flags.per_frame.empty()) {
     write_per_frame_table(flags.per_frame, c);
@@ -125,10 +125,11 @@ void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
     StepErrorBench bench(scene, reference, flags.step_samples);
     const auto method = flags.optimizer.make();
     const StepErrorSummary summary = bench.evaluate(*method, flags.optimizer.solve_options());
-    std::printf("per-step error of %s (%s), N = %d, on %zu reference states: mean %.4g, median %.4g"
-                "   ((L(a_N) - L*)/(L(a_0) - L*), L* by the Newton reference; %d thread%s)\n",
-                method->name().c_str(), method->settings().c_str(), flags.optimizer.solve_options().max_iterations,
-                summary.samples.size(), summary.mean, summary.median, threads, threads == 1 ? "" : "s");
+    std::printf(
+        "per-step error of %s (%s), N = %d, on %zu reference states: mean %.4g, median %.4g"
+        "   ((L(a_N) - L*)/(L(a_0) - L*), L* by the Newton reference; %d thread%s)\n",
+        method->name().c_str(), method->settings().c_str(), flags.optimizer.solve_options().max_iterations,
+        summary.samples.size(), summary.mean, summary.median, threads, threads == 1 ? "" : "s");
     if (!flags.per_step.empty()) {
       write_per_step_table(flags.per_step, summary);
       std::printf("per-step errors: %s\n", flags.per_step.c_str());
@@ -158,9 +159,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->capture_default_str();
   add_threads_flag(*command, flags->threads);
   command->add_option("--per-frame", flags->per_frame, "also write the errors of every matched frame (CSV)");
-  command->add_option("--per-step", flags->per_step,
-                      "also write the per-step error of every sampled state, with L at the start, at Newton's step "
-                      "and at the method's (CSV)")
+  command
+      ->add_option("--per-step", flags->per_step,
+                   "also write the per-step error of every sampled state, with L at the start, at Newton's step "
+                   "and at the method's (CSV)")
       ->needs(optimizer);
   command->callback([flags, optimizer] { run_evaluate(*flags, optimizer->count() > 0); });
 });

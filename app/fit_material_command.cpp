@@ -6,15 +6,15 @@
 #include <cmath>
 #include <cstdio>
 
-#include "app/commands.hpp"
-#include <fnopt/util/flag_names.hpp>
-#include "app/scene_flags.hpp"
-#include "app/threads.hpp"
 #include <fnopt/studies/material_fit.hpp>
 #include <fnopt/util/error.hpp>
+#include <fnopt/util/flag_names.hpp>
 #include <fnopt/util/output_path.hpp>
 #include <fnopt/util/parse_text.hpp>
 #include <fnopt/util/progress_bar.hpp>
+#include "app/commands.hpp"
+#include "app/scene_flags.hpp"
+#include "app/threads.hpp"
 
 namespace fnopt::app {
 namespace {
@@ -53,7 +53,8 @@ void run_fit(FitFlags& flags) {
   require_writable_file(flags.out, "out");
   const int threads = set_thread_count(flags.threads);
   flags.params.coefficients.clear();
-  for (auto name : split(flags.coefficients, ',')) flags.params.coefficients.push_back(material_coefficient(std::string(trim(name))));
+  for (auto name : split(flags.coefficients, ','))
+    flags.params.coefficients.push_back(material_coefficient(std::string(trim(name))));
   for (const auto& text : flags.ranges) {
     std::string name;
     CoefficientRange range;
@@ -78,10 +79,11 @@ void run_fit(FitFlags& flags) {
   for (const auto& r : references)
     std::printf("reference %s: %dx%d, motion %s, %d steps of %.4g s\n", r.path.c_str(), r.scene.rows, r.scene.cols,
                 r.scene.motion.c_str(), flags.params.frames > 0 ? flags.params.frames : r.scene.frames, r.scene.dt);
-  std::printf("fitting %s from %s (%s); compass search in ln(coefficient), step %.3g down to %.3g, at most %d "
-              "Newton rollouts per reference; %d thread%s\n",
-              flags.coefficients.c_str(), flags.start.c_str(), material_text(start).c_str(), flags.params.initial_step,
-              flags.params.final_step, flags.params.max_evaluations, threads, threads == 1 ? "" : "s");
+  std::printf(
+      "fitting %s from %s (%s); compass search in ln(coefficient), step %.3g down to %.3g, at most %d "
+      "Newton rollouts per reference; %d thread%s\n",
+      flags.coefficients.c_str(), flags.start.c_str(), material_text(start).c_str(), flags.params.initial_step,
+      flags.params.final_step, flags.params.max_evaluations, threads, threads == 1 ? "" : "s");
 
   ProgressBar bar("fit", flags.params.max_evaluations);
   const MaterialFitResult result =
@@ -96,8 +98,7 @@ void run_fit(FitFlags& flags) {
   std::printf("fitted:  %s\n", material_text(result.best.material).c_str());
   std::printf("e_CD x 10^3: %s (mean %s) against %s (mean %s) for the start material; %d rollouts per reference, %s\n",
               errors_text(result.best).c_str(), number_text(1e3 * result.best.mean_error).c_str(),
-              errors_text(result.start).c_str(), number_text(1e3 * result.start.mean_error).c_str(),
-              result.evaluations,
+              errors_text(result.start).c_str(), number_text(1e3 * result.start.mean_error).c_str(), result.evaluations,
               result.converged ? "converged (step below the final step)" : "stopped at --max-evaluations");
   if (!flags.checks.empty()) {
     const auto checks = load_references(flags.checks);
@@ -111,8 +112,8 @@ void run_fit(FitFlags& flags) {
   }
   std::string comment = "fitted by fnopt fit-material (" + flags.coefficients + ") to";
   for (const auto& path : flags.references) comment += "\n  " + path;
-  comment += "\ne_CD x 10^3 = " + number_text(1e3 * result.best.mean_error) + " (start material: " +
-             number_text(1e3 * result.start.mean_error) + ")";
+  comment += "\ne_CD x 10^3 = " + number_text(1e3 * result.best.mean_error) +
+             " (start material: " + number_text(1e3 * result.start.mean_error) + ")";
   write_material_file(flags.out, result.best.material, comment);
   std::printf("wrote %s (use it with --material %s)\n", flags.out.c_str(), flags.out.c_str());
 }
@@ -123,11 +124,13 @@ const RegisterCommand kRegister([](CLI::App& app) {
       "fit-material",
       "fit stretch, shear, bend and damping so that fnopt's exact (Newton) rollout reproduces reference rollouts "
       "(ARCSim files or fnopt rollouts) in e_CD; writes a material file for --material");
-  command->add_option("--reference", flags->references, "reference rollout(s) to fit to (HDF5); the error is their mean")
+  command
+      ->add_option("--reference", flags->references, "reference rollout(s) to fit to (HDF5); the error is their mean")
       ->required()
       ->check(CLI::ExistingFile);
-  command->add_option("--check", flags->checks,
-                      "further references to report the fitted material's error on (e.g. other resolutions)")
+  command
+      ->add_option("--check", flags->checks,
+                   "further references to report the fitted material's error on (e.g. other resolutions)")
       ->check(CLI::ExistingFile);
   command->add_option("--fit", flags->coefficients, "coefficients to fit: stretch, shear, bend, damping")
       ->capture_default_str();

@@ -5,16 +5,16 @@
 // line only, since some libraries append a backtrace.
 #include <CLI/CLI.hpp>
 #include <chrono>
-#include <thread>
 #include <exception>
 #include <iostream>
 #include <string>
+#include <thread>
 
-#include "app/commands.hpp"
 #include <fnopt/parallel/communicator.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/retained_heap.hpp>
 #include <fnopt/version.hpp>
+#include "app/commands.hpp"
 
 namespace {
 

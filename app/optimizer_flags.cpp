@@ -13,7 +13,8 @@ void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice) {
       ->check(CLI::Validator(
           [](std::string& text) -> std::string {
             int value = 0;
-            return parse_int(text, value) && value >= 1 ? "" : "must be a positive iteration budget, got '" + text + "'";
+            return parse_int(text, value) && value >= 1 ? ""
+                                                        : "must be a positive iteration budget, got '" + text + "'";
           },
           "N >= 1"));
   command.add_option("--lr", choice.learning_rate,
@@ -24,11 +25,15 @@ void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice) {
 
 void add_method_setting_flags(CLI::App& command, OptimizerChoice& choice) {
   command.add_option("--model", choice.model, "learned optimizer weights (default: the shipped models/fnopt-32.pt)");
-  command.add_option("--pqn-history", choice.pqn_history, "pqn and fnopt-pqn: curvature pairs kept (0: plain -A^-1 g steps)")
+  command
+      .add_option("--pqn-history", choice.pqn_history,
+                  "pqn and fnopt-pqn: curvature pairs kept (0: plain -A^-1 g steps)")
       ->capture_default_str();
-  command.add_option("--pqn-matrix", choice.pqn_matrix,
-                     "pqn and fnopt-pqn: the prefactored matrix, isotropic (projective-dynamics-like, rotation invariant) or "
-                     "rest-hessian (the rest pose's Hessian as it is)")
+  command
+      .add_option(
+          "--pqn-matrix", choice.pqn_matrix,
+          "pqn and fnopt-pqn: the prefactored matrix, isotropic (projective-dynamics-like, rotation invariant) or "
+          "rest-hessian (the rest pose's Hessian as it is)")
       ->capture_default_str();
 }
 

@@ -2,14 +2,14 @@
 // self-repulsion off and on, on the handle presets whose cloth folds onto itself and on the corner
 // control (the paper's Table 6.5).
 
-#include "app/commands.hpp"
-#include "app/optimizer_flags.hpp"
-#include "app/threads.hpp"
 #include <fnopt/studies/repulsion_study.hpp>
 #include <fnopt/util/command_line.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/output_path.hpp>
 #include <fnopt/util/parse_text.hpp>
+#include "app/commands.hpp"
+#include "app/optimizer_flags.hpp"
+#include "app/threads.hpp"
 
 namespace fnopt::app {
 namespace {
@@ -65,7 +65,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
       "repulsion-study",
       "self-repulsion off and on for the folding presets (corner-center, single-mid-edge) and the corner control: "
       "repulsive energy and penetration proxies per rollout (CSV, SVG, report)");
-  command->add_option("--out", flags->out, "output directory (repulsion.csv, repulsion_energy.csv, repulsion.svg, report.md)")->required();
+  command
+      ->add_option("--out", flags->out,
+                   "output directory (repulsion.csv, repulsion_energy.csv, repulsion.svg, report.md)")
+      ->required();
   command->add_option("--optimizers", flags->optimizers, "optimizers, comma-separated: " + optimizer_names())
       ->capture_default_str();
   command->add_option("--frames", flags->frames, "time steps per rollout")->capture_default_str();

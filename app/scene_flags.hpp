@@ -14,8 +14,8 @@ class SceneFlags {
   // Adds --scene, --res, --rows, --cols, --size, --handles, --handle-vertices, --motion,
   // --trajectory, --speed, --frames, --dt, --material, --stretch, --shear, --bend, --density,
   // --damping, --gravity, --repulsion-stiffness, --repulsion-range, --repulsion / --no-repulsion
-  // (self-repulsion on / off; neither: auto, see repulsion_enabled). `with_resolution` false leaves out --res/--rows/--cols
-  // (for commands that take a list of resolutions).
+  // (self-repulsion on / off; neither: auto, see repulsion_enabled). `with_resolution` false leaves out
+  // --res/--rows/--cols (for commands that take a list of resolutions).
   void add_to(CLI::App& command, bool with_resolution = true);
   // The scene: defaults, then the --scene file, then every flag given (in a fixed order:
   // grid, material, then the material overrides, then the rest).

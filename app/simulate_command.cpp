@@ -3,16 +3,16 @@
 #include <filesystem>
 #include <iostream>
 
-#include "app/commands.hpp"
-#include "app/optimizer_flags.hpp"
-#include "app/scene_flags.hpp"
-#include "app/threads.hpp"
 #include <fnopt/cloth/grid_units.hpp>
 #include <fnopt/io/obj_file.hpp>
 #include <fnopt/io/rollout_file.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/output_path.hpp>
 #include <fnopt/util/progress_bar.hpp>
+#include "app/commands.hpp"
+#include "app/optimizer_flags.hpp"
+#include "app/scene_flags.hpp"
+#include "app/threads.hpp"
 
 namespace fnopt::app {
 namespace {
@@ -38,14 +38,13 @@ void run_simulate(const SimulateFlags& flags) {
   options.solve = flags.optimizer.solve_options();
   options.warm_start = flags.warm_start;
 
-  std::fprintf(stderr, "fnopt simulate: %dx%d grid, %s handles, %s, %d frames, optimizer %s, %d thread%s\n",
-               scene.rows, scene.cols,
-               scene.handle_vertices.empty() ? scene.handles.c_str() : "explicit",
-               scene.trajectory.empty() ? ("motion " + scene.motion).c_str() : scene.trajectory.c_str(),
-               scene.frames, optimizer->name().c_str(), threads, threads == 1 ? "" : "s");
+  std::fprintf(stderr, "fnopt simulate: %dx%d grid, %s handles, %s, %d frames, optimizer %s, %d thread%s\n", scene.rows,
+               scene.cols, scene.handle_vertices.empty() ? scene.handles.c_str() : "explicit",
+               scene.trajectory.empty() ? ("motion " + scene.motion).c_str() : scene.trajectory.c_str(), scene.frames,
+               optimizer->name().c_str(), threads, threads == 1 ? "" : "s");
   std::fprintf(stderr, "%s\n", optimizer->settings().c_str());
-  const GridUnitStiffness k =
-      grid_unit_stiffness(Grid::make(scene.rows, scene.cols, scene.size), scene.material, scene.dt, scene.gravity.norm());
+  const GridUnitStiffness k = grid_unit_stiffness(Grid::make(scene.rows, scene.cols, scene.size), scene.material,
+                                                  scene.dt, scene.gravity.norm());
   std::fprintf(stderr, "grid units: stretch %.4g, shear %.4g, bend %.4g, gravity %.4g (docs/design.md §2)\n", k.stretch,
                k.shear, k.bend, k.gravity);
   std::fprintf(stderr, "self-repulsion: %s (repulsion = %s), lambda %.4g N/m, delta %.4g h\n",
@@ -80,15 +79,14 @@ void run_simulate(const SimulateFlags& flags) {
   std::string convergence = "fixed budget";
   if (options.solve.to_tolerance()) {
     convergence = std::to_string(converged) + "/" + std::to_string(steps) + " steps converged";
-    if (precision_limited > 0)
-      convergence += " (" + std::to_string(precision_limited) + " to the precision of L)";
+    if (precision_limited > 0) convergence += " (" + std::to_string(precision_limited) + " to the precision of L)";
   }
-  std::printf("%s: %d/%d frames, %dx%d, %.1f ms/frame, max edge strain %.1f %%, %.2f iterations/step (max %d), "
-              "%s, %s; wrote %s\n",
-              optimizer->name().c_str(), steps, scene.frames, scene.rows, scene.cols, rollout.mean_step_ms(),
-              100 * rollout.max_strain(), steps ? static_cast<double>(rollout.total_iterations()) / steps : 0.0,
-              max_iterations, convergence.c_str(), rollout.diverged ? rollout.divergence.c_str() : "finite",
-              flags.out.c_str());
+  std::printf(
+      "%s: %d/%d frames, %dx%d, %.1f ms/frame, max edge strain %.1f %%, %.2f iterations/step (max %d), "
+      "%s, %s; wrote %s\n",
+      optimizer->name().c_str(), steps, scene.frames, scene.rows, scene.cols, rollout.mean_step_ms(),
+      100 * rollout.max_strain(), steps ? static_cast<double>(rollout.total_iterations()) / steps : 0.0, max_iterations,
+      convergence.c_str(), rollout.diverged ? rollout.divergence.c_str() : "finite", flags.out.c_str());
   if (rollout.diverged) throw Error("simulate", rollout.divergence);
 }
 

@@ -4,15 +4,15 @@
 #include <cstdio>
 #include <map>
 
-#include "app/commands.hpp"
-#include "app/optimizer_flags.hpp"
-#include "app/scene_flags.hpp"
-#include "app/threads.hpp"
 #include <fnopt/studies/stability_study.hpp>
 #include <fnopt/util/command_line.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/output_path.hpp>
 #include <fnopt/util/parse_text.hpp>
+#include "app/commands.hpp"
+#include "app/optimizer_flags.hpp"
+#include "app/scene_flags.hpp"
+#include "app/threads.hpp"
 
 namespace fnopt::app {
 namespace {

@@ -8,8 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "app/commands.hpp"
-#include "app/threads.hpp"
 #include <fnopt/fno/fno_io.hpp>
 #include <fnopt/learned/learned_update.hpp>
 #include <fnopt/parallel/communicator.hpp>
@@ -18,6 +16,8 @@
 #include <fnopt/util/flag_names.hpp>
 #include <fnopt/util/parse_text.hpp>
 #include <fnopt/util/progress_bar.hpp>
+#include "app/commands.hpp"
+#include "app/threads.hpp"
 
 namespace fnopt::app {
 namespace {
@@ -34,7 +34,7 @@ struct TrainFlags {
   ValidationOptions validation;
   bool validate = false;  // --validate-res given
   int validate_every = 500;
-  bool keep_validated = false;  // also keep every validated model
+  bool keep_validated = false;      // also keep every validated model
   std::vector<std::string> ranges;  // --range QUANTITY=LOW:HIGH
 };
 
@@ -46,15 +46,24 @@ void run_train(TrainFlags& flags) {
   require(flags.modes >= 2 && flags.modes % 2 == 0, "modes", "must be a positive even number");
   require(flags.lifting >= 1, "lifting", "must be positive");
   require(flags.projection >= 1, "projection", "must be positive");
-  flags.options.model.width(flags.width).fourier_layers(flags.layers).modes_x(flags.modes).modes_y(flags.modes)
-      .lifting_channels(flags.lifting).projection_channels(flags.projection)
-      .in_channels(flags.combined ? 9 : 3).out_channels(flags.combined ? 3 : 1);
+  flags.options.model.width(flags.width)
+      .fourier_layers(flags.layers)
+      .modes_x(flags.modes)
+      .modes_y(flags.modes)
+      .lifting_channels(flags.lifting)
+      .projection_channels(flags.projection)
+      .in_channels(flags.combined ? 9 : 3)
+      .out_channels(flags.combined ? 3 : 1);
   if (!flags.options.initial_model.empty()) {  // the shape is the file's
     const FNO2dOptions given = load_fno_options(flags.options.initial_model);
     check_learned_model(given, flags.options.initial_model);
-    flags.options.model.width(given.width()).fourier_layers(given.fourier_layers()).modes_x(given.modes_x())
-        .modes_y(given.modes_y()).lifting_channels(given.lifting_channels())
-        .projection_channels(given.projection_channels()).in_channels(given.in_channels())
+    flags.options.model.width(given.width())
+        .fourier_layers(given.fourier_layers())
+        .modes_x(given.modes_x())
+        .modes_y(given.modes_y())
+        .lifting_channels(given.lifting_channels())
+        .projection_channels(given.projection_channels())
+        .in_channels(given.in_channels())
         .out_channels(given.out_channels());
   }
   require(!flags.validate || flags.options.objective == TrainObjective::Energy, "validate-res",
@@ -62,8 +71,7 @@ void run_train(TrainFlags& flags) {
   for (const std::string& text : flags.ranges) {
     std::string quantity;
     double low = 0.0, high = 0.0;
-    require(parse_named_interval(text, quantity, low, high), "range",
-            "expected QUANTITY=LOW:HIGH, got '" + text + "'");
+    require(parse_named_interval(text, quantity, low, high), "range", "expected QUANTITY=LOW:HIGH, got '" + text + "'");
     with_flag_names({{"train.range", "range"}}, [&] { flags.options.pool.ranges.set(quantity, low, high); });
   }
   with_flag_names({{"train.steps", "steps"},
@@ -98,8 +106,7 @@ void run_train(TrainFlags& flags) {
   session.validate();
   session.threads = set_thread_count(flags.threads);
   TrainingSessionResult result;
-  with_flag_names({{"train.batch", "batch"}},
-                  [&] { result = run_training_session(session, Communicator::world()); });
+  with_flag_names({{"train.batch", "batch"}}, [&] { result = run_training_session(session, Communicator::world()); });
   if (!Communicator::world().is_root()) return;
   if (result.out_of_time) {
     std::fprintf(stderr, "fnopt train: stopped after %.1f minutes at step %d; --resume continues\n", flags.minutes,
@@ -111,8 +118,7 @@ void run_train(TrainFlags& flags) {
   if (result.best_step >= 0)
     std::printf("best validation: step %d, e_3D x 10^2 %.4g at %dx%d (%s); model %s, log %s\n", result.best_step,
                 result.best_e3d, flags.validation.resolution, flags.validation.resolution,
-                result.validation_motions.c_str(), result.best_model_path.c_str(),
-                result.validation_log_path.c_str());
+                result.validation_motions.c_str(), result.best_model_path.c_str(), result.validation_log_path.c_str());
 }
 
 const RegisterCommand kRegister([](CLI::App& app) {
@@ -121,24 +127,28 @@ const RegisterCommand kRegister([](CLI::App& app) {
   CLI::App* command = app.add_subcommand("train", "meta-train a learned optimizer from the energy alone");
   command->add_option("--out", flags->out, "output folder: model.pt, checkpoint.pt, train_log.csv")->required();
   command->add_option("--steps", o.steps, "training steps")->capture_default_str();
-  command->add_option("--objective", o.objective,
-                      "what a step scores: energy, the energy after the learned update (the shipped model's "
-                      "training); probe, the model as fnopt-pqn's probe: how much of the Newton step's decrease pqn's "
-                      "next iterations (--probe-iterations) miss with the pair measured along the proposal (the pool follows Newton's "
-                      "solution; --newton-weight does not apply)")
+  command
+      ->add_option("--objective", o.objective,
+                   "what a step scores: energy, the energy after the learned update (the shipped model's "
+                   "training); probe, the model as fnopt-pqn's probe: how much of the Newton step's decrease pqn's "
+                   "next iterations (--probe-iterations) miss with the pair measured along the proposal (the pool "
+                   "follows Newton's "
+                   "solution; --newton-weight does not apply)")
       ->transform(CLI::CheckedTransformer(
           std::map<std::string, TrainObjective>{{"energy", TrainObjective::Energy}, {"probe", TrainObjective::Probe}}))
       ->option_text("{energy,probe}=energy");
-  command->add_option("--probe-iterations", o.probe.iterations,
-                      "probe objective: how many pqn iterations after the probe the loss scores (the share of the "
-                      "decrease to the step's solution they miss)")
+  command
+      ->add_option("--probe-iterations", o.probe.iterations,
+                   "probe objective: how many pqn iterations after the probe the loss scores (the share of the "
+                   "decrease to the step's solution they miss)")
       ->capture_default_str();
-  command->add_option("--probe-surface", o.probe.surface,
-                      "probe objective: what those iterations run on: model, the step's quadratic model (projected "
-                      "Hessian; cheap); energy, the step's energy itself (the loss is then fnopt-pqn's per-step error; "
-                      "a gradient per iteration, a Hessian per iteration in the backward pass)")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, ProbeSurface>{{"model", ProbeSurface::QuadraticModel}, {"energy", ProbeSurface::Energy}}))
+  command
+      ->add_option("--probe-surface", o.probe.surface,
+                   "probe objective: what those iterations run on: model, the step's quadratic model (projected "
+                   "Hessian; cheap); energy, the step's energy itself (the loss is then fnopt-pqn's per-step error; "
+                   "a gradient per iteration, a Hessian per iteration in the backward pass)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, ProbeSurface>{{"model", ProbeSurface::QuadraticModel},
+                                                                              {"energy", ProbeSurface::Energy}}))
       ->option_text("{model,energy}=model");
   command->add_option("--init", o.initial_model,
                       "start a fresh run from this model's weights (its shape replaces --width, --layers, --modes, "
@@ -146,9 +156,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--batch", o.batch, "environments per step")->capture_default_str();
   command->add_option("--envs", o.pool.environments, "environments in the pool")->capture_default_str();
   command->add_option("--res", o.pool.resolution, "training resolution")->capture_default_str();
-  command->add_option("--env-lifetime", o.pool.max_age,
-                      "time steps an environment lives before a new one (material, pose, handles, motion) "
-                      "replaces it")
+  command
+      ->add_option("--env-lifetime", o.pool.max_age,
+                   "time steps an environment lives before a new one (material, pose, handles, motion) "
+                   "replaces it")
       ->capture_default_str();
   command->add_option("--lr", o.learning_rate, "AdamW learning rate")->capture_default_str();
   command->add_option("--decay-every", o.decay_every, "halve the learning rate every N steps")->capture_default_str();
@@ -156,13 +167,15 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--seed", o.seed, "random seed")->capture_default_str();
   command->add_option("--newton-weight", o.newton_weight, "weight of the auxiliary loss toward the Newton step")
       ->capture_default_str();
-  command->add_option("--average-decay", o.average_decay,
-                      "the model written and validated is the moving average of the trained weights, "
-                      "w_avg <- d w_avg + (1 - d) w after every step; 0: the trained weights themselves")
+  command
+      ->add_option("--average-decay", o.average_decay,
+                   "the model written and validated is the moving average of the trained weights, "
+                   "w_avg <- d w_avg + (1 - d) w after every step; 0: the trained weights themselves")
       ->capture_default_str();
-  command->add_option("--loss-normalisation", o.loss_normalisation,
-                      "per-environment: the mean of each environment's remaining-error ratio; batch: one ratio "
-                      "for the batch (FNOpt's mean energy, rescaled)")
+  command
+      ->add_option("--loss-normalisation", o.loss_normalisation,
+                   "per-environment: the mean of each environment's remaining-error ratio; batch: one ratio "
+                   "for the batch (FNOpt's mean energy, rescaled)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, LossNormalisation>{
           {"per-environment", LossNormalisation::PerEnvironment}, {"batch", LossNormalisation::Batch}}))
       ->option_text("{per-environment,batch}=per-environment");
@@ -170,19 +183,20 @@ const RegisterCommand kRegister([](CLI::App& app) {
                       "sampling range of the pool, QUANTITY=LOW:HIGH, log-uniform, in grid units (repeatable): "
                       "stretch k~_s (default 40:8000), shear k~_sh (0.5:600), bend k~_b (0.005:20), gravity g~ "
                       "(0.03:0.6), damping c dt (0.005:0.3); docs/training.md, \"The training pool in numbers\"");
-  command->add_option("--subspace", o.pool.subspace,
-                      "how the pool takes each proposal: 0, as it is (the shipped model's training); K, as fnopt-ss "
-                      "does: the subspace step over the last K proposals, carried across time steps, and the energy "
-                      "safeguard, so the model trains on the states it meets at inference")
+  command
+      ->add_option("--subspace", o.pool.subspace,
+                   "how the pool takes each proposal: 0, as it is (the shipped model's training); K, as fnopt-ss "
+                   "does: the subspace step over the last K proposals, carried across time steps, and the energy "
+                   "safeguard, so the model trains on the states it meets at inference")
       ->capture_default_str();
-  command->add_option("--score", o.score_after_subspace_step,
-                      "where the loss scores each update: proposal, the energy at a + delta (the shipped model's "
-                      "training); subspace-step, where the pool's rule ends after it, past the subspace step (needs "
-                      "--subspace K), so a proposal is judged by what it adds to the directions kept")
+  command
+      ->add_option("--score", o.score_after_subspace_step,
+                   "where the loss scores each update: proposal, the energy at a + delta (the shipped model's "
+                   "training); subspace-step, where the pool's rule ends after it, past the subspace step (needs "
+                   "--subspace K), so a proposal is judged by what it adds to the directions kept")
       ->transform(CLI::CheckedTransformer(std::map<std::string, bool>{{"proposal", false}, {"subspace-step", true}}))
       ->option_text("{proposal,subspace-step}=proposal");
-  command->add_option("--undamped-share", o.pool.ranges.undamped_share,
-                      "share of the environments without damping")
+  command->add_option("--undamped-share", o.pool.ranges.undamped_share, "share of the environments without damping")
       ->capture_default_str();
   command->add_option("--width", flags->width, "FNO width")->capture_default_str();
   command->add_option("--layers", flags->layers, "Fourier layers")->capture_default_str();
@@ -192,28 +206,34 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_flag("--combined", flags->combined,
                     "one sample per environment with x, y, z as channels (9 in, 3 out) instead of FNOpt's three "
                     "single-channel samples");
-  command->add_option("--checkpoint-every", flags->checkpoint_every, "steps between checkpoints")->capture_default_str();
+  command->add_option("--checkpoint-every", flags->checkpoint_every, "steps between checkpoints")
+      ->capture_default_str();
   command->add_option("--minutes", flags->minutes, "stop (with a checkpoint) after this many minutes");
   add_threads_flag(*command, flags->threads);
   command->add_flag("--resume", flags->resume, "continue from OUT/checkpoint.pt");
-  CLI::Option* validate_res = command->add_option("--validate-res", flags->validation.resolution,
-                      "validate on an N x N grid every --validate-every steps: fnopt-ss rollouts of the benchmark scene "
-                      "(default material, corner handles) against their Newton references (solved once, cached in OUT); "
-                      "the closest model so far (e_3D) is kept as OUT/model-best.pt, each score in OUT/validation.csv")
-      ->each([flags](const std::string&) { flags->validate = true; });
+  CLI::Option* validate_res =
+      command
+          ->add_option(
+              "--validate-res", flags->validation.resolution,
+              "validate on an N x N grid every --validate-every steps: fnopt-ss rollouts of the benchmark scene "
+              "(default material, corner handles) against their Newton references (solved once, cached in OUT); "
+              "the closest model so far (e_3D) is kept as OUT/model-best.pt, each score in OUT/validation.csv")
+          ->each([flags](const std::string&) { flags->validate = true; });
   // The validation's settings: each shows its default and needs --validate-res.
   auto validation_option = [&](const std::string& name, auto& value, const std::string& help) {
     return command->add_option(name, value, help)->capture_default_str()->needs(validate_res);
   };
   validation_option("--validate-every", flags->validate_every, "steps between validations");
   validation_option("--validate-frames", flags->validation.frames, "time steps of the validation rollout");
-  command->add_option("--validate-motions", flags->validation.motions,
-                      "motions of the validation scenes, comma-separated (default xyz_v3,rot_h0: not xy_v2, the test "
-                      "scene of the 64^2 and 100^2 tables in docs/results.md); the score is their mean e_3D")
+  command
+      ->add_option("--validate-motions", flags->validation.motions,
+                   "motions of the validation scenes, comma-separated (default xyz_v3,rot_h0: not xy_v2, the test "
+                   "scene of the 64^2 and 100^2 tables in docs/results.md); the score is their mean e_3D")
       ->delimiter(',')
       ->needs(validate_res);
-  command->add_flag("--keep-validated", flags->keep_validated,
-                    "also keep every validated model as OUT/validated/model-STEP.pt (to compare them later)")
+  command
+      ->add_flag("--keep-validated", flags->keep_validated,
+                 "also keep every validated model as OUT/validated/model-STEP.pt (to compare them later)")
       ->needs(validate_res);
   validation_option("--validate-iters", flags->validation.iterations, "iterations per validation step");
   validation_option("--validate-subspace", flags->validation.subspace,

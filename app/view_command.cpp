@@ -4,8 +4,8 @@
 #include <memory>
 #include <string>
 
-#include "app/commands.hpp"
 #include <fnopt/viewer/viewer_server.hpp>
+#include "app/commands.hpp"
 
 namespace fnopt::app {
 namespace {
@@ -26,8 +26,8 @@ void run_view(const ViewFlags& flags) {
 
 const RegisterCommand kRegister([](CLI::App& app) {
   auto flags = std::make_shared<ViewFlags>();
-  CLI::App* command = app.add_subcommand(
-      "view", "view a rollout, or a compare output directory, in the browser (a local web server)");
+  CLI::App* command =
+      app.add_subcommand("view", "view a rollout, or a compare output directory, in the browser (a local web server)");
   command->add_option("path", flags->source.path, "a rollout file (HDF5, fnopt or ARCSim) or a compare directory")
       ->required();
   command->add_option("--against", flags->source.against,
@@ -35,8 +35,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--port", flags->port, "TCP port (0: any free port)")
       ->capture_default_str()
       ->check(CLI::Range(0, 65535));
-  command->add_option("--host", flags->host, "address to listen on (0.0.0.0: every interface)")
-      ->capture_default_str();
+  command->add_option("--host", flags->host, "address to listen on (0.0.0.0: every interface)")->capture_default_str();
   command->callback([flags] { run_view(*flags); });
 });
 

@@ -30,10 +30,11 @@ int main(int argc, char** argv) try {
 
   const fnopt::TrajectoryComparison error =
       fnopt::compare_trajectories(fnopt::frames_of(reference), fnopt::frames_of(rollout), resolved.grid.spacing);
-  std::printf("%s %d on %dx%d, %d frames: %.2f ms/frame (Newton %.2f), e_CD %.4f x 10^-3, e_3D %.4f x 10^-2 against "
-              "Newton, max strain %.1f %%\n",
-              method.c_str(), choice.iterations, scene.rows, scene.cols, scene.frames, fnopt::ms_per_frame(rollout),
-              fnopt::ms_per_frame(reference), 1e3 * error.chamfer, 1e2 * error.e3d, 100 * error.max_strain);
+  std::printf(
+      "%s %d on %dx%d, %d frames: %.2f ms/frame (Newton %.2f), e_CD %.4f x 10^-3, e_3D %.4f x 10^-2 against "
+      "Newton, max strain %.1f %%\n",
+      method.c_str(), choice.iterations, scene.rows, scene.cols, scene.frames, fnopt::ms_per_frame(rollout),
+      fnopt::ms_per_frame(reference), 1e3 * error.chamfer, 1e2 * error.e3d, 100 * error.max_strain);
   return 0;
 } catch (const fnopt::Error& e) {
   std::fprintf(stderr, "compare_with_newton: %s\n", e.what());

@@ -49,14 +49,15 @@ VecX grid_vector(const py::handle& values, int rows, int cols, const char* field
   const bool grid_shape = array.ndim() == 3 && array.shape(0) == rows && array.shape(1) == cols && array.shape(2) == 3;
   const bool flat = array.ndim() == 1 && array.shape(0) == size;
   require(grid_shape || flat, field,
-          "expected shape (" + std::to_string(rows) + ", " + std::to_string(cols) + ", 3) or (" +
-              std::to_string(size) + ",)");
+          "expected shape (" + std::to_string(rows) + ", " + std::to_string(cols) + ", 3) or (" + std::to_string(size) +
+              ",)");
   return Eigen::Map<const VecX>(array.data(), size);
 }
 
 std::vector<Vec3> point_list(const py::handle& values, std::size_t count, const char* field) {
   const auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(values);
-  require(static_cast<bool>(array) && array.ndim() == 2 && array.shape(1) == 3 && static_cast<std::size_t>(array.shape(0)) == count,
+  require(static_cast<bool>(array) && array.ndim() == 2 && array.shape(1) == 3 &&
+              static_cast<std::size_t>(array.shape(0)) == count,
           field, "expected shape (" + std::to_string(count) + ", 3)");
   std::vector<Vec3> points(count);
   for (std::size_t k = 0; k < count; ++k) points[k] = Vec3(array.at(k, 0), array.at(k, 1), array.at(k, 2));

@@ -67,8 +67,7 @@ Method method_of(const py::object& method, int iters, const py::object& model, c
   require(iters >= 1, "iters", "must be a positive iteration budget");
   if (py::isinstance<py::function>(method) || (!py::isinstance<py::str>(method) && PyCallable_Check(method.ptr())))
     return {std::make_unique<CallableOptimizer>(method, iters), InnerSolveOptions{iters, 0.0}};
-  const OptimizerChoice choice =
-      optimizer_choice(method.cast<std::string>(), iters, model, lr, gd_curvature_scaled);
+  const OptimizerChoice choice = optimizer_choice(method.cast<std::string>(), iters, model, lr, gd_curvature_scaled);
   return {choice.make(), choice.solve_options()};
 }
 

@@ -2,8 +2,8 @@
 
 namespace fnopt::python {
 
-OptimizerChoice optimizer_choice(const std::string& optimizer, int iters, const py::object& model,
-                                 const py::object& lr, bool gd_curvature_scaled) {
+OptimizerChoice optimizer_choice(const std::string& optimizer, int iters, const py::object& model, const py::object& lr,
+                                 bool gd_curvature_scaled) {
   OptimizerChoice choice;
   choice.name = optimizer;
   choice.iterations = iters;

@@ -8,7 +8,7 @@
 namespace fnopt::python {
 
 // `model` None: the shipped model; `lr` None or 0: the method's default.
-OptimizerChoice optimizer_choice(const std::string& optimizer, int iters, const py::object& model,
-                                 const py::object& lr, bool gd_curvature_scaled);
+OptimizerChoice optimizer_choice(const std::string& optimizer, int iters, const py::object& model, const py::object& lr,
+                                 bool gd_curvature_scaled);
 
 }  // namespace fnopt::python

@@ -1,8 +1,8 @@
 // The extension module fnopt._fnopt behind the package `fnopt` (python/fnopt/__init__.py).
 // Every fnopt::Error (a bad scene field, file, model or setting) is raised as fnopt.Error, a
 // ValueError, with the command line's one-line text.
-#include <fnopt/methods/thread_count.hpp>
 #include <fnopt/methods/registry.hpp>
+#include <fnopt/methods/thread_count.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/version.hpp>
 
@@ -31,13 +31,15 @@ PYBIND11_MODULE(_fnopt, m) {
     }
   });
   g_threads = fnopt::set_thread_count(0);
-  m.def("set_threads", [](int threads) {
-          fnopt::require(threads >= 0, "threads", "must be a whole number of threads, or 0 for the default");
-          g_threads = fnopt::set_thread_count(threads);
-          return g_threads;
-        },
-        py::arg("threads"),
-        "Sets the OpenMP and LibTorch thread count, as --threads does (0: $OMP_NUM_THREADS, else 1); returns it");
+  m.def(
+      "set_threads",
+      [](int threads) {
+        fnopt::require(threads >= 0, "threads", "must be a whole number of threads, or 0 for the default");
+        g_threads = fnopt::set_thread_count(threads);
+        return g_threads;
+      },
+      py::arg("threads"),
+      "Sets the OpenMP and LibTorch thread count, as --threads does (0: $OMP_NUM_THREADS, else 1); returns it");
   m.def("threads", &thread_count, "The thread count in effect");
   m.def("optimizer_names", &fnopt::optimizer_names, "Every optimizer's name, as `fnopt --help` lists them");
   m.def("shipped_model_path", &fnopt::shipped_model_path, "The trained model fnopt ships (the default model)");

@@ -81,7 +81,8 @@ py::dict trajectory_comparison(const py::handle& reference, const py::handle& ro
   options.chamfer.validate();
   require(cd_stride >= 1, "cd_stride", "must be at least 1");
   options.chamfer_stride = cd_stride;
-  if (spacing <= 0.0 && py::isinstance<PyRollout>(rollout)) spacing = rollout.cast<const PyRollout&>().result.grid.spacing;
+  if (spacing <= 0.0 && py::isinstance<PyRollout>(rollout))
+    spacing = rollout.cast<const PyRollout&>().result.grid.spacing;
   TrajectoryComparison c;
   {
     py::gil_scoped_release release;
@@ -99,35 +100,44 @@ py::dict trajectory_comparison(const py::handle& reference, const py::handle& ro
 
 void define_rollouts(py::module_& m) {
   py::class_<PyRollout>(m, "Rollout", "A whole rollout: its frames, times and every step's record.")
-      .def_property_readonly("positions", [](const PyRollout& r) {
-        return frames_array(r.result.positions, r.result.grid.rows, r.result.grid.cols);
-      }, "(frames, rows, cols, 3), frame 0 the rest state")
-      .def_property_readonly("times", [](const PyRollout& r) { return py::array_t<double>(r.result.times.size(), r.result.times.data()); })
-      .def_property_readonly("steps", [](const PyRollout& r) { return step_arrays(r.result); },
-                             "Per step: wall_ms, loss, gradient_norm, max_strain, energy, iterations, status")
-      .def_property_readonly("ms_per_frame", [](const PyRollout& r) { return ms_per_frame(r.result); },
-                             "Mean wall time of a step after warm-up, as compare reports it")
+      .def_property_readonly(
+          "positions",
+          [](const PyRollout& r) { return frames_array(r.result.positions, r.result.grid.rows, r.result.grid.cols); },
+          "(frames, rows, cols, 3), frame 0 the rest state")
+      .def_property_readonly(
+          "times", [](const PyRollout& r) { return py::array_t<double>(r.result.times.size(), r.result.times.data()); })
+      .def_property_readonly(
+          "steps", [](const PyRollout& r) { return step_arrays(r.result); },
+          "Per step: wall_ms, loss, gradient_norm, max_strain, energy, iterations, status")
+      .def_property_readonly(
+          "ms_per_frame", [](const PyRollout& r) { return ms_per_frame(r.result); },
+          "Mean wall time of a step after warm-up, as compare reports it")
       .def_property_readonly("max_strain", [](const PyRollout& r) { return r.result.max_strain(); })
       .def_property_readonly("diverged", [](const PyRollout& r) { return r.result.diverged; })
       .def_property_readonly("divergence", [](const PyRollout& r) { return r.result.divergence; })
       .def_property_readonly("optimizer_settings", [](const PyRollout& r) { return r.settings; })
-      .def("write", [](const PyRollout& r, const std::string& path) {
-             write_rollout_file(path, r.result, r.scene_text, r.settings);
-           }, py::arg("path"), "Writes the rollout file (HDF5) `fnopt simulate --out` writes");
+      .def(
+          "write",
+          [](const PyRollout& r, const std::string& path) {
+            write_rollout_file(path, r.result, r.scene_text, r.settings);
+          },
+          py::arg("path"), "Writes the rollout file (HDF5) `fnopt simulate --out` writes");
 
-  m.def("run_rollout", [](const Scene& scene, const std::string& optimizer, int iters, const py::object& model,
-                          const py::object& lr, bool gd_curvature_scaled, bool warm_start) {
-          const OptimizerChoice choice = optimizer_choice(optimizer, iters, model, lr, gd_curvature_scaled);
-          const auto method = choice.make();
-          choice.check_grid(scene.rows, scene.cols);
-          RolloutOptions options;
-          options.solve = choice.solve_options();
-          options.warm_start = warm_start;
-          return run_python_rollout(scene, *method, options);
-        },
-        py::arg("scene"), py::arg("optimizer") = "pqn", py::arg("iters") = 0, py::arg("model") = py::none(),
-        py::arg("lr") = py::none(), py::arg("gd_curvature_scaled") = true, py::arg("warm_start") = false,
-        "The scene's frames with the optimizer, as `fnopt simulate` runs them (the same keywords as Simulator)");
+  m.def(
+      "run_rollout",
+      [](const Scene& scene, const std::string& optimizer, int iters, const py::object& model, const py::object& lr,
+         bool gd_curvature_scaled, bool warm_start) {
+        const OptimizerChoice choice = optimizer_choice(optimizer, iters, model, lr, gd_curvature_scaled);
+        const auto method = choice.make();
+        choice.check_grid(scene.rows, scene.cols);
+        RolloutOptions options;
+        options.solve = choice.solve_options();
+        options.warm_start = warm_start;
+        return run_python_rollout(scene, *method, options);
+      },
+      py::arg("scene"), py::arg("optimizer") = "pqn", py::arg("iters") = 0, py::arg("model") = py::none(),
+      py::arg("lr") = py::none(), py::arg("gd_curvature_scaled") = true, py::arg("warm_start") = false,
+      "The scene's frames with the optimizer, as `fnopt simulate` runs them (the same keywords as Simulator)");
   m.def("read_rollout", &read_rollout, py::arg("path"),
         "A rollout file (fnopt's or ARCSim's): dict of positions (frames, rows, cols, 3), times, rows, cols, "
         "scene (a Scene, None for ARCSim's), optimizer, version, divergence");

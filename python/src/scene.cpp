@@ -58,14 +58,20 @@ trajectory, speed, frames, dt, gravity, repulsion, repulsion_stiffness, repulsio
 `scene` is a scene file they apply on top of. Checked as the command line checks them:
 a bad value raises ValueError with the command line's text.)")
       .def(py::init(&make_scene), py::arg("scene") = py::none())
-      .def("replace", [](const Scene& self, const py::kwargs& keywords) { return apply_scene_settings(self, settings_of(keywords)); },
-           "A copy with the given settings applied (the same keywords as Scene()).")
-      .def_static("load", [](const std::string& path) {
-                    Scene scene = load_scene_file(path);
-                    scene.validate();
-                    return scene;
-                  },
-                  py::arg("path"), "A scene file (key = value lines).")
+      .def(
+          "replace",
+          [](const Scene& self, const py::kwargs& keywords) {
+            return apply_scene_settings(self, settings_of(keywords));
+          },
+          "A copy with the given settings applied (the same keywords as Scene()).")
+      .def_static(
+          "load",
+          [](const std::string& path) {
+            Scene scene = load_scene_file(path);
+            scene.validate();
+            return scene;
+          },
+          py::arg("path"), "A scene file (key = value lines).")
       .def_readonly("rows", &Scene::rows)
       .def_readonly("cols", &Scene::cols)
       .def_readonly("size", &Scene::size)
@@ -76,20 +82,24 @@ a bad value raises ValueError with the command line's text.)")
       .def_readonly("handle_vertices", &Scene::handle_vertices)
       .def_readonly("motion", &Scene::motion)
       .def_readonly("trajectory", &Scene::trajectory)
-      .def_property_readonly("gravity", [](const Scene& s) { return py::make_tuple(s.gravity.x(), s.gravity.y(), s.gravity.z()); })
-      .def_property_readonly("material", [](const Scene& s) {
-        py::dict material;
-        material["name"] = s.material_name;
-        material["stretch"] = s.material.stretch;
-        material["shear"] = s.material.shear;
-        material["bend"] = s.material.bend;
-        material["density"] = s.material.density;
-        material["damping"] = s.material.damping;
-        material["repulsion"] = s.material.repulsion;
-        material["repulsion_stiffness"] = s.material.repulsion_stiffness;
-        material["repulsion_range"] = s.material.repulsion_range;
-        return material;
-      }, "The resolved material's values (SI units).")
+      .def_property_readonly("gravity",
+                             [](const Scene& s) { return py::make_tuple(s.gravity.x(), s.gravity.y(), s.gravity.z()); })
+      .def_property_readonly(
+          "material",
+          [](const Scene& s) {
+            py::dict material;
+            material["name"] = s.material_name;
+            material["stretch"] = s.material.stretch;
+            material["shear"] = s.material.shear;
+            material["bend"] = s.material.bend;
+            material["density"] = s.material.density;
+            material["damping"] = s.material.damping;
+            material["repulsion"] = s.material.repulsion;
+            material["repulsion_stiffness"] = s.material.repulsion_stiffness;
+            material["repulsion_range"] = s.material.repulsion_range;
+            return material;
+          },
+          "The resolved material's values (SI units).")
       .def_property_readonly("text", &to_scene_text, "The scene as a scene file's text (exact numbers).")
       .def("__repr__", [](const Scene& s) {
         std::ostringstream text;

@@ -66,7 +66,8 @@ class PySimulator {
       }
     }
     if (simulator_->diverged())
-      PyErr_WarnEx(PyExc_RuntimeWarning, ("fnopt: " + simulator_->divergence() + "; the frames before it are returned").c_str(), 1);
+      PyErr_WarnEx(PyExc_RuntimeWarning,
+                   ("fnopt: " + simulator_->divergence() + "; the frames before it are returned").c_str(), 1);
     return frames_array(kept, rows(), cols());
   }
 
@@ -88,11 +89,15 @@ class PySimulator {
     const std::vector<int>& vertices = simulator_->handle_vertices();
     py::array_t<int> ij({static_cast<py::ssize_t>(vertices.size()), py::ssize_t{2}});
     auto out = ij.mutable_unchecked<2>();
-    for (std::size_t h = 0; h < vertices.size(); ++h) out(h, 0) = vertices[h] / cols(), out(h, 1) = vertices[h] % cols();
+    for (std::size_t h = 0; h < vertices.size(); ++h)
+      out(h, 0) = vertices[h] / cols(), out(h, 1) = vertices[h] % cols();
     return ij;
   }
   py::array_t<double> trajectory_targets(double t) const { return point_array(simulator_->trajectory_targets(t)); }
-  py::object last_step() const { return simulator_->steps_done() == 0 && !simulator_->diverged() ? py::object(py::none()) : py::object(record_dict(last_)); }
+  py::object last_step() const {
+    return simulator_->steps_done() == 0 && !simulator_->diverged() ? py::object(py::none())
+                                                                    : py::object(record_dict(last_));
+  }
   int rows() const { return resolved_.grid.rows; }
   int cols() const { return resolved_.grid.cols; }
   const Simulator& simulator() const { return *simulator_; }
@@ -139,12 +144,16 @@ optimizer of one's own instead of the built-in one (its handle entries are ignor
            "(double precision; a rollout file stores float32)")
       .def("problem", &PySimulator::problem, py::arg("handles") = py::none(),
            "The next step's StepProblem (handles as in step), valid until the state moves")
-      .def("energy", [](PySimulator& s, const py::handle& a) { return s.problem(py::none()).energy(a); }, py::arg("a"),
-           "L(a) of the next step (the scene's motion)")
-      .def("gradient", [](PySimulator& s, const py::handle& a) { return s.problem(py::none()).gradient(a); }, py::arg("a"),
-           "grad L(a) of the next step, zero at the handles")
-      .def("hessian", [](PySimulator& s, const py::handle& a, bool project) { return s.problem(py::none()).hessian(a, project); },
-           py::arg("a"), py::arg("project") = false, "hess L(a) of the next step (SciPy sparse)")
+      .def(
+          "energy", [](PySimulator& s, const py::handle& a) { return s.problem(py::none()).energy(a); }, py::arg("a"),
+          "L(a) of the next step (the scene's motion)")
+      .def(
+          "gradient", [](PySimulator& s, const py::handle& a) { return s.problem(py::none()).gradient(a); },
+          py::arg("a"), "grad L(a) of the next step, zero at the handles")
+      .def(
+          "hessian",
+          [](PySimulator& s, const py::handle& a, bool project) { return s.problem(py::none()).hessian(a, project); },
+          py::arg("a"), py::arg("project") = false, "hess L(a) of the next step (SciPy sparse)")
       .def("set_state", &PySimulator::set_state, py::arg("positions"), py::arg("velocities"))
       .def_property_readonly("positions", &PySimulator::positions)
       .def_property_readonly("velocities", &PySimulator::velocities)
@@ -155,8 +164,9 @@ optimizer of one's own instead of the built-in one (its handle entries are ignor
       .def_property_readonly("handle_vertices", &PySimulator::handle_vertices, "(H, 2): (row, column) of each handle")
       .def("trajectory_targets", &PySimulator::trajectory_targets, py::arg("t"),
            "(H, 3): the handles' positions the scene's motion prescribes at time t")
-      .def_property_readonly("last_step", &PySimulator::last_step,
-                             "The last step's record (wall_ms, status, iterations, loss, max_strain, ...), None before one")
+      .def_property_readonly(
+          "last_step", &PySimulator::last_step,
+          "The last step's record (wall_ms, status, iterations, loss, max_strain, ...), None before one")
       .def_property_readonly("scene", &PySimulator::scene)
       .def_property_readonly("optimizer_settings", &PySimulator::settings)
       .def_property_readonly("rows", &PySimulator::rows)

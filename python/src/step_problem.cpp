@@ -87,7 +87,8 @@ py::array_t<double> StepProblemView::velocities() const {
 }
 
 void define_step_problem(py::module_& m) {
-  py::class_<StepProblemView>(m, "StepProblem", R"(One time step's problem: minimise the backward-Euler objective L(a) over the
+  py::class_<StepProblemView>(m, "StepProblem",
+                              R"(One time step's problem: minimise the backward-Euler objective L(a) over the
 next step's accelerations a, shaped (rows, cols, 3), with the handles' entries prescribed.
 Valid while its step lasts.)")
       .def("energy", &StepProblemView::energy, py::arg("a"), "L(a)")

@@ -20,8 +20,7 @@ struct BadInput {
 };
 
 std::string with_dir(std::string text, const std::string& dir) {
-  for (auto at = text.find("{dir}"); at != std::string::npos; at = text.find("{dir}"))
-    text.replace(at, 5, dir);
+  for (auto at = text.find("{dir}"); at != std::string::npos; at = text.find("{dir}")) text.replace(at, 5, dir);
   return text;
 }
 

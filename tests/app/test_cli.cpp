@@ -123,9 +123,11 @@ TEST(Cli, ThreadsDefaultToOmpNumThreadsOrOne) {
       run_fnopt("simulate --res 8 --frames 1 --optimizer fnopt-ss --out " + path, "-u OMP_NUM_THREADS");
   ASSERT_EQ(unset.status, 0) << unset.output;
   EXPECT_NE(unset.output.find(", 1 thread\n"), std::string::npos) << unset.output;
-  const CommandResult compare = run_fnopt("compare --res 8 --frames 2 --optimizers pqn --iters 2 --step-samples 1 "
-                                          "--cd-samples 100 --out " + (tmp.path() / "c").string(),
-                                          "-u OMP_NUM_THREADS");
+  const CommandResult compare = run_fnopt(
+      "compare --res 8 --frames 2 --optimizers pqn --iters 2 --step-samples 1 "
+      "--cd-samples 100 --out " +
+          (tmp.path() / "c").string(),
+      "-u OMP_NUM_THREADS");
   ASSERT_EQ(compare.status, 0) << compare.output;
   EXPECT_NE(compare.output.find("1 thread (fixed for every timing)"), std::string::npos) << compare.output;
 }

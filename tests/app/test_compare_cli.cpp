@@ -2,9 +2,9 @@
 // report; a malformed resolution is one clear error line and a non-zero exit.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include "tests/app/run_fnopt.hpp"
 #include "tests/util/temp_dir.hpp"
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
@@ -30,8 +30,10 @@ std::vector<std::string> split_csv(const std::string& line) {
 TEST(CompareCli, ANonSquareComparisonWritesCsvPlotAndReport) {
   const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_compare_cli";
   std::filesystem::remove_all(dir);
-  const CommandResult r = run_fnopt("compare --res 12x16 --frames 4 --optimizers newton,lbfgs --iters 5 --threads 1 "
-                                    "--step-samples 2 --cd-samples 500 --out " + dir.string());
+  const CommandResult r = run_fnopt(
+      "compare --res 12x16 --frames 4 --optimizers newton,lbfgs --iters 5 --threads 1 "
+      "--step-samples 2 --cd-samples 500 --out " +
+      dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
   ASSERT_TRUE(std::filesystem::exists(dir / "compare.csv"));
   ASSERT_TRUE(std::filesystem::exists(dir / "compare.svg"));
@@ -41,13 +43,15 @@ TEST(CompareCli, ANonSquareComparisonWritesCsvPlotAndReport) {
   EXPECT_NE(csv.find("lbfgs,5,,,12x16,"), std::string::npos) << csv;
   const std::string report = read_text(dir / "report.md");
   EXPECT_NE(report.find("compare --res 12x16 --frames 4"), std::string::npos) << report;  // the command line
-  EXPECT_NE(report.find("12x16 (192 vertices)"), std::string::npos) << report;          // a table per resolution
+  EXPECT_NE(report.find("12x16 (192 vertices)"), std::string::npos) << report;            // a table per resolution
   EXPECT_NE(report.find("| lbfgs | 5 |"), std::string::npos) << report;
   EXPECT_NE(report.find("compare.svg"), std::string::npos) << report;
 
   // Resuming with other optimizers (newton resumed, gd new) keeps lbfgs's row in the CSV.
-  const CommandResult subset = run_fnopt("compare --res 12x16 --frames 4 --optimizers newton,gd --iters 5 --lr-gd 1 "
-                                         "--threads 1 --step-samples 2 --cd-samples 500 --resume --out " + dir.string());
+  const CommandResult subset = run_fnopt(
+      "compare --res 12x16 --frames 4 --optimizers newton,gd --iters 5 --lr-gd 1 "
+      "--threads 1 --step-samples 2 --cd-samples 500 --resume --out " +
+      dir.string());
   ASSERT_EQ(subset.status, 0) << subset.output;
   const std::string after = read_text(dir / "compare.csv");
   EXPECT_EQ(std::count(after.begin(), after.end(), '\n'), 4) << after;
@@ -61,12 +65,15 @@ TEST(CompareCli, ANonSquareComparisonWritesCsvPlotAndReport) {
   for (std::string line; std::getline(lines, line);)
     if (line.rfind("newton,", 0) != 0) without_newton += line + "\n";
   std::ofstream(dir / "compare.csv") << without_newton;
-  const CommandResult again = run_fnopt("compare --res 12x16 --frames 4 --optimizers newton,gd --iters 5 --lr-gd 1 "
-                                        "--threads 1 --step-samples 2 --cd-samples 500 --resume --out " + dir.string());
+  const CommandResult again = run_fnopt(
+      "compare --res 12x16 --frames 4 --optimizers newton,gd --iters 5 --lr-gd 1 "
+      "--threads 1 --step-samples 2 --cd-samples 500 --resume --out " +
+      dir.string());
   ASSERT_EQ(again.status, 0) << again.output;
   const std::string last = read_text(dir / "compare.csv");
   EXPECT_EQ(std::count(last.begin(), last.end(), '\n'), 4) << last;
-  for (const char* row : {"newton,", "gd,5,", "lbfgs,5,"}) EXPECT_NE(last.find(row), std::string::npos) << row << "\n" << last;
+  for (const char* row : {"newton,", "gd,5,", "lbfgs,5,"})
+    EXPECT_NE(last.find(row), std::string::npos) << row << "\n" << last;
   std::filesystem::remove_all(dir);
 }
 
@@ -75,8 +82,10 @@ TEST(CompareCli, ANonSquareComparisonWritesCsvPlotAndReport) {
 TEST(CompareCli, ADivergedRunLeavesItsErrorsEmptyAndIsOffTheFrontier) {
   const fnopt::testing::TempDir tmp;
   const auto dir = tmp.path() / "c";
-  const CommandResult r = run_fnopt("compare --res 8 --frames 6 --optimizers adam,pqn,newton --iters 5 --lr-adam 1000 "
-                                    "--threads 1 --step-samples 2 --cd-samples 200 --out " + dir.string());
+  const CommandResult r = run_fnopt(
+      "compare --res 8 --frames 6 --optimizers adam,pqn,newton --iters 5 --lr-adam 1000 "
+      "--threads 1 --step-samples 2 --cd-samples 200 --out " +
+      dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string csv = read_text(dir / "compare.csv");
   EXPECT_NE(csv.find(",max_strain_pct,diverged,frontier,"), std::string::npos) << csv;
@@ -113,7 +122,8 @@ TEST(CompareCli, ADivergedRunLeavesItsErrorsEmptyAndIsOffTheFrontier) {
 
 TEST(CompareCli, AMalformedResolutionIsOneClearErrorLine) {
   for (const char* res : {"32x", "32,x32"}) {
-    const CommandResult r = run_fnopt(std::string("compare --res ") + res + " --frames 2 --out /tmp/fnopt_never_written");
+    const CommandResult r =
+        run_fnopt(std::string("compare --res ") + res + " --frames 2 --out /tmp/fnopt_never_written");
     EXPECT_NE(r.status, 0) << res;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
     EXPECT_NE(r.output.find("fnopt: error: res: expected resolutions N (N x N) or RxC"), std::string::npos) << r.output;
@@ -125,9 +135,10 @@ TEST(CompareCli, ThePresetKeepsItsBudgetsForMethodsThatFlagsDoNotName) {
   // --iters-for for one method must not drop the preset's exact coarse Newton (300).
   const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_compare_preset";
   std::filesystem::remove_all(dir);
-  const CommandResult r = run_fnopt("compare --preset superres --res 40 --frames 2 --optimizers newton-interp32,fnopt "
-                                    "--iters-for fnopt=3 --threads 1 --step-samples 1 --cd-samples 100 --out " +
-                                    dir.string());
+  const CommandResult r = run_fnopt(
+      "compare --preset superres --res 40 --frames 2 --optimizers newton-interp32,fnopt "
+      "--iters-for fnopt=3 --threads 1 --step-samples 1 --cd-samples 100 --out " +
+      dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string csv = read_text(dir / "compare.csv");
   EXPECT_NE(csv.find("newton-interp32,300,,,40,"), std::string::npos) << csv;

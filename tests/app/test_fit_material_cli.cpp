@@ -18,7 +18,8 @@ TEST(FitMaterialCli, HelpAndBadInput) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const std::string reference = (dir / "ref.h5").string();
-  ASSERT_EQ(run_fnopt("simulate --res 6 --frames 8 --dt 1/30 --optimizer newton --threads 1 --out " + reference).status, 0);
+  ASSERT_EQ(run_fnopt("simulate --res 6 --frames 8 --dt 1/30 --optimizer newton --threads 1 --out " + reference).status,
+            0);
   const CommandResult range = run_fnopt("fit-material --reference " + reference + " --range stretch=3");
   EXPECT_NE(range.status, 0);
   EXPECT_NE(range.output.find("range: expected COEFFICIENT=LOW:HIGH"), std::string::npos) << range.output;
@@ -32,8 +33,10 @@ TEST(FitMaterialCli, TinyFitWritesAMaterialThatSimulateReads) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const std::string reference = (dir / "ref.h5").string(), material = (dir / "fitted.txt").string();
-  ASSERT_EQ(run_fnopt("simulate --res 6 --frames 8 --dt 1/30 --damping 2 --optimizer newton --threads 1 --out " +
-                      reference).status, 0);
+  ASSERT_EQ(
+      run_fnopt("simulate --res 6 --frames 8 --dt 1/30 --damping 2 --optimizer newton --threads 1 --out " + reference)
+          .status,
+      0);
   const CommandResult fit = run_fnopt("fit-material --reference " + reference +
                                       " --fit damping --max-evaluations 4 --cd-samples 500 --out " + material);
   ASSERT_EQ(fit.status, 0) << fit.output;
@@ -41,8 +44,8 @@ TEST(FitMaterialCli, TinyFitWritesAMaterialThatSimulateReads) {
   const std::string text = read_text(material);
   EXPECT_NE(text.find("# fitted by fnopt fit-material (damping)"), std::string::npos) << text;
   EXPECT_NE(text.find("damping = "), std::string::npos) << text;
-  const CommandResult use = run_fnopt("simulate --res 6 --frames 2 --optimizer newton --threads 1 --material " + material +
-                                      " --out " + (dir / "use.h5").string());
+  const CommandResult use = run_fnopt("simulate --res 6 --frames 2 --optimizer newton --threads 1 --material " +
+                                      material + " --out " + (dir / "use.h5").string());
   EXPECT_EQ(use.status, 0) << use.output;
 }
 

@@ -6,16 +6,17 @@
 #include <string>
 #include <vector>
 
-#include "tests/app/run_fnopt.hpp"
 #include <fnopt/util/parse_text.hpp>
+#include "tests/app/run_fnopt.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
 CommandResult run_two_ranks(const std::string& arguments) {
-  return run_shell(std::string("env OMP_WAIT_POLICY=PASSIVE OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") +
-                   FNOPT_MPIEXEC + " -n 2 --oversubscribe " + FNOPT_BINARY + " " + arguments);
+  return run_shell(
+      std::string("env OMP_WAIT_POLICY=PASSIVE OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") +
+      FNOPT_MPIEXEC + " -n 2 --oversubscribe " + FNOPT_BINARY + " " + arguments);
 }
 
 fs::path fresh_directory(const std::string& name) {
@@ -35,7 +36,8 @@ std::vector<std::vector<std::string>> table_without(const fs::path& csv, const s
     std::vector<std::string> cells;
     for (std::string_view cell : fnopt::split(line, ',')) cells.emplace_back(cell);
     if (keep.empty())
-      for (const std::string& name : cells) keep.push_back(std::find(dropped.begin(), dropped.end(), name) == dropped.end());
+      for (const std::string& name : cells)
+        keep.push_back(std::find(dropped.begin(), dropped.end(), name) == dropped.end());
     std::vector<std::string> kept;
     for (std::size_t i = 0; i < cells.size() && i < keep.size(); ++i)
       if (keep[i]) kept.push_back(cells[i]);
@@ -52,7 +54,8 @@ TEST(MpiCli, TwoRankTrainingMatchesOneProcessAndResumes) {
   const CommandResult two = run_two_ranks("train --out " + (dir / "two").string() + " --steps 20" + kTinyTraining);
   ASSERT_EQ(two.status, 0) << two.output;
   EXPECT_NE(two.output.find("in each of 2 processes"), std::string::npos) << two.output;
-  for (const char* file : {"model.pt", "checkpoint.pt", "train_log.csv"}) EXPECT_TRUE(fs::exists(dir / "two" / file)) << file;
+  for (const char* file : {"model.pt", "checkpoint.pt", "train_log.csv"})
+    EXPECT_TRUE(fs::exists(dir / "two" / file)) << file;
   const CommandResult one = run_fnopt("train --out " + (dir / "one").string() + " --steps 20" + kTinyTraining);
   ASSERT_EQ(one.status, 0) << one.output;
   // The same 20 steps: every step's loss and ratio agree to the float sums' order.
@@ -122,7 +125,8 @@ TEST(MpiCli, ABadFlagStopsBothRanksWithOneLine) {
   const CommandResult r = run_two_ranks("train --out " + dir.string() + " --steps 0");
   EXPECT_NE(r.status, 0);
   std::size_t lines = 0;
-  for (std::size_t at = r.output.find("fnopt: error"); at != std::string::npos; at = r.output.find("fnopt: error", at + 1))
+  for (std::size_t at = r.output.find("fnopt: error"); at != std::string::npos;
+       at = r.output.find("fnopt: error", at + 1))
     ++lines;
   EXPECT_EQ(lines, 1u) << r.output;
   EXPECT_NE(r.output.find("steps: must be positive"), std::string::npos) << r.output;

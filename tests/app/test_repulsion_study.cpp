@@ -2,8 +2,8 @@
 // and the self-repulsion line of fnopt simulate.
 #include <gtest/gtest.h>
 
-#include "tests/app/run_fnopt.hpp"
 #include <sys/wait.h>
+#include "tests/app/run_fnopt.hpp"
 
 #include <algorithm>
 #include <array>
@@ -27,8 +27,8 @@ TEST(RepulsionStudy, HasHelp) {
 TEST(RepulsionStudy, ATinyRunWritesTheCsvReportAndPlot) {
   const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_repulsion_study";
   std::filesystem::remove_all(dir);
-  const CommandResult r = run_fnopt("repulsion-study --out " + dir.string() +
-                             " --frames 5 --res 10 --optimizers newton,fnopt --threads 1");
+  const CommandResult r =
+      run_fnopt("repulsion-study --out " + dir.string() + " --frames 5 --res 10 --optimizers newton,fnopt --threads 1");
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string csv = read_text(dir / "repulsion.csv");
   // Header + 3 presets x off/on x 2 optimizers.
@@ -70,7 +70,7 @@ TEST(RepulsionStudy, AResumedStudyRunsOnlyTheMissingRunsAndRedrawsEveryRun) {
   ASSERT_EQ(run_fnopt(command).status, 0);
   const std::vector<std::string> full = lines_of(read_text(dir / "repulsion.csv"));
   const std::string full_energy = read_text(dir / "repulsion_energy.csv");
-  ASSERT_EQ(full.size(), 7u);  // header + 3 presets x off/on
+  ASSERT_EQ(full.size(), 7u);                           // header + 3 presets x off/on
   EXPECT_EQ(lines_of(full_energy).size(), 1u + 6 * 5);  // 5 frames (the rest state too) per run
 
   // Stop "after" four runs: the last two rows are gone from the run table.
@@ -105,7 +105,8 @@ TEST(RepulsionStudy, ResumingWithOtherOptimizersKeepsTheEarlierRuns) {
   for (std::size_t i = 1; i < newton.size(); ++i)
     EXPECT_NE(std::find(both.begin(), both.end(), newton[i]), both.end()) << "dropped: " << newton[i];
   for (std::size_t i = 1; i < newton_energy.size(); ++i)
-    EXPECT_NE(std::find(both_energy.begin(), both_energy.end(), newton_energy[i]), both_energy.end()) << newton_energy[i];
+    EXPECT_NE(std::find(both_energy.begin(), both_energy.end(), newton_energy[i]), both_energy.end())
+        << newton_energy[i];
   std::filesystem::remove_all(dir);
 }
 

@@ -2,8 +2,8 @@
 // plot and the report, and an unknown case rejected in one line.
 #include <gtest/gtest.h>
 
-#include "tests/app/run_fnopt.hpp"
 #include <sys/wait.h>
+#include "tests/app/run_fnopt.hpp"
 
 #include <algorithm>
 #include <array>
@@ -15,9 +15,6 @@
 
 namespace {
 
-
-
-
 TEST(StabilityCli, HelpAndCaseList) {
   const CommandResult help = run_fnopt("stability --help");
   EXPECT_EQ(help.status, 0) << help.output;
@@ -26,8 +23,8 @@ TEST(StabilityCli, HelpAndCaseList) {
   EXPECT_NE(help.output.find("150"), std::string::npos) << help.output;  // the default frames, explained
   const CommandResult list = run_fnopt("stability --list-cases");
   EXPECT_EQ(list.status, 0) << list.output;
-  for (const char* name : {"baseline", "stretch-x1000", "soft", "bend-x0.01", "speed-x4", "dt-1/240",
-                           "handles-single-center", "grid-200"})
+  for (const char* name :
+       {"baseline", "stretch-x1000", "soft", "bend-x0.01", "speed-x4", "dt-1/240", "handles-single-center", "grid-200"})
     EXPECT_NE(list.output.find(name), std::string::npos) << name << "\n" << list.output;
 }
 

@@ -12,7 +12,8 @@ namespace {
 const std::string kTinyModel =
     " --res 8 --envs 4 --batch 2 --width 4 --layers 2 --modes 4 --lifting 8 --projection 4 --threads 1"
     " --checkpoint-every 10 --lr 0.05";
-const std::string kTinyRun = kTinyModel + " --validate-res 12 --validate-every 10 --validate-frames 12 --validate-motions xy_v2,rot_h0";
+const std::string kTinyRun =
+    kTinyModel + " --validate-res 12 --validate-every 10 --validate-frames 12 --validate-motions xy_v2,rot_h0";
 
 // The validation rows without their wall-clock column.
 std::vector<std::string> validation_rows(const std::filesystem::path& dir) {
@@ -82,9 +83,8 @@ TEST(TrainCli, BadValidationFlagsAreOneLineErrors) {
 TEST(TrainCli, PoolRangesAreSetByFlagAndPrinted) {
   const fnopt::testing::TempDir tmp;
   const auto dir = tmp.path() / "out";
-  for (const std::string flags :
-       {" --range stretch=150", " --range speed=1:2", " --range shear=200:0.5", " --undamped-share 2", " --subspace 9",
-        " --subspace -1", " --score subspace-step"}) {
+  for (const std::string flags : {" --range stretch=150", " --range speed=1:2", " --range shear=200:0.5",
+                                  " --undamped-share 2", " --subspace 9", " --subspace -1", " --score subspace-step"}) {
     const CommandResult r = run_fnopt("train --out " + dir.string() + " --steps 2" + kTinyModel + flags);
     EXPECT_NE(r.status, 0) << flags;
     EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << flags << ": " << r.output;
@@ -137,12 +137,14 @@ TEST(TrainCli, TheProbeObjectiveStartsFromAModelAndLogsPqnAlone) {
   ASSERT_EQ(run_fnopt("train --out " + first.string() + " --steps 2" + kTinyModel).status, 0);
   const std::string init = " --objective probe --init " + (first / "model.pt").string();
   // The shape is the initial model's: the shape flags of kTinyModel are not needed.
-  const CommandResult r = run_fnopt("train --out " + probe.string() +
-                                    " --steps 4 --res 8 --envs 4 --batch 2 --threads 1 --probe-iterations 3 --probe-surface energy" + init);
+  const CommandResult r =
+      run_fnopt("train --out " + probe.string() +
+                " --steps 4 --res 8 --envs 4 --batch 2 --threads 1 --probe-iterations 3 --probe-surface energy" + init);
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("objective probe"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("scored after 3 pqn iterations on the step's energy"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("starting from the weights of " + (first / "model.pt").string()), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("starting from the weights of " + (first / "model.pt").string()), std::string::npos)
+      << r.output;
   EXPECT_TRUE(std::filesystem::exists(probe / "model.pt"));
   std::istringstream log(read_text(probe / "train_log.csv"));
   std::string line;

@@ -62,8 +62,7 @@ struct RunResult {
 };
 
 // Runs `optimizer` on `problem` from x0 for at most `iterations` or to ||g|| <= tol ||g_0||.
-RunResult run(FirstOrderOptimizer& optimizer, SmoothProblem& problem, VecX x, int iterations,
-              double tolerance = 0.0) {
+RunResult run(FirstOrderOptimizer& optimizer, SmoothProblem& problem, VecX x, int iterations, double tolerance = 0.0) {
   VecX gradient;
   double value = problem.value_gradient(x, gradient);
   RunResult result{value, value, gradient.norm(), gradient.norm(), 0, x};
@@ -179,7 +178,8 @@ TEST(Lbfgs, TwoLoopDirectionEqualsDenseBfgs) {
   for (const auto& pair : pairs) ordered.push_back(&pair);
   VecX direction;
   std::vector<double> scratch;
-  lbfgs_two_loop(ordered, [&](VecX& q) { q.array() *= h0.array(); }, gradient, direction, scratch);
+  lbfgs_two_loop(
+      ordered, [&](VecX& q) { q.array() *= h0.array(); }, gradient, direction, scratch);
 
   Eigen::MatrixXd H = h0.asDiagonal();
   const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);

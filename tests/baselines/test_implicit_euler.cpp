@@ -32,7 +32,7 @@ TEST(ImplicitEuler, IsBaraffAndWitkinsLinearisedStep) {
   objective.begin_step(x, VecX::Zero(grid.dof_count()));
   const VecX zero = VecX::Zero(grid.dof_count());
   VecX gradient;
-  objective.value_gradient(zero, gradient);  // dt^2 (grad P(x_t) - M g)
+  objective.value_gradient(zero, gradient);                     // dt^2 (grad P(x_t) - M g)
   const Eigen::MatrixXd H(objective.hessian(zero, all, true));  // dt^2 M + dt^4 K
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(grid.dof_count(), grid.dof_count());
   for (int k = 0; k < grid.vertex_count(); ++k) M.block<3, 3>(3 * k, 3 * k) = objective.masses()[k] * Mat3::Identity();

@@ -135,8 +135,7 @@ TEST(NewtonSolver, LeavesHandleAccelerationsUntouched) {
   const VecX before = a;
   StepProblem problem(objective, handles);
   NewtonOptimizer newton;
-  ASSERT_EQ(solve_step(newton, problem, a, NewtonOptimizer::reference_solve_options()).status,
-            SolveStatus::Converged);
+  ASSERT_EQ(solve_step(newton, problem, a, NewtonOptimizer::reference_solve_options()).status, SolveStatus::Converged);
   EXPECT_EQ(a.segment<3>(0), before.segment<3>(0));
   EXPECT_EQ(a.segment<3>(21), before.segment<3>(21));
   EXPECT_GT((a - before).norm(), 0.0);
@@ -189,13 +188,17 @@ TEST(NewtonSolver, ABucklingStepFollowsNegativeCurvatureToAMinimum) {
 // settings() keys compare's reference cache: changing any parameter must change it.
 TEST(NewtonParams, EveryParameterChangesTheSettingsString) {
   const std::string base = NewtonOptimizer{}.settings();
-  const std::vector<void (*)(NewtonParams&)> changes = {
-      [](NewtonParams& p) { p.initial_radius = 3.0; },       [](NewtonParams& p) { p.accept_ratio = 1e-3; },
-      [](NewtonParams& p) { p.shrink_below = 0.2; },         [](NewtonParams& p) { p.shrink = 0.3; },
-      [](NewtonParams& p) { p.grow_above = 0.8; },           [](NewtonParams& p) { p.max_trials = 30; },
-      [](NewtonParams& p) { p.forcing_cap = 2e-2; },         [](NewtonParams& p) { p.acceleration_tolerance = 1e-5; },
-      [](NewtonParams& p) { p.max_cg_iterations = 100; },    [](NewtonParams& p) { p.refactor_cg_iterations = 10; },
-      [](NewtonParams& p) { p.reuse_factor_across_steps = false; }};
+  const std::vector<void (*)(NewtonParams&)> changes = {[](NewtonParams& p) { p.initial_radius = 3.0; },
+                                                        [](NewtonParams& p) { p.accept_ratio = 1e-3; },
+                                                        [](NewtonParams& p) { p.shrink_below = 0.2; },
+                                                        [](NewtonParams& p) { p.shrink = 0.3; },
+                                                        [](NewtonParams& p) { p.grow_above = 0.8; },
+                                                        [](NewtonParams& p) { p.max_trials = 30; },
+                                                        [](NewtonParams& p) { p.forcing_cap = 2e-2; },
+                                                        [](NewtonParams& p) { p.acceleration_tolerance = 1e-5; },
+                                                        [](NewtonParams& p) { p.max_cg_iterations = 100; },
+                                                        [](NewtonParams& p) { p.refactor_cg_iterations = 10; },
+                                                        [](NewtonParams& p) { p.reuse_factor_across_steps = false; }};
   for (std::size_t i = 0; i < changes.size(); ++i) {
     NewtonParams params;
     changes[i](params);

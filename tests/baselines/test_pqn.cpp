@@ -12,8 +12,8 @@
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/baselines/pqn.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
-#include "tests/util/cloth_step.hpp"
 #include <fnopt/util/error.hpp>
+#include "tests/util/cloth_step.hpp"
 
 namespace fnopt {
 namespace {
@@ -41,12 +41,14 @@ Eigen::MatrixXd naive_isotropic(BackwardEulerObjective& objective, const VecX& x
   const Grid& grid = objective.grid();
   objective.begin_step(x, VecX::Zero(grid.dof_count()));  // then x(a = 0) = x
   Eigen::MatrixXd H(objective.hessian(VecX::Zero(grid.dof_count()), all_free(grid), true));
-  for (int k = 0; k < grid.vertex_count(); ++k) H.block<3, 3>(3 * k, 3 * k) -= objective.inertia_weight(k) * Mat3::Identity();
+  for (int k = 0; k < grid.vertex_count(); ++k)
+    H.block<3, 3>(3 * k, 3 * k) -= objective.inertia_weight(k) * Mat3::Identity();
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(H.rows(), H.cols());
   for (int i = 0; i < grid.vertex_count(); ++i)
     for (int j = 0; j < grid.vertex_count(); ++j)
       A.block<3, 3>(3 * i, 3 * j) = H.block<3, 3>(3 * i, 3 * j).trace() * Mat3::Identity();
-  for (int k = 0; k < grid.vertex_count(); ++k) A.block<3, 3>(3 * k, 3 * k) += objective.inertia_weight(k) * Mat3::Identity();
+  for (int k = 0; k < grid.vertex_count(); ++k)
+    A.block<3, 3>(3 * k, 3 * k) += objective.inertia_weight(k) * Mat3::Identity();
   return A;
 }
 
@@ -165,8 +167,10 @@ TEST(Pqn, APairAddedFromOutsideShapesTheNextIteration) {
       ASSERT_TRUE(pqn.add_pair(x0, g, VecX::Zero(x0.size()), VecX::Zero(x0.size())));
     }
     ASSERT_FALSE(pqn.step(quadratic, x, value, g).has_value());
-    if (with_pair) EXPECT_LT(x.norm(), 1e-9 * x0.norm());
-    else EXPECT_GT(x.norm(), 0.1 * x0.norm()) << "A must be a poor model of H for this test to mean anything";
+    if (with_pair)
+      EXPECT_LT(x.norm(), 1e-9 * x0.norm());
+    else
+      EXPECT_GT(x.norm(), 0.1 * x0.norm()) << "A must be a poor model of H for this test to mean anything";
   }
   PqnOptimizer pqn;
   pqn.use_matrix(matrix);

@@ -53,24 +53,26 @@ TEST(HandleList, ParsesPairsInOrder) {
 }
 
 TEST(HandleList, SyntaxOnlyParseNeedsNoGrid) {
-  EXPECT_EQ(parse_handle_list("100,200;0,1"),
-            (std::vector<std::pair<int, int>>{{100, 200}, {0, 1}}));
+  EXPECT_EQ(parse_handle_list("100,200;0,1"), (std::vector<std::pair<int, int>>{{100, 200}, {0, 1}}));
 }
 
 TEST(HandleList, RejectsEachMalformedEntry) {
   for (const std::string list :
-       {"", " ", "1", "1,2,3", "a,b", "1.5,2", "1,2x", "1,2;", ";1,2", "1,2;;3,4", "1;2", ",",
-        "1,", "99999999999,0"}) {
+       {"", " ", "1", "1,2,3", "a,b", "1.5,2", "1,2x", "1,2;", ";1,2", "1,2;;3,4", "1;2", ",", "1,", "99999999999,0"}) {
     EXPECT_TRUE(throws_error([&] { handle_vertices_from_list(kGrid, list); }, "handle-vertices: "))
         << "list '" << list << "'";
   }
 }
 
 TEST(HandleList, RejectsNegativeOutOfRangeAndDuplicateVertices) {
-  EXPECT_TRUE(throws_error([] { handle_vertices_from_list(kGrid, "-1,0"); }, "handle-vertices: entry '-1,0' has a negative index"));
-  EXPECT_TRUE(throws_error([] { handle_vertices_from_list(kGrid, "5,0"); }, "handle-vertices: vertex (5,0) is outside the 5x7 grid"));
-  EXPECT_TRUE(throws_error([] { handle_vertices_from_list(kGrid, "0,7"); }, "handle-vertices: vertex (0,7) is outside"));
-  EXPECT_TRUE(throws_error([] { handle_vertices_from_list(kGrid, "1,1;0,0;1,1"); }, "handle-vertices: vertex (1,1) is listed twice"));
+  EXPECT_TRUE(throws_error([] { handle_vertices_from_list(kGrid, "-1,0"); },
+                           "handle-vertices: entry '-1,0' has a negative index"));
+  EXPECT_TRUE(throws_error([] { handle_vertices_from_list(kGrid, "5,0"); },
+                           "handle-vertices: vertex (5,0) is outside the 5x7 grid"));
+  EXPECT_TRUE(
+      throws_error([] { handle_vertices_from_list(kGrid, "0,7"); }, "handle-vertices: vertex (0,7) is outside"));
+  EXPECT_TRUE(throws_error([] { handle_vertices_from_list(kGrid, "1,1;0,0;1,1"); },
+                           "handle-vertices: vertex (1,1) is listed twice"));
   EXPECT_NO_THROW(handle_vertices_from_list(kGrid, "4,6"));
 }
 

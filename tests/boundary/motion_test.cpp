@@ -20,8 +20,8 @@ const double kSqrt2 = std::sqrt(2.0), kSqrt3 = std::sqrt(3.0);
 const std::vector<Vec3> kCorners = {Vec3(0, 0, 0), Vec3(1, 0, 0)};
 
 void expect_near(const Vec3& actual, const Vec3& expected) {
-  EXPECT_LT((actual - expected).norm(), 1e-12) << "actual (" << actual.transpose()
-                                               << "), expected (" << expected.transpose() << ")";
+  EXPECT_LT((actual - expected).norm(), 1e-12)
+      << "actual (" << actual.transpose() << "), expected (" << expected.transpose() << ")";
 }
 
 TEST(MotionProfile, RestOutBackOutHold) {
@@ -67,11 +67,11 @@ TEST(Motions, XyV2AtOneSecondIsHalfWayAlongTheDiagonal) {
 
 TEST(Motions, EveryTranslationEndsOneMetreAlongItsDirection) {
   const std::pair<const char*, Vec3> table[] = {
-      {"xy_v2", Vec3(1, 1, 0) / kSqrt2},          {"xy_v2_opp", Vec3(-1, -1, 0) / kSqrt2},
-      {"yz_v2", Vec3(0, 1, 1) / kSqrt2},          {"yz_v2_opp", Vec3(0, -1, -1) / kSqrt2},
-      {"xz_v2", Vec3(1, 0, -1) / kSqrt2},         {"xyz_v2", Vec3(1, 1, 1) / kSqrt3},
-      {"xyz_v2_opp", Vec3(-1, -1, -1) / kSqrt3},  {"xyz_v3", Vec3(1, -1, -1) / kSqrt3},
-      {"xyz_v3_opp", Vec3(-1, 1, 1) / kSqrt3},    {"xyz_v4", Vec3(-1, -1, 1) / kSqrt3},
+      {"xy_v2", Vec3(1, 1, 0) / kSqrt2},         {"xy_v2_opp", Vec3(-1, -1, 0) / kSqrt2},
+      {"yz_v2", Vec3(0, 1, 1) / kSqrt2},         {"yz_v2_opp", Vec3(0, -1, -1) / kSqrt2},
+      {"xz_v2", Vec3(1, 0, -1) / kSqrt2},        {"xyz_v2", Vec3(1, 1, 1) / kSqrt3},
+      {"xyz_v2_opp", Vec3(-1, -1, -1) / kSqrt3}, {"xyz_v3", Vec3(1, -1, -1) / kSqrt3},
+      {"xyz_v3_opp", Vec3(-1, 1, 1) / kSqrt3},   {"xyz_v4", Vec3(-1, -1, 1) / kSqrt3},
       {"xyz_v4_opp", Vec3(1, 1, -1) / kSqrt3},
   };
   for (const auto& [name, step] : table) {
@@ -88,7 +88,7 @@ TEST(Motions, EveryTranslationEndsOneMetreAlongItsDirection) {
 TEST(Motions, RotH0TurnsHandle1AQuarterAboutHandle0) {
   const auto motion = make_motion("rot_h0", kCorners);
   expect_near(motion->position(0, 3.5), kCorners[0]);
-  expect_near(motion->position(1, 3.5), Vec3(0, 1, 0));  // R_z(+pi/2) (1,0,0)
+  expect_near(motion->position(1, 3.5), Vec3(0, 1, 0));                    // R_z(+pi/2) (1,0,0)
   expect_near(motion->position(1, 1.0), Vec3(1 / kSqrt2, 1 / kSqrt2, 0));  // theta = pi/4
   expect_near(make_motion("rot_h0_opp", kCorners)->position(1, 3.5), Vec3(0, -1, 0));
 }
@@ -137,8 +137,7 @@ TEST(Motions, RejectsUnknownNamesRotH1OnOneHandleAndBadSpeeds) {
   EXPECT_TRUE(throws_error([] { make_motion("xy_v5", kCorners); }, "motion: unknown motion 'xy_v5'"));
   EXPECT_TRUE(throws_error([&] { make_motion("rot_h1", one); }, "motion: rot_h1 keeps handle 1"));
   EXPECT_TRUE(throws_error([&] { make_motion("rot_h1_opp", one); }, "motion: "));
-  for (double speed : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(),
-                       std::numeric_limits<double>::infinity()})
+  for (double speed : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()})
     EXPECT_TRUE(throws_error([&] { make_motion("xy_v2", kCorners, speed); }, "speed: "));
 }
 

@@ -14,8 +14,8 @@ using testing::TempDir;
 using testing::throws_error;
 
 void expect_near(const Vec3& actual, const Vec3& expected) {
-  EXPECT_LT((actual - expected).norm(), 1e-12) << "actual (" << actual.transpose()
-                                               << "), expected (" << expected.transpose() << ")";
+  EXPECT_LT((actual - expected).norm(), 1e-12)
+      << "actual (" << actual.transpose() << "), expected (" << expected.transpose() << ")";
 }
 
 const char* const kTwoHandles =
@@ -66,8 +66,7 @@ TEST(TrajectoryCsv, IgnoresOtherColumnsBlanksCrlfAndColumnOrder) {
 
 TEST(TrajectoryCsv, OneRowIsAFixedPosition) {
   TempDir dir;
-  const auto trajectory =
-      load_trajectory_csv(dir.write("one.csv", "t_s,h0_x,h0_y,h0_z\n0.0,1,2,3\n"), 1);
+  const auto trajectory = load_trajectory_csv(dir.write("one.csv", "t_s,h0_x,h0_y,h0_z\n0.0,1,2,3\n"), 1);
   expect_near(trajectory->position(0, 0.0), Vec3(1, 2, 3));
   expect_near(trajectory->position(0, 9.0), Vec3(1, 2, 3));
 }
@@ -114,8 +113,7 @@ TEST(TrajectoryCsv, RejectsAnUnknownOrEmptyHashNameAndAHashNameWithoutMotionColu
   const auto motions = dir.write("motions.csv", kTwoMotions);
   EXPECT_TRUE(throws_error([&] { load_trajectory_csv(motions + "#down", 1); },
                            "no rows with motion 'down' (present: up, left)"));
-  EXPECT_TRUE(throws_error([&] { load_trajectory_csv(motions + "#", 1); },
-                           "no motion name after '#'"));
+  EXPECT_TRUE(throws_error([&] { load_trajectory_csv(motions + "#", 1); }, "no motion name after '#'"));
   const auto plain = dir.write("plain.csv", kTwoHandles);
   EXPECT_TRUE(throws_error([&] { load_trajectory_csv(plain + "#up", 2); },
                            "trajectory: " + plain + "#up: has no 'motion' column"));
@@ -125,17 +123,15 @@ TEST(TrajectoryCsv, RejectsAnUnknownOrEmptyHashNameAndAHashNameWithoutMotionColu
 void expect_rejected(const std::string& text, const std::string& problem, int handles = 1) {
   TempDir dir;
   const auto path = dir.write("bad.csv", text);
-  EXPECT_TRUE(throws_error([&] { load_trajectory_csv(path, handles); },
-                           "trajectory: " + path + ": " + problem));
+  EXPECT_TRUE(throws_error([&] { load_trajectory_csv(path, handles); }, "trajectory: " + path + ": " + problem));
 }
 
 TEST(TrajectoryCsv, RejectsUnreadableFilesAndDirectories) {
   TempDir dir;
   const auto missing = (dir.path() / "missing.csv").string();
-  EXPECT_TRUE(throws_error([&] { load_trajectory_csv(missing, 1); },
-                           "trajectory: " + missing + ": cannot open the file"));
-  EXPECT_TRUE(throws_error([&] { load_trajectory_csv(dir.path().string(), 1); },
-                           "is a directory"));
+  EXPECT_TRUE(
+      throws_error([&] { load_trajectory_csv(missing, 1); }, "trajectory: " + missing + ": cannot open the file"));
+  EXPECT_TRUE(throws_error([&] { load_trajectory_csv(dir.path().string(), 1); }, "is a directory"));
 }
 
 TEST(TrajectoryCsv, RejectsMissingColumns) {
@@ -153,8 +149,7 @@ TEST(TrajectoryCsv, RejectsDuplicateColumns) {
 }
 
 TEST(TrajectoryCsv, RejectsNonNumericAndNonFiniteValues) {
-  expect_rejected("t_s,h0_x,h0_y,h0_z\n0,1,2,3\n1,1,abc,3\n",
-                  "line 3: column 'h0_y': 'abc' is not a number");
+  expect_rejected("t_s,h0_x,h0_y,h0_z\n0,1,2,3\n1,1,abc,3\n", "line 3: column 'h0_y': 'abc' is not a number");
   expect_rejected("t_s,h0_x,h0_y,h0_z\n0,1,2,3x\n", "line 2: column 'h0_z': '3x' is not a number");
   expect_rejected("t_s,h0_x,h0_y,h0_z\n0,1,,3\n", "line 2: column 'h0_y': '' is not a number");
   expect_rejected("t_s,h0_x,h0_y,h0_z\n0,nan,2,3\n", "line 2: column 'h0_x': value 'nan' is not finite");

@@ -75,8 +75,7 @@ TEST(BackwardEulerObjective, DirichletHessianIsTheFreeBlock) {
   for (int va = 0; va < f.grid.vertex_count(); ++va) {
     for (int vb = 0; vb < f.grid.vertex_count(); ++vb) {
       if (some_free[va] < 0 || some_free[vb] < 0) continue;
-      EXPECT_EQ((reduced.block<3, 3>(3 * some_free[va], 3 * some_free[vb])),
-                (full.block<3, 3>(3 * va, 3 * vb)));
+      EXPECT_EQ((reduced.block<3, 3>(3 * some_free[va], 3 * some_free[vb])), (full.block<3, 3>(3 * va, 3 * vb)));
     }
   }
 }

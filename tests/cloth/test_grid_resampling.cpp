@@ -43,7 +43,8 @@ TEST(GridResampling, LinearFieldsSurviveRestrictionAndProlongationExactly) {
 
 TEST(GridResampling, TheRestPoseOfOneGridIsTheRestPoseOfTheOther) {
   const Grid fine = Grid::make(100, 100, 1.0), coarse = Grid::make(32, 32, 1.0);
-  EXPECT_LT((restrict_field(fine, fine.rest_positions(), coarse) - coarse.rest_positions()).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_LT((restrict_field(fine, fine.rest_positions(), coarse) - coarse.rest_positions()).cwiseAbs().maxCoeff(),
+            1e-13);
 }
 
 TEST(GridResampling, ConstantsStayConstantAndSameGridIsTheIdentity) {

@@ -122,8 +122,7 @@ template <class Kernel>
 void check_rigid_invariance(const Kernel& kernel, const typename Kernel::Vec& rest, int seed) {
   std::mt19937 rng(seed);
   const typename Kernel::Vec x = perturbed<Kernel>(rest, 0.3 * kH, rng);
-  const Eigen::Matrix3d R =
-      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
   const Eigen::Vector3d t(0.3, -1.2, 2.0);
   typename Kernel::Vec y;
   for (int i = 0; i < Kernel::kVertices; ++i) y.template segment<3>(3 * i) = R * x.template segment<3>(3 * i) + t;

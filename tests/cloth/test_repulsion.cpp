@@ -259,9 +259,7 @@ TEST(RepulsionTerm, CandidatesComeFromTheStartOrThePredictionAndThePatternOnlyGr
   const VecX far = grid.rest_positions();
   VecX near = far;
   near.segment<3>(3 * pair[0]) = vertex(far, pair[1]) + Vec3(0, 0.5 * h, 0);
-  auto has_pair = [&] {
-    return std::binary_search(term.candidates().begin(), term.candidates().end(), pair);
-  };
+  auto has_pair = [&] { return std::binary_search(term.candidates().begin(), term.candidates().end(), pair); };
   term.begin_step(far, far);
   EXPECT_TRUE(term.candidates().empty());
   const long generation = term.pattern_generation();

@@ -7,8 +7,8 @@
 
 #include <fnopt/fno/fno2d.hpp>
 #include <fnopt/fno/pointwise_linear.hpp>
-#include "naive_spectral_conv.hpp"
 #include <fnopt/util/error.hpp>
+#include "naive_spectral_conv.hpp"
 
 namespace fnopt {
 namespace {
@@ -86,9 +86,7 @@ TEST(FNO2d, WrongInputChannelsAreAUserError) {
     model->forward(torch::randn({1, 2, 8, 8}));
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("must be [B, 3, R, C], got [1, 2, 8, 8]"),
-              std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("must be [B, 3, R, C], got [1, 2, 8, 8]"), std::string::npos) << e.what();
   }
 }
 
@@ -159,8 +157,7 @@ TEST(PointwiseLinear, IsAOneByOneConvolution) {
   torch::manual_seed(5);
   torch::nn::Linear linear(5, 7);
   const torch::Tensor x = torch::randn({2, 5, 9, 4});
-  const torch::Tensor reference =
-      torch::conv2d(x, linear->weight.view({7, 5, 1, 1}), linear->bias);
+  const torch::Tensor reference = torch::conv2d(x, linear->weight.view({7, 5, 1, 1}), linear->bias);
   EXPECT_LE(test::relative_error(fno::pointwise_linear(x, linear), reference), 1e-6);
 }
 

@@ -32,12 +32,13 @@ class FnoWeightsFile : public ::testing::Test {
 
   // Expects load_fno (and load_fno_options unless the problem is in the parameters, which it
   // does not read) to throw an Error naming the file and the problem.
-  void expect_rejected(const std::string& file, const std::string& problem,
-                       bool options_too = true) const {
+  void expect_rejected(const std::string& file, const std::string& problem, bool options_too = true) const {
     for (int which = 0; which < (options_too ? 2 : 1); ++which) {
       try {
-        if (which == 0) load_fno(file);
-        else load_fno_options(file);
+        if (which == 0)
+          load_fno(file);
+        else
+          load_fno_options(file);
         ADD_FAILURE() << "loaded " << file;
       } catch (const Error& e) {
         const std::string message = e.what();
@@ -50,8 +51,7 @@ class FnoWeightsFile : public ::testing::Test {
 
   // An archive laid out like save_fno's, with chosen header values, options and parameters.
   void write_archive(const std::string& file, const std::string& format, int64_t version,
-                     const std::string& architecture, const FNO2d& options_of,
-                     const FNO2d& parameters_of) const {
+                     const std::string& architecture, const FNO2d& options_of, const FNO2d& parameters_of) const {
     torch::serialize::OutputArchive archive;
     archive.write("format", c10::IValue(format));
     archive.write("version", c10::IValue(version));
@@ -118,9 +118,7 @@ TEST_F(FnoWeightsFile, UnwritablePathIsAnError) {
   }
 }
 
-TEST_F(FnoWeightsFile, MissingFileIsRejected) {
-  expect_rejected(path("absent.pt"), "no such FNO weights file");
-}
+TEST_F(FnoWeightsFile, MissingFileIsRejected) { expect_rejected(path("absent.pt"), "no such FNO weights file"); }
 
 TEST_F(FnoWeightsFile, TruncatedFileIsRejected) {
   const std::string file = path("truncated.pt");
@@ -194,17 +192,13 @@ TEST_F(FnoWeightsFile, OtherArchitectureIsRejected) {
 
 TEST_F(FnoWeightsFile, ParametersOfAnotherShapeAreRejected) {
   const std::string file = path("mismatch.pt");
-  write_archive(file, "fnopt-fno", 1, "fno2d", FNO2d(small_options()),
-                FNO2d(small_options().width(4)));
-  expect_rejected(
-      file, "FNO parameter \"lift_out.weight\" has shape [4, 16], its options need [8, 16]",
-      false);
+  write_archive(file, "fnopt-fno", 1, "fno2d", FNO2d(small_options()), FNO2d(small_options().width(4)));
+  expect_rejected(file, "FNO parameter \"lift_out.weight\" has shape [4, 16], its options need [8, 16]", false);
 }
 
 TEST_F(FnoWeightsFile, MissingParameterIsRejected) {
   const std::string file = path("headless.pt");
-  write_archive(file, "fnopt-fno", 1, "fno2d", FNO2d(small_options()),
-                FNO2d(small_options().scale_head(false)));
+  write_archive(file, "fnopt-fno", 1, "fno2d", FNO2d(small_options()), FNO2d(small_options().scale_head(false)));
   expect_rejected(file, "FNO parameter \"scale_head.weight\" missing", false);
 }
 

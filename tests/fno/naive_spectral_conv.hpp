@@ -11,9 +11,7 @@
 namespace fnopt::test {
 
 // Frequency of DFT index `index` on a grid of n points, numpy.fft.fftfreq(n) * n.
-inline int64_t signed_frequency(int64_t index, int64_t n) {
-  return index < (n + 1) / 2 ? index : index - n;
-}
+inline int64_t signed_frequency(int64_t index, int64_t n) { return index < (n + 1) / 2 ? index : index - n; }
 
 // exp(sign · 2πi · k·p / n), with k·p reduced mod n first so large products stay exact.
 inline std::complex<double> twiddle(int64_t k, int64_t p, int64_t n, double sign) {
@@ -43,8 +41,7 @@ inline torch::Tensor naive_spectral_conv2d(const torch::Tensor& x_in, const torc
         for (int64_t i = 0; i < I; ++i) {
           std::complex<double> sum = 0;
           for (int64_t r = 0; r < R; ++r)
-            for (int64_t c = 0; c < C; ++c)
-              sum += xa[b][i][r][c] * twiddle(kx, r, R, -1) * twiddle(ky, c, C, -1);
+            for (int64_t c = 0; c < C; ++c) sum += xa[b][i][r][c] * twiddle(kx, r, R, -1) * twiddle(ky, c, C, -1);
           x_hat[b * I + i] = sum / static_cast<double>(R * C);
         }
       for (int64_t i = 0; i < I; ++i)
@@ -56,8 +53,8 @@ inline torch::Tensor naive_spectral_conv2d(const torch::Tensor& x_in, const torc
         for (int64_t o = 0; o < O; ++o)
           for (int64_t r = 0; r < R; ++r)
             for (int64_t c = 0; c < C; ++c)
-              ya[b][o][r][c] += multiplicity * std::real(y_hat[b * O + o] * twiddle(kx, r, R, 1) *
-                                                         twiddle(ky, c, C, 1));
+              ya[b][o][r][c] +=
+                  multiplicity * std::real(y_hat[b * O + o] * twiddle(kx, r, R, 1) * twiddle(ky, c, C, 1));
     }
   }
   return y;

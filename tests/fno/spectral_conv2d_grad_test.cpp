@@ -42,10 +42,9 @@ torch::Tensor finite_difference(torch::Tensor t, const std::function<double()>& 
 // Odd and even sizes; the even-column Nyquist mode kept (cols 8, modes 8) or not; grids
 // smaller than the modes (4 rows with modes 8: the even-row Nyquist kx = −2 is kept).
 TEST(SpectralConvGradient, MatchesFiniteDifferencesInDouble) {
-  for (const GradCase& c : {GradCase{4, 8, 8, 8}, GradCase{7, 6, 4, 4}, GradCase{6, 9, 4, 6},
-                            GradCase{3, 3, 8, 8}}) {
-    SCOPED_TRACE(std::to_string(c.rows) + "x" + std::to_string(c.cols) + " modes " +
-                 std::to_string(c.modes_x) + "x" + std::to_string(c.modes_y));
+  for (const GradCase& c : {GradCase{4, 8, 8, 8}, GradCase{7, 6, 4, 4}, GradCase{6, 9, 4, 6}, GradCase{3, 3, 8, 8}}) {
+    SCOPED_TRACE(std::to_string(c.rows) + "x" + std::to_string(c.cols) + " modes " + std::to_string(c.modes_x) + "x" +
+                 std::to_string(c.modes_y));
     torch::manual_seed(c.rows * 100 + c.cols);
     torch::Tensor x = torch::randn({2, 2, c.rows, c.cols}, torch::kDouble);
     torch::Tensor w = torch::randn({2, 3, c.modes_x, c.modes_y / 2 + 1, 2}, torch::kDouble);
@@ -64,8 +63,8 @@ TEST(SpectralConvGradient, MatchesFiniteDifferencesInDouble) {
 }
 
 // Input and weight gradients of both implementations for the same upstream gradient.
-std::tuple<torch::Tensor, torch::Tensor, torch::Tensor, torch::Tensor> both_gradients(
-    int64_t rows, int64_t cols, torch::Dtype dtype) {
+std::tuple<torch::Tensor, torch::Tensor, torch::Tensor, torch::Tensor> both_gradients(int64_t rows, int64_t cols,
+                                                                                      torch::Dtype dtype) {
   torch::manual_seed(rows * 7 + cols);
   const torch::Tensor x = torch::randn({3, 4, rows, cols}, dtype);
   const torch::Tensor w = torch::randn({4, 5, 8, 5, 2}, dtype);

@@ -6,19 +6,18 @@
 #include <vector>
 
 #include <fnopt/fno/spectral_conv2d.hpp>
-#include "naive_spectral_conv.hpp"
 #include <fnopt/util/error.hpp>
+#include "naive_spectral_conv.hpp"
 
 namespace fnopt {
 namespace {
 
 // Odd, even, non-square grids, and grids with fewer points than the 8 × 8 modes.
-const std::vector<std::tuple<int64_t, int64_t>> kGrids = {
-    {32, 32}, {33, 31}, {64, 48}, {100, 100}, {6, 6}, {5, 7}, {1, 1}};
+const std::vector<std::tuple<int64_t, int64_t>> kGrids = {{32, 32}, {33, 31}, {64, 48}, {100, 100},
+                                                          {6, 6},   {5, 7},   {1, 1}};
 
 // Batch 2, 3 → 2 channels, modes 8 × 8, random input and weights.
-std::tuple<torch::Tensor, torch::Tensor> random_case(int64_t rows, int64_t cols,
-                                                     torch::Dtype dtype) {
+std::tuple<torch::Tensor, torch::Tensor> random_case(int64_t rows, int64_t cols, torch::Dtype dtype) {
   torch::manual_seed(rows * 1000 + cols);
   return {torch::randn({2, 3, rows, cols}, dtype), torch::randn({3, 2, 8, 5, 2}, dtype)};
 }
@@ -57,9 +56,9 @@ TEST(SpectralConv, ModuleUsesBothBackendsAlike) {
   SpectralConv2d layer(SpectralConv2dOptions(4, 3).modes_x(6).modes_y(4));
   EXPECT_EQ(layer->weight.sizes(), torch::IntArrayRef({4, 3, 6, 3, 2}));
   const torch::Tensor x = torch::randn({1, 4, 17, 12});
-  EXPECT_LE(test::relative_error(layer->forward(x, SpectralBackend::fftw),
-                                 layer->forward(x, SpectralBackend::torch_fft)),
-            1e-5);
+  EXPECT_LE(
+      test::relative_error(layer->forward(x, SpectralBackend::fftw), layer->forward(x, SpectralBackend::torch_fft)),
+      1e-5);
 }
 
 TEST(SpectralConv, MismatchedShapesAreUserErrors) {

@@ -51,8 +51,8 @@ TEST(SvgPlot, DrawsAxesTicksSeriesAndLegend) {
   EXPECT_EQ(svg.rfind("<svg", 0), 0u);
   EXPECT_NE(svg.find("</svg>"), std::string::npos);
   EXPECT_NE(svg.find("error &amp; time"), std::string::npos);
-  for (const char* text : {"ms/frame", "e_CD x 10^3", ">gd<", ">lbfgs<", "N=500", "newton (the reference)",
-                           ">1<", ">10<", ">100<", "1 point not shown", "diverged"})
+  for (const char* text : {"ms/frame", "e_CD x 10^3", ">gd<", ">lbfgs<", "N=500", "newton (the reference)", ">1<",
+                           ">10<", ">100<", "1 point not shown", "diverged"})
     EXPECT_NE(svg.find(text), std::string::npos) << text;
   EXPECT_EQ(std::count(svg.begin(), svg.end(), '\n') > 20, true);
   std::size_t polylines = 0;
@@ -87,7 +87,8 @@ TEST(SvgPlot, ABandHasNoMarkersOrLabelsAndLongLegendEntriesDoNotOverlap) {
     std::string text;
   };
   std::vector<Entry> entries;
-  for (std::size_t at = svg.find("font-size=\"13\">"); at != std::string::npos; at = svg.find("font-size=\"13\">", at + 1)) {
+  for (std::size_t at = svg.find("font-size=\"13\">"); at != std::string::npos;
+       at = svg.find("font-size=\"13\">", at + 1)) {
     const std::size_t x_at = svg.rfind("<text x=\"", at) + 9, y_at = svg.find("y=\"", x_at) + 3;
     const std::size_t text_at = at + 15;
     entries.push_back({std::stod(svg.substr(x_at)), std::stod(svg.substr(y_at)),

@@ -1,8 +1,8 @@
 // HDF5 rollout files: write -> read round trip, the ARCSim layout, atomic writes, bad files.
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 
 #include <fnopt/io/hdf5_file.hpp>

@@ -8,9 +8,9 @@
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/fno/fno_io.hpp>
 #include <fnopt/learned/learned_optimizer.hpp>
-#include "tests/learned/step_probes.hpp"
 #include <fnopt/simulation/rollout.hpp>
 #include <fnopt/util/error.hpp>
+#include "tests/learned/step_probes.hpp"
 
 namespace fnopt {
 namespace {
@@ -18,8 +18,15 @@ namespace {
 // combined: one sample with x, y, z as channels (9 in, 3 out) instead of three samples.
 FNO2d tiny_model(bool combined = false) {
   torch::manual_seed(3);
-  return FNO2d(FNO2dOptions().width(4).fourier_layers(2).modes_x(4).modes_y(4).lifting_channels(8).projection_channels(4)
-                   .in_channels(combined ? 9 : 3).out_channels(combined ? 3 : 1));
+  return FNO2d(FNO2dOptions()
+                   .width(4)
+                   .fourier_layers(2)
+                   .modes_x(4)
+                   .modes_y(4)
+                   .lifting_channels(8)
+                   .projection_channels(4)
+                   .in_channels(combined ? 9 : 3)
+                   .out_channels(combined ? 3 : 1));
 }
 
 // One time step of a falling cloth with two corner handles and a third moving handle.
@@ -37,7 +44,10 @@ struct Step {
     for (int k = 0; k < grid.vertex_count(); ++k) v[3 * k + 1] = 0.5 * (k % cols) / cols;
     objective.begin_step(grid.rest_positions(), v);
     a = VecX::Zero(grid.dof_count());
-    handles.prescribe(a, grid.rest_positions(), v, {Vec3(0, 0.01, 0), Vec3(1, 0, 0.01), vertex(grid.rest_positions(), grid.index(rows / 2, cols / 2))}, 1.0 / 60.0);
+    handles.prescribe(
+        a, grid.rest_positions(), v,
+        {Vec3(0, 0.01, 0), Vec3(1, 0, 0.01), vertex(grid.rest_positions(), grid.index(rows / 2, cols / 2))},
+        1.0 / 60.0);
   }
 };
 
@@ -74,8 +84,10 @@ TEST(LearnedOptimizer, SafeguardNeverLetsTheEnergyRise) {
     solve_step(log, step.problem, step.a, {30, 0.0});
     int rises = 0;
     for (std::size_t k = 1; k < log.values.size(); ++k) rises += log.values[k] > log.values[k - 1];
-    if (safeguard) EXPECT_EQ(rises, 0);
-    else EXPECT_GT(rises, 0) << "the test model must make bad updates for this test to mean anything";
+    if (safeguard)
+      EXPECT_EQ(rises, 0);
+    else
+      EXPECT_GT(rises, 0) << "the test model must make bad updates for this test to mean anything";
   }
 }
 
@@ -192,7 +204,8 @@ TEST(LearnedOptimizer, CarriedSubspaceReachesOnlyTheStepThatContinuesTheLastOne)
 TEST(LearnedOptimizer, RejectsMissingAndIncompatibleModelFiles) {
   EXPECT_THROW(LearnedOptimizer("/nonexistent/model.pt"), Error);
   const auto path = (std::filesystem::temp_directory_path() / "fnopt_test_wrong_model.pt").string();
-  save_fno(path, FNO2d(FNO2dOptions().in_channels(5).width(4).fourier_layers(2).lifting_channels(4).projection_channels(4)));
+  save_fno(path,
+           FNO2d(FNO2dOptions().in_channels(5).width(4).fourier_layers(2).lifting_channels(4).projection_channels(4)));
   try {
     LearnedOptimizer optimizer(path);
     FAIL() << "a 5-channel FNO was accepted";

@@ -7,21 +7,21 @@
 #include <algorithm>
 #include <cmath>
 
-
 #include <fnopt/baselines/pqn.hpp>
 #include <fnopt/learned/grid_tensor.hpp>
 #include <fnopt/learned/learned_pqn.hpp>
 #include <fnopt/learned/learned_update.hpp>
+#include <fnopt/util/error.hpp>
 #include "tests/learned/step_probes.hpp"
 #include "tests/util/cloth_step.hpp"
-#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {
 
 FNO2d tiny_model() {
   torch::manual_seed(5);
-  return FNO2d(FNO2dOptions().width(4).fourier_layers(2).modes_x(4).modes_y(4).lifting_channels(8).projection_channels(4));
+  return FNO2d(
+      FNO2dOptions().width(4).fourier_layers(2).modes_x(4).modes_y(4).lifting_channels(8).projection_channels(4));
 }
 
 LearnedPqnParams schedule(int coarse_size, int first, int every) {
@@ -43,9 +43,9 @@ TEST(LearnedPqn, ProposesAtTheIterationsOfItsSchedule) {
 }
 
 TEST(LearnedPqn, BadParametersAreOneLineErrors) {
-  for (auto [params, field] : {std::pair{schedule(2, 0, 0), "fnopt-pqn.coarse_size"},
-                               std::pair{schedule(32, -1, 0), "fnopt-pqn.first"},
-                               std::pair{schedule(32, 0, -2), "fnopt-pqn.every"}}) {
+  for (auto [params, field] :
+       {std::pair{schedule(2, 0, 0), "fnopt-pqn.coarse_size"}, std::pair{schedule(32, -1, 0), "fnopt-pqn.first"},
+        std::pair{schedule(32, 0, -2), "fnopt-pqn.every"}}) {
     try {
       LearnedPqnOptimizer optimizer(tiny_model(), "tiny", params);
       ADD_FAILURE() << field << " was accepted";

@@ -7,8 +7,8 @@
 #include <fnopt/learned/grid_tensor.hpp>
 #include <fnopt/learned/proposal_rule.hpp>
 #include <fnopt/simulation/rollout.hpp>
-#include "tests/util/falling_cloth_step.hpp"
 #include <fnopt/util/error.hpp>
+#include "tests/util/falling_cloth_step.hpp"
 
 namespace fnopt {
 namespace {

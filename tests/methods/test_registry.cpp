@@ -95,8 +95,7 @@ TEST(Registry, LearnedMethodsDefaultToTheShippedModel) {
 
 TEST(Registry, NewtonIsTheOnlyReference) {
   EXPECT_EQ(reference_method(), "newton");
-  for (const std::string& name : table_names())
-    EXPECT_EQ(method_traits(name).reference, name == "newton") << name;
+  for (const std::string& name : table_names()) EXPECT_EQ(method_traits(name).reference, name == "newton") << name;
   EXPECT_EQ(method_traits("newton").budget, BudgetKind::ToTolerance);
   // Newton on a coarse grid is an approximation, not the reference.
   EXPECT_FALSE(method_traits("newton-interp32").reference);

@@ -70,8 +70,8 @@ TEST(Chamfer, GrowsWithAShiftAndIsTwiceTheSquaredNormalShift) {
 
 TEST(Chamfer, WorksAcrossResolutionsAndRejectsNonFinitePoints) {
   const Grid coarse = Grid::make(8, 8, 1.0), fine = Grid::make(31, 31, 1.0);
-  const double cd = mesh_chamfer_distance(coarse.rest_positions(), coarse.triangles(), fine.rest_positions(),
-                                          fine.triangles());
+  const double cd =
+      mesh_chamfer_distance(coarse.rest_positions(), coarse.triangles(), fine.rest_positions(), fine.triangles());
   EXPECT_LT(cd, 1.5e-4);  // the same plane: only the sampling floor
   EXPECT_TRUE(std::isnan(chamfer_distance({Vec3::Zero()}, {Vec3(NAN, 0, 0)})));
   ChamferOptions bad;

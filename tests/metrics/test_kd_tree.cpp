@@ -20,7 +20,7 @@ std::vector<Vec3> random_points(int n, unsigned seed, double scale = 1.0) {
 
 TEST(KdTree3, NearestNeighbourEqualsBruteForce) {
   std::vector<Vec3> points = random_points(2000, 1);
-  points.push_back(points[5]);  // a duplicate
+  points.push_back(points[5]);                                             // a duplicate
   for (int k = 0; k < 50; ++k) points.push_back(Vec3(0.5, 0.25, -0.125));  // many equal points
   const KdTree3 tree(points);
   for (const Vec3& q : random_points(1000, 2, 1.3)) {

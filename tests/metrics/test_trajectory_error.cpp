@@ -14,7 +14,7 @@ namespace {
 TEST(TrajectoryError, RelativeFrameErrorMatchesAHandComputation) {
   Eigen::VectorXf reference(6), x(6);
   reference << 1, 2, 2, 0, 0, 0;  // norm 3
-  x << 1, 2, 2, 0, 0, 1.5;          // differs by 1.5 in one coordinate
+  x << 1, 2, 2, 0, 0, 1.5;        // differs by 1.5 in one coordinate
   EXPECT_NEAR(relative_frame_error(x, reference), 0.5, 1e-7);
 
   // Two frames: errors 0 and 0.5, mean 0.25.

@@ -46,8 +46,10 @@ TEST(TwoRanks, CollectivesCombineBothRanks) {
   EXPECT_EQ(text.substr(0, 12), "from rank 0,");
   EXPECT_EQ(text.size(), 12 + 100001u);
   const auto gathered = world().gather(std::string(r + 1, 'a' + r));
-  if (r == 0) EXPECT_EQ(gathered, (std::vector<std::string>{"a", "bb"}));
-  else EXPECT_TRUE(gathered.empty());
+  if (r == 0)
+    EXPECT_EQ(gathered, (std::vector<std::string>{"a", "bb"}));
+  else
+    EXPECT_TRUE(gathered.empty());
 }
 
 TEST(TwoRanks, RankOneMessagesReachRankZero) {

@@ -110,8 +110,9 @@ TEST(SceneFile, MaterialAndTrajectoryFilesAreFoundNextToTheSceneFile) {
   TempDir dir;
   std::filesystem::create_directory(dir.path() / "scenes");
   dir.write("scenes/knit.material", "stretch = 12\ndensity = 0.3\n");
-  dir.write("scenes/motions.csv", "motion,t_s,h0_x,h0_y,h0_z,h1_x,h1_y,h1_z\n"
-                                  "up,0,0,0,0,1,0,0\n");
+  dir.write("scenes/motions.csv",
+            "motion,t_s,h0_x,h0_y,h0_z,h1_x,h1_y,h1_z\n"
+            "up,0,0,0,0,1,0,0\n");
   const auto path = dir.write("scenes/s.txt",
                               "material = knit.material\n"
                               "trajectory = motions.csv#up\n");
@@ -185,8 +186,8 @@ TEST(SceneFile, RepulsionModeRoundTripsForEveryPresetAndMode) {
       scene.repulsion = mode;
       resolve_repulsion(scene);
       const std::string text = to_scene_text(scene);
-      EXPECT_NE(text.find("repulsion = " + repulsion_mode_name(mode) + "  # resolved: " +
-                          (repulsion_enabled(scene) ? "on" : "off")),
+      EXPECT_NE(text.find("repulsion = " + repulsion_mode_name(mode) +
+                          "  # resolved: " + (repulsion_enabled(scene) ? "on" : "off")),
                 std::string::npos)
           << text;
       const Scene loaded = load_scene_file(dir.write("r.txt", text));
@@ -198,8 +199,8 @@ TEST(SceneFile, RepulsionIsResolvedAfterEverySettingInAnyOrder) {
   TempDir dir;
   // auto, then a folding preset: on; then an explicit list: off again.
   EXPECT_TRUE(load_scene_file(dir.write("a.txt", "handles = single-mid-edge\n")).material.repulsion);
-  EXPECT_FALSE(load_scene_file(dir.write("b.txt", "handles = corner-center\nhandle-vertices = 0,0\n"))
-                   .material.repulsion);
+  EXPECT_FALSE(
+      load_scene_file(dir.write("b.txt", "handles = corner-center\nhandle-vertices = 0,0\n")).material.repulsion);
   // A material line resets the material but not the decision.
   EXPECT_TRUE(load_scene_file(dir.write("c.txt", "repulsion = true\nmaterial = default\n")).material.repulsion);
   EXPECT_FALSE(load_scene_file(dir.write("d.txt", "handles = corner-center\nrepulsion = off\n")).material.repulsion);
@@ -212,8 +213,7 @@ TEST(SceneFile, RepulsionIsResolvedAfterEverySettingInAnyOrder) {
 void expect_line_error(const std::string& text, int line, const std::string& expected) {
   TempDir dir;
   const auto path = dir.write("bad.txt", text);
-  EXPECT_TRUE(throws_error([&] { load_scene_file(path); },
-                           path + ":" + std::to_string(line) + ": " + expected));
+  EXPECT_TRUE(throws_error([&] { load_scene_file(path); }, path + ":" + std::to_string(line) + ": " + expected));
 }
 
 TEST(SceneFile, LineNumberedErrorsNameTheKey) {
@@ -267,8 +267,7 @@ TEST(SceneSetting, AppliesOneSettingWithTheFileChecks) {
   apply_scene_setting(scene, "speed", "1.5");
   EXPECT_EQ(scene.speed, 1.5);
   EXPECT_TRUE(throws_error([&] { apply_scene_setting(scene, "speed", "fast"); }, "speed: "));
-  EXPECT_TRUE(throws_error([&] { apply_scene_setting(scene, "velocity", "1"); },
-                           "velocity: unknown setting (valid: "));
+  EXPECT_TRUE(throws_error([&] { apply_scene_setting(scene, "velocity", "1"); }, "velocity: unknown setting (valid: "));
 }
 
 }  // namespace

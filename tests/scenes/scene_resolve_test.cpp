@@ -15,8 +15,8 @@ using testing::TempDir;
 using testing::throws_error;
 
 void expect_near(const Vec3& actual, const Vec3& expected) {
-  EXPECT_LT((actual - expected).norm(), 1e-12) << "actual (" << actual.transpose()
-                                               << "), expected (" << expected.transpose() << ")";
+  EXPECT_LT((actual - expected).norm(), 1e-12)
+      << "actual (" << actual.transpose() << "), expected (" << expected.transpose() << ")";
 }
 
 TEST(SceneResolve, TheDefaultSceneIsTheBenchmark) {
@@ -79,8 +79,8 @@ TEST(SceneResolve, RejectsUnreadableAndNonMonotonicCsvs) {
                                "0,0,0,0,1,0,0\n"
                                "1,0,0,0,1,0,0\n"
                                "0.5,0,0,0,1,0,0\n");
-  EXPECT_TRUE(throws_error([&] { resolve(scene); }, "trajectory: " + scene.trajectory +
-                                                        ": line 4: time t_s = 0.5 does not"));
+  EXPECT_TRUE(
+      throws_error([&] { resolve(scene); }, "trajectory: " + scene.trajectory + ": line 4: time t_s = 0.5 does not"));
 }
 
 TEST(SceneResolve, RejectsACsvForAnotherHandleCount) {
@@ -95,8 +95,8 @@ TEST(SceneResolve, RejectsACsvForAnotherHandleCount) {
 }
 
 TEST(SceneResolve, RepulsionAutoIsOnExactlyForTheFoldingPresets) {
-  const std::map<std::string, bool> folds = {{"corner", false},       {"diagonal", false},
-                                             {"mid-edge", false},     {"corner-center", true},
+  const std::map<std::string, bool> folds = {{"corner", false},         {"diagonal", false},
+                                             {"mid-edge", false},       {"corner-center", true},
                                              {"single-mid-edge", true}, {"single-center", false}};
   for (const auto& [preset, auto_on] : folds) {
     Scene scene;

@@ -23,9 +23,7 @@ void expect_invalid(const std::function<void(Scene&)>& change, const std::string
   EXPECT_TRUE(throws_error([&] { resolve(scene); }, expected));
 }
 
-TEST(SceneValidate, TheDefaultSceneIsValid) {
-  EXPECT_NO_THROW(Scene().validate());
-}
+TEST(SceneValidate, TheDefaultSceneIsValid) { EXPECT_NO_THROW(Scene().validate()); }
 
 TEST(SceneValidate, RejectsGridsSmallerThan3x3) {
   expect_invalid([](Scene& s) { s.rows = s.cols = 2; }, "rows: ");
@@ -49,8 +47,7 @@ TEST(SceneValidate, RejectsNaNAndInfinityInEveryRealField) {
     expect_invalid([&](Scene& s) { s.size = bad; }, "size: ");
     expect_invalid([&](Scene& s) { s.dt = bad; }, "dt: ");
     expect_invalid([&](Scene& s) { s.speed = bad; }, "speed: ");
-    for (int axis = 0; axis < 3; ++axis)
-      expect_invalid([&](Scene& s) { s.gravity[axis] = bad; }, "gravity: ");
+    for (int axis = 0; axis < 3; ++axis) expect_invalid([&](Scene& s) { s.gravity[axis] = bad; }, "gravity: ");
     expect_invalid([&](Scene& s) { s.material.stretch = bad; }, "stretch: ");
     expect_invalid([&](Scene& s) { s.material.shear = bad; }, "shear: ");
     expect_invalid([&](Scene& s) { s.material.bend = bad; }, "bend: ");
@@ -66,7 +63,12 @@ TEST(SceneValidate, RejectsScenesWhoseGridUnitsOverflow) {
   expect_invalid([](Scene& s) { s.material.shear = 1e300; }, "shear: 1e+300 N/m overflows in grid units");
   expect_invalid([](Scene& s) { s.material.bend = 1e305; }, "bend: 1e+305 N m overflows in grid units");
   expect_invalid([](Scene& s) { s.gravity = Vec3(0, 0, -1e307); }, "gravity: ");
-  expect_invalid([](Scene& s) { s.material.damping = 1e307; s.dt = 100.0; }, "damping: ");
+  expect_invalid(
+      [](Scene& s) {
+        s.material.damping = 1e307;
+        s.dt = 100.0;
+      },
+      "damping: ");
   expect_invalid([](Scene& s) { s.material.repulsion_stiffness = 1e300; }, "repulsion-stiffness: ");
   // The scales themselves: a step too long or too short to square, a vertex mass or a cell too
   // small to represent.

@@ -41,7 +41,8 @@ TEST(Rollout, NewtonConvergesEveryStepAndHandlesFollowTheirTargets) {
   EXPECT_EQ(r.converged_steps(), 40);
   for (std::size_t t = 0; t < r.positions.size(); ++t)
     for (std::size_t h = 0; h < r.handle_vertices.size(); ++h)
-      EXPECT_LT((r.positions[t].segment<3>(3 * r.handle_vertices[h]).cast<double>() - r.handle_targets[t][h]).norm(), 1e-5);
+      EXPECT_LT((r.positions[t].segment<3>(3 * r.handle_vertices[h]).cast<double>() - r.handle_targets[t][h]).norm(),
+                1e-5);
   EXPECT_GT(r.max_strain(), 0.0);
   EXPECT_LT(r.max_strain(), 0.5);
 }

@@ -15,8 +15,8 @@ std::vector<std::pair<std::string, int>> pairs(const std::vector<RunSpec>& runs)
 
 TEST(CompareRuns, EachMethodRunsAsItsBudgetKindSays) {
   const auto runs = compare_runs({"pqn", "newton", "implicit-euler", "gd"}, {5, 10}, {{"newton", {2}}, {"gd", {100}}});
-  const std::vector<std::pair<std::string, int>> expected = {
-      {"pqn", 5}, {"pqn", 10}, {"newton", 0}, {"newton", 2}, {"implicit-euler", 1}, {"gd", 100}};
+  const std::vector<std::pair<std::string, int>> expected = {{"pqn", 5},    {"pqn", 10},           {"newton", 0},
+                                                             {"newton", 2}, {"implicit-euler", 1}, {"gd", 100}};
   EXPECT_EQ(pairs(runs), expected);
 }
 

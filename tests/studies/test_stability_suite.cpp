@@ -62,13 +62,11 @@ TEST(StabilitySuite, DivergingOptimizerIsReportedWithItsStepWithoutThrowing) {
   EXPECT_LT(row.diverged_step, scene.frames);
   EXPECT_EQ(row.frames_done, row.diverged_step - 1);
   EXPECT_EQ(row.frames_requested, scene.frames);
-  EXPECT_NE(row.reason.find("diverged at step " + std::to_string(row.diverged_step)), std::string::npos)
-      << row.reason;
+  EXPECT_NE(row.reason.find("diverged at step " + std::to_string(row.diverged_step)), std::string::npos) << row.reason;
   expect_no_nan_cells(row);
   const auto summary = stability_summary({row}, {"gd-huge"});
   ASSERT_FALSE(summary.empty());
-  EXPECT_NE(summary[0].find("diverged on baseline (step " + std::to_string(row.diverged_step) + ")"),
-            std::string::npos)
+  EXPECT_NE(summary[0].find("diverged on baseline (step " + std::to_string(row.diverged_step) + ")"), std::string::npos)
       << summary[0];
 }
 
@@ -149,16 +147,26 @@ TEST(StabilitySuite, EveryCaseValidatesAndChangesTheFieldsItNames) {
       continue;
     }
     for (const std::string& field : c.fields) {
-      if (field == "material.stretch") EXPECT_NE(s.material.stretch, base.material.stretch);
-      else if (field == "material.shear") EXPECT_NE(s.material.shear, base.material.shear);
-      else if (field == "material.bend") EXPECT_NE(s.material.bend, base.material.bend);
-      else if (field == "speed") EXPECT_NE(s.speed, base.speed);
-      else if (field == "dt") EXPECT_NE(s.dt, base.dt);
-      else if (field == "frames") EXPECT_NE(s.frames, base.frames);
-      else if (field == "handles") EXPECT_NE(s.handles, base.handles);
-      else if (field == "rows") EXPECT_NE(s.rows, base.rows);
-      else if (field == "cols") EXPECT_NE(s.cols, base.cols);
-      else ADD_FAILURE() << "unknown field " << field;
+      if (field == "material.stretch")
+        EXPECT_NE(s.material.stretch, base.material.stretch);
+      else if (field == "material.shear")
+        EXPECT_NE(s.material.shear, base.material.shear);
+      else if (field == "material.bend")
+        EXPECT_NE(s.material.bend, base.material.bend);
+      else if (field == "speed")
+        EXPECT_NE(s.speed, base.speed);
+      else if (field == "dt")
+        EXPECT_NE(s.dt, base.dt);
+      else if (field == "frames")
+        EXPECT_NE(s.frames, base.frames);
+      else if (field == "handles")
+        EXPECT_NE(s.handles, base.handles);
+      else if (field == "rows")
+        EXPECT_NE(s.rows, base.rows);
+      else if (field == "cols")
+        EXPECT_NE(s.cols, base.cols);
+      else
+        ADD_FAILURE() << "unknown field " << field;
     }
     // Nothing else changes (fields not named keep the base's values).
     Scene restored = s;

@@ -68,7 +68,8 @@ TEST(EnergyLoss, GradientMatchesFiniteDifferencesForBothNormalisations) {
       plus.view({-1})[index] += eps;
       minus.view({-1})[index] -= eps;
       const double fd =
-          (EnergyLoss::apply(plus, &batch).item<double>() - EnergyLoss::apply(minus, &batch).item<double>()) / (2 * eps);
+          (EnergyLoss::apply(plus, &batch).item<double>() - EnergyLoss::apply(minus, &batch).item<double>()) /
+          (2 * eps);
       EXPECT_NEAR(analytic.view({-1})[index].item<double>(), fd, 1e-2 * std::abs(fd) + 1e-6)
           << "entry " << index << (normalisation == LossNormalisation::Batch ? ", batch" : ", per environment");
     }
@@ -99,7 +100,8 @@ TEST(EnergyLoss, ScoredAfterTheSubspaceStepItsGradientMatchesFiniteDifferences) 
   torch::manual_seed(2);
   const auto mask = free_mask(env.dirichlet(), env.grid()).expand({3, 1, 8, 8});
   auto delta = (-to_coordinate_samples(gradient, env.grid(), 0.02 / gradient.norm()) +
-                0.005 * torch::randn({3, 1, 8, 8}, torch::kFloat32)) * mask;
+                0.005 * torch::randn({3, 1, 8, 8}, torch::kFloat32)) *
+               mask;
   delta.requires_grad_(true);
   const double loss = EnergyLoss::apply(delta, &batch).item<double>();
   EnergyLossBatch as_proposal = batch;
@@ -177,7 +179,8 @@ TEST(MetaTraining, ResumedCheckpointTakesTheSameNextSteps) {
 
   MetaTrainer resumed(tiny_training(), checkpoint);
   EXPECT_EQ(resumed.completed_steps(), 4);
-  for (int i = 0; i < 6; ++i) EXPECT_NEAR(resumed.step().loss, expected[i], 1e-6 * std::abs(expected[i])) << "step " << i;
+  for (int i = 0; i < 6; ++i)
+    EXPECT_NEAR(resumed.step().loss, expected[i], 1e-6 * std::abs(expected[i])) << "step " << i;
   std::filesystem::remove_all(dir);
 }
 
@@ -216,7 +219,8 @@ TEST(MetaTraining, SubspaceRuleChangesThePoolAndResumesWithItsKeptProposals) {
   for (int i = 0; i < 8; ++i) expected.push_back(original.step().loss);
 
   MetaTrainer resumed(options, checkpoint);
-  for (int i = 0; i < 8; ++i) EXPECT_NEAR(resumed.step().loss, expected[i], 1e-6 * std::abs(expected[i])) << "step " << i;
+  for (int i = 0; i < 8; ++i)
+    EXPECT_NEAR(resumed.step().loss, expected[i], 1e-6 * std::abs(expected[i])) << "step " << i;
   std::filesystem::remove_all(dir);
 }
 
@@ -268,7 +272,8 @@ TEST(MetaTraining, ProbeObjectiveLowersRemainingOnAFixedBatch) {
     };
     const auto [initial, trained] = train_on_fixed_batch(adam, remaining_now, 60);
     std::printf("fixed-batch probe remainder after %d pqn iterations: %.5f -> %.5f (pqn alone %.5f, %.5f)\n",
-                iterations, initial, trained, probes[0]->remaining_without_probe(), probes[1]->remaining_without_probe());
+                iterations, initial, trained, probes[0]->remaining_without_probe(),
+                probes[1]->remaining_without_probe());
     EXPECT_LT(trained, 0.8 * initial) << iterations << " iterations";
   }
 }
@@ -290,7 +295,8 @@ TEST(MetaTraining, ProbeObjectiveFollowsNewtonAndResumes) {
   std::vector<double> expected;
   for (int i = 0; i < 4; ++i) expected.push_back(original.step().loss);
   MetaTrainer resumed(options, checkpoint);
-  for (int i = 0; i < 4; ++i) EXPECT_NEAR(resumed.step().loss, expected[i], 1e-6 * std::abs(expected[i])) << "step " << i;
+  for (int i = 0; i < 4; ++i)
+    EXPECT_NEAR(resumed.step().loss, expected[i], 1e-6 * std::abs(expected[i])) << "step " << i;
   // A checkpoint of the energy objective, or one scored after another number of pqn iterations,
   // is another run.
   EXPECT_THROW(static_cast<void>(MetaTrainer(tiny_training(), checkpoint)), Error);

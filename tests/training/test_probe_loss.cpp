@@ -69,7 +69,8 @@ TEST(ProbeLoss, AgreesWithTheDenseBfgsUpdate) {
   const VecX s = -(g.dot(q) / q.dot(A * q)) * q, y = H * s;
   const double rho = 1.0 / s.dot(y);
   const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(g.size(), g.size());
-  const Eigen::MatrixXd H1 = (I - rho * s * y.transpose()) * A_inverse * (I - rho * y * s.transpose()) + rho * s * s.transpose();
+  const Eigen::MatrixXd H1 =
+      (I - rho * s * y.transpose()) * A_inverse * (I - rho * y * s.transpose()) + rho * s * s.transpose();
   EXPECT_NEAR(loss.remaining(p).item<double>(), remaining_of(-H1 * g), 1e-9);
   EXPECT_NEAR(loss.remaining_without_probe(), remaining_of(-A_inverse * g), 1e-9);
   // Where H differs from A, pqn's first step leaves a visible part of the decrease.
@@ -84,7 +85,8 @@ TEST(ProbeLoss, AgreesWithPqnRunOnTheQuadraticModel) {
   const std::vector<int>& free_index = step.handles.free_index();
   const Eigen::SparseMatrix<double> lower = step.objective.hessian(step.a, free_index, true);
   const Eigen::SparseMatrix<double> H = lower.selfadjointView<Eigen::Lower>();
-  const PqnMatrix matrix = build_pqn_matrix(step.objective, free_index, PqnMatrixKind::Isotropic, step.grid.rest_positions());
+  const PqnMatrix matrix =
+      build_pqn_matrix(step.objective, free_index, PqnMatrixKind::Isotropic, step.grid.rest_positions());
   auto to_free = [&](const VecX& full) {
     VecX free(H.rows());
     for (int v = 0; v < step.grid.vertex_count(); ++v)
@@ -174,13 +176,15 @@ TEST(ProbeLoss, OnTheEnergyAgreesWithPqnRunOnTheStep) {
       }
       for (int k = 0; k < iterations; ++k) ASSERT_FALSE(pqn.step(cloth, a, value, gradient).has_value());
       const double remaining = with_probe ? loss.remaining(p).item<double>() : loss.remaining_without_probe();
-      EXPECT_NEAR(remaining, (value - best) / (step.value - best), 1e-7) << iterations << " iterations, probe " << with_probe;
+      EXPECT_NEAR(remaining, (value - best) / (step.value - best), 1e-7)
+          << iterations << " iterations, probe " << with_probe;
       if (iterations == 7) {
         EXPECT_LT(remaining, 0.3) << "pqn closes in on the step's solution";
       }
     }
   }
-  EXPECT_THROW(static_cast<void>(ProbeLoss(step.problem, step.a, step.gradient, scoring(1, ProbeSurface::Energy))), Error)
+  EXPECT_THROW(static_cast<void>(ProbeLoss(step.problem, step.a, step.gradient, scoring(1, ProbeSurface::Energy))),
+               Error)
       << "the energy surface needs the solution";
 }
 
@@ -236,7 +240,8 @@ TEST(ProbeLoss, FreeDofsSkipTheHandles) {
   int k = 0;
   for (int v = 0; v < step.grid.vertex_count(); ++v) {
     if (step.handles.free_index()[v] < 0) continue;
-    for (int c = 0; c < 3; ++c, ++k) EXPECT_NEAR(free[k], field[3 * v + c], 1e-5 * std::abs(field[3 * v + c])) << "vertex " << v;
+    for (int c = 0; c < 3; ++c, ++k)
+      EXPECT_NEAR(free[k], field[3 * v + c], 1e-5 * std::abs(field[3 * v + c])) << "vertex " << v;
   }
 }
 

@@ -10,8 +10,8 @@
 #include <fnopt/fno/fno_io.hpp>
 #include <fnopt/io/rollout_file.hpp>
 #include <fnopt/training/rollout_validation.hpp>
-#include "tests/util/temp_dir.hpp"
 #include <fnopt/util/error.hpp>
+#include "tests/util/temp_dir.hpp"
 
 namespace fnopt {
 namespace {
@@ -26,7 +26,8 @@ ValidationOptions small_validation() {
 
 FNO2d tiny_model() {
   torch::manual_seed(3);
-  return FNO2d(FNO2dOptions().width(4).fourier_layers(2).modes_x(4).modes_y(4).lifting_channels(8).projection_channels(4));
+  return FNO2d(
+      FNO2dOptions().width(4).fourier_layers(2).modes_x(4).modes_y(4).lifting_channels(8).projection_channels(4));
 }
 
 TEST(RolloutValidation, SolvesEachReferenceOnceAndOnlyReusesItForItsOwnScene) {

@@ -57,8 +57,8 @@ void take_scaled_gradients(TrainingEnv& env, int count) {
     const double unit = acceleration_per_grid_unit(env.grid(), env.dt());
     const double t = 0.3 * unit / gradient.lpNorm<Eigen::Infinity>();
     const torch::Tensor g = to_coordinate_samples(gradient, env.grid());
-    env.rule().apply(problem, g, {to_coordinate_samples(gradient, env.grid(), -t / unit), env.scale}, env.acceleration(),
-                     value, gradient);
+    env.rule().apply(problem, g, {to_coordinate_samples(gradient, env.grid(), -t / unit), env.scale},
+                     env.acceleration(), value, gradient);
     env.finish_iteration();
   }
 }

@@ -5,8 +5,8 @@
 
 #include <fnopt/training/meta_trainer.hpp>
 #include <fnopt/training/weight_average.hpp>
-#include "tests/util/temp_dir.hpp"
 #include <fnopt/util/error.hpp>
+#include "tests/util/temp_dir.hpp"
 
 namespace fnopt {
 namespace {

@@ -25,8 +25,8 @@ template <class Call>
 ::testing::AssertionResult throws_error(Call&& call, const std::string& expected) {
   const std::string message = error_message(call);
   if (message.find(expected) == std::string::npos)
-    return ::testing::AssertionFailure() << "expected an Error containing \"" << expected
-                                         << "\", got \"" << message << "\"";
+    return ::testing::AssertionFailure() << "expected an Error containing \"" << expected << "\", got \"" << message
+                                         << "\"";
   if (message.find('\n') != std::string::npos)
     return ::testing::AssertionFailure() << "message is not one line: \"" << message << "\"";
   return ::testing::AssertionSuccess() << message;

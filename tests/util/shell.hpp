@@ -22,4 +22,3 @@ inline CommandResult run_shell(const std::string& command_line) {
   const int raw = pclose(pipe.release());
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, output};
 }
-

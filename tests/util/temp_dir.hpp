@@ -14,8 +14,7 @@ class TempDir {
     std::random_device entropy;
     std::mt19937_64 random(entropy());
     for (;;) {
-      path_ = std::filesystem::temp_directory_path() /
-              ("fnopt-test-" + std::to_string(random()));
+      path_ = std::filesystem::temp_directory_path() / ("fnopt-test-" + std::to_string(random()));
       if (std::filesystem::create_directory(path_)) break;
     }
   }

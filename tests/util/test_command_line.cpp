@@ -1,8 +1,8 @@
 // Arguments are quoted so that the echoed command line can be pasted back into a shell.
 #include <gtest/gtest.h>
 
-#include "tests/util/shell.hpp"
 #include <fnopt/util/command_line.hpp>
+#include "tests/util/shell.hpp"
 
 namespace fnopt {
 namespace {

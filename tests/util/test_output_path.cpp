@@ -5,9 +5,9 @@
 #include <fstream>
 #include <string>
 
-#include "tests/util/temp_dir.hpp"
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/output_path.hpp>
+#include "tests/util/temp_dir.hpp"
 
 namespace fnopt {
 namespace {
@@ -46,7 +46,8 @@ TEST(OutputPath, ADirectoryIsMadeIfNeededAndMustTakeFiles) {
   EXPECT_EQ(error_of(require_writable_directory, (tmp.path() / "file").string()),
             "out: '" + (tmp.path() / "file").string() + "' exists and is not a directory");
   EXPECT_EQ(error_of(require_writable_directory, ""), "out: is empty: give a directory");
-  EXPECT_EQ(error_of(require_writable_directory, "/proc/fnopt").rfind("out: cannot create directory '/proc/fnopt'", 0), 0u);
+  EXPECT_EQ(error_of(require_writable_directory, "/proc/fnopt").rfind("out: cannot create directory '/proc/fnopt'", 0),
+            0u);
 }
 
 }  // namespace

@@ -72,7 +72,8 @@ inline RgbImage read_png(const std::string& path) {
       row[k] = static_cast<std::uint8_t>(line[k] + predicted);
     }
     for (int x = 0; x < image.width; ++x)
-      for (int c = 0; c < 3; ++c) image.rgb[3 * (static_cast<std::size_t>(y) * image.width + x) + c] = row[x * channels + c];
+      for (int c = 0; c < 3; ++c)
+        image.rgb[3 * (static_cast<std::size_t>(y) * image.width + x) + c] = row[x * channels + c];
     previous = row;
   }
   return image;

@@ -8,10 +8,10 @@
 #include <fnopt/cloth/grid.hpp>
 #include <fnopt/cloth/strain.hpp>
 #include <fnopt/io/hdf5_file.hpp>
-#include "tests/util/temp_dir.hpp"
-#include "tests/viewer/viewer_fixture.hpp"
 #include <fnopt/util/error.hpp>
 #include <fnopt/viewer/rollout_view.hpp>
+#include "tests/util/temp_dir.hpp"
+#include "tests/viewer/viewer_fixture.hpp"
 
 namespace fnopt {
 namespace {
@@ -99,10 +99,10 @@ TEST(ViewerRolloutView, BadFilesAreOneLineErrorsNamingTheFile) {
   const std::string missing = (dir.path() / "missing.h5").string();
   for (const auto& [path, reference, says] :
        std::vector<std::tuple<std::string, std::string, std::string>>{{missing, "", "no such file"},
-                                                                       {text, "", ""},
-                                                                       {no_positions, "", "positions"},
-                                                                       {good, missing, "no such file"},
-                                                                       {dir.path().string(), "", "not a file"}}) {
+                                                                      {text, "", ""},
+                                                                      {no_positions, "", "positions"},
+                                                                      {good, missing, "no such file"},
+                                                                      {dir.path().string(), "", "not a file"}}) {
     const std::string error = load_error(path, reference);
     const std::string named = reference.empty() ? path : reference;
     ASSERT_FALSE(error.empty()) << path;

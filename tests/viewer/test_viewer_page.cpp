@@ -34,11 +34,11 @@ TEST(ViewerPage, HeadlessChromiumDrawsTheCloth) {
   // --virtual-time-budget lets the page fetch its data and draw before the screenshot; a proxy
   // in the environment must not see 127.0.0.1.
   const std::string screenshot = (dir.path() / "page.png").string();
-  const CommandResult run = run_shell(
-      "timeout 240 " + chromium + " --headless --no-sandbox --no-proxy-server --disable-dev-shm-usage" +
-      " --use-angle=swiftshader --enable-unsafe-swiftshader --window-size=1280,900" +
-      " --virtual-time-budget=8000 --user-data-dir=" + (dir.path() / "profile").string() +
-      " --screenshot=" + screenshot + " http://127.0.0.1:" + std::to_string(viewer.port()) + "/");
+  const CommandResult run =
+      run_shell("timeout 240 " + chromium + " --headless --no-sandbox --no-proxy-server --disable-dev-shm-usage" +
+                " --use-angle=swiftshader --enable-unsafe-swiftshader --window-size=1280,900" +
+                " --virtual-time-budget=8000 --user-data-dir=" + (dir.path() / "profile").string() +
+                " --screenshot=" + screenshot + " http://127.0.0.1:" + std::to_string(viewer.port()) + "/");
   ASSERT_EQ(run.status, 0) << run.output;
   const testing::RgbImage image = testing::read_png(screenshot);
   ASSERT_EQ(image.width, 1280) << run.output;

@@ -8,9 +8,9 @@
 
 #include <fnopt/io/csv_table.hpp>
 #include <fnopt/io/hdf5_file.hpp>
+#include <fnopt/util/error.hpp>
 #include "tests/util/temp_dir.hpp"
 #include "tests/viewer/viewer_fixture.hpp"
-#include <fnopt/util/error.hpp>
 // Last: httplib pulls in <resolv.h>, whose macro _res breaks Eigen's headers.
 #include <httplib.h>
 
@@ -44,7 +44,8 @@ std::vector<float> strain_of(const TrajectoryFrames& frames, const Eigen::Vector
           const int a = i * C + j, b = (i + di) * C + (j + dj);
           if (i + di < 0 || i + di >= R || j + dj < 0 || j + dj >= C) continue;
           largest = std::max(largest, (x.segment<3>(3 * a) - x.segment<3>(3 * b)).norm() /
-                                              (rest.segment<3>(3 * a) - rest.segment<3>(3 * b)).norm() - 1.0f);
+                                              (rest.segment<3>(3 * a) - rest.segment<3>(3 * b)).norm() -
+                                          1.0f);
         }
         strain.push_back(largest);
       }
@@ -117,22 +118,37 @@ TEST_F(ViewerServerTest, ServesThePageAndThreeJs) {
   testing::RunningViewer viewer({rollout_, ""});
   httplib::Client client("127.0.0.1", viewer.port());
   EXPECT_NE(get(client, "/", "text/html").find("viewer.js"), std::string::npos);
-  for (const char* path : {"/viewer.js", "/rollout_player.js", "/compare_chart.js", "/series_plots.js",
-                           "/colour_map.js", "/three/build/three.module.js",
-                           "/three/examples/jsm/controls/OrbitControls.js"})
+  for (const char* path :
+       {"/viewer.js", "/rollout_player.js", "/compare_chart.js", "/series_plots.js", "/colour_map.js",
+        "/three/build/three.module.js", "/three/examples/jsm/controls/OrbitControls.js"})
     EXPECT_FALSE(get(client, path, "text/javascript").empty()) << path;
   EXPECT_FALSE(get(client, "/viewer.css", "text/css").empty());
 }
 
 TEST_F(ViewerServerTest, AnythingOffTheWhitelistIs404) {
   testing::RunningViewer viewer({rollout_, ""});
-  for (const std::string target :
-       {"/../../etc/passwd", "/%2e%2e/%2e%2e/etc/passwd", "/%2E%2E%2F%2E%2E%2Fetc%2Fpasswd", "//etc/passwd",
-        "/etc/passwd", "/three/../../../../etc/passwd", "/three/build/../../../../../etc/passwd",
-        "/three/build/three.js", "/three/%2e%2e/%2e%2e/%2e%2e/%2e%2e/etc/passwd", "/index.html/../../CMakeLists.txt",
-        "/viewer/web/index.html", "/rollout.h5", "/api/rollouts/0/../../../etc/passwd", "/api/rollouts/1/meta",
-        "/api/rollouts/0/distance", "/api/rollouts/99999999999999/meta", "/api/rollouts/-1/meta", "/api/compare",
-        "/api/rollouts/0/rest_positions", "/favicon.ico", "/%00", "/viewer.js%00.html"})
+  for (const std::string target : {"/../../etc/passwd",
+                                   "/%2e%2e/%2e%2e/etc/passwd",
+                                   "/%2E%2E%2F%2E%2E%2Fetc%2Fpasswd",
+                                   "//etc/passwd",
+                                   "/etc/passwd",
+                                   "/three/../../../../etc/passwd",
+                                   "/three/build/../../../../../etc/passwd",
+                                   "/three/build/three.js",
+                                   "/three/%2e%2e/%2e%2e/%2e%2e/%2e%2e/etc/passwd",
+                                   "/index.html/../../CMakeLists.txt",
+                                   "/viewer/web/index.html",
+                                   "/rollout.h5",
+                                   "/api/rollouts/0/../../../etc/passwd",
+                                   "/api/rollouts/1/meta",
+                                   "/api/rollouts/0/distance",
+                                   "/api/rollouts/99999999999999/meta",
+                                   "/api/rollouts/-1/meta",
+                                   "/api/compare",
+                                   "/api/rollouts/0/rest_positions",
+                                   "/favicon.ico",
+                                   "/%00",
+                                   "/viewer.js%00.html"})
     EXPECT_EQ(testing::raw_get_status(viewer.port(), target), 404) << target;
   EXPECT_EQ(testing::raw_get_status(viewer.port(), "/api/session"), 200) << "still serving";
   // Absolute URLs in the request line are refused too (400 or 404, never a file).

@@ -41,8 +41,8 @@ std::optional<SolveStatus> AdamOptimizer::step(SmoothProblem& problem, VecX& x, 
   const double step = params_.learning_rate * problem.step_unit();
   const double correction1 = 1.0 / (1.0 - beta1_power_);
   const double correction2 = 1.0 / (1.0 - beta2_power_);
-  x.array() -= step * (correction1 * first_moment_.array()) /
-               ((correction2 * second_moment_.array()).sqrt() + params_.epsilon);
+  x.array() -=
+      step * (correction1 * first_moment_.array()) / ((correction2 * second_moment_.array()).sqrt() + params_.epsilon);
   value = problem.value_gradient(x, gradient);
   return std::nullopt;
 }

@@ -10,8 +10,9 @@
 // unit of the learned optimizer's step s), i.e. 0.003 moves a vertex by at most 0.3 % of a cell
 // per iteration at any resolution. The default 0.003 had the lowest mean per-step error
 // (metrics/step_error.hpp, 16 states of the 390-frame 32^2 xy_v2 Newton rollout) among
-// {3e-4, 1e-3, 3e-3, 1e-2} for N = 10 and N = 500, and the second lowest for N = 100 (1e-2). Moments and the bias correction restart every time step.
-// `fnopt compare` sweeps learning_rate per budget (a small budget needs a larger rate).
+// {3e-4, 1e-3, 3e-3, 1e-2} for N = 10 and N = 500, and the second lowest for N = 100 (1e-2). Moments and the bias
+// correction restart every time step. `fnopt compare` sweeps learning_rate per budget (a small budget needs a larger
+// rate).
 #include <fnopt/baselines/first_order.hpp>
 
 namespace fnopt {
@@ -20,7 +21,7 @@ struct AdamParams {
   double learning_rate = 3e-3;  // grid units (cell widths per step^2) per iteration
   double beta1 = 0.9;
   double beta2 = 0.999;
-  double epsilon = 1e-8;        // in the units of P^-1 g
+  double epsilon = 1e-8;  // in the units of P^-1 g
 
   void validate() const;  // throws Error naming the parameter
 };

@@ -56,8 +56,7 @@ class CurvatureHistory {
   // a rejected pair leaves the stored ones untouched. Returns whether it was stored (never with
   // capacity 0).
   template <class Test>
-  bool push(const VecX& x_old, const VecX& g_old, const VecX& x_new, const VecX& g_new,
-            Test&& has_positive_curvature) {
+  bool push(const VecX& x_old, const VecX& g_old, const VecX& x_new, const VecX& g_new, Test&& has_positive_curvature) {
     if (ring_.empty()) return false;
     candidate_.s = x_new - x_old;
     candidate_.y = g_new - g_old;

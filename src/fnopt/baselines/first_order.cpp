@@ -32,8 +32,7 @@ void FirstOrderOptimizer::begin_step(StepProblem& problem, const VecX& a, double
   begin(*cloth_, a, value, gradient);
 }
 
-std::optional<SolveStatus> FirstOrderOptimizer::iterate(StepProblem& problem, VecX& a, double& value,
-                                                        VecX& gradient) {
+std::optional<SolveStatus> FirstOrderOptimizer::iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
   if (!cloth_ || cloth_problem_ != &problem) begin_step(problem, a, value, gradient);
   return step(*cloth_, a, value, gradient);
 }

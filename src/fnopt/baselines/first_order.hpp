@@ -39,9 +39,7 @@ class ClothSmoothProblem final : public SmoothProblem {
  public:
   explicit ClothSmoothProblem(StepProblem& problem);
   double value(const VecX& a) override { return problem_->value(a); }
-  double value_gradient(const VecX& a, VecX& gradient) override {
-    return problem_->value_gradient(a, gradient);
-  }
+  double value_gradient(const VecX& a, VecX& gradient) override { return problem_->value_gradient(a, gradient); }
   const VecX& inverse_metric() const override { return inverse_metric_; }
   double step_unit() const override { return step_unit_; }
   StepProblem* step_problem() const override { return problem_; }
@@ -59,7 +57,10 @@ class FunctionSmoothProblem final : public SmoothProblem {
   // Function: double(const VecX& x, VecX* gradient_or_null).
   FunctionSmoothProblem(int size, Function function, double step_unit = 1.0)
       : function_(std::move(function)), inverse_metric_(VecX::Ones(size)), step_unit_(step_unit) {}
-  double value(const VecX& x) override { ++evaluations; return function_(x, nullptr); }
+  double value(const VecX& x) override {
+    ++evaluations;
+    return function_(x, nullptr);
+  }
   double value_gradient(const VecX& x, VecX& gradient) override {
     ++evaluations;
     gradient.resize(x.size());

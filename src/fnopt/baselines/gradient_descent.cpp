@@ -26,9 +26,7 @@ std::string GradientDescentOptimizer::settings() const {
 
 void GradientDescentOptimizer::begin(SmoothProblem& problem, const VecX& x, double, const VecX& gradient) {
   if (curvature_ > 0.0) return;
-  curvature_ = params_.curvature_scaled
-                   ? estimate_max_curvature(problem, x, gradient, params_.power_iterations)
-                   : 1.0;
+  curvature_ = params_.curvature_scaled ? estimate_max_curvature(problem, x, gradient, params_.power_iterations) : 1.0;
 }
 
 std::optional<SolveStatus> GradientDescentOptimizer::step(SmoothProblem& problem, VecX& x, double& value,

@@ -15,7 +15,7 @@
 namespace fnopt {
 
 struct GradientDescentParams {
-  double learning_rate = 1.0;   // in units of 1/lambda (curvature_scaled) or of P^-1 g
+  double learning_rate = 1.0;    // in units of 1/lambda (curvature_scaled) or of P^-1 g
   bool curvature_scaled = true;  // divide the step by the estimated lambda_max(P^-1 H)
   int power_iterations = 20;     // gradient evaluations spent once per objective on lambda
 

@@ -44,7 +44,8 @@ double LbfgsOptimizer::compute_direction(SmoothProblem& problem, const VecX& gra
     const CurvaturePair& newest = history_.newest();
     const double gamma = 1.0 / (newest.rho * newest.y.cwiseProduct(inverse_metric).dot(newest.y));
     h0_ = gamma * inverse_metric;
-    lbfgs_two_loop(history_.oldest_first(), [&](VecX& q) { q.array() *= h0_.array(); }, gradient, direction_, alphas_);
+    lbfgs_two_loop(
+        history_.oldest_first(), [&](VecX& q) { q.array() *= h0_.array(); }, gradient, direction_, alphas_);
     const double slope = gradient.dot(direction_);
     if (std::isfinite(slope) && slope < 0.0) return 1.0;
     history_.clear();  // not a descent direction (rounding): restart from the metric gradient step

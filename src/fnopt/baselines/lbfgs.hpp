@@ -24,10 +24,10 @@
 namespace fnopt {
 
 struct LbfgsParams {
-  int history = 5;               // curvature pairs kept (m)
-  bool line_search = false;      // false: fixed step 1 (the paper's); true: strong Wolfe
-  WolfeParams wolfe;             // of the line search: c1 1e-4, c2 0.9, 20 evaluations
-  void validate() const;  // throws Error naming the parameter
+  int history = 5;           // curvature pairs kept (m)
+  bool line_search = false;  // false: fixed step 1 (the paper's); true: strong Wolfe
+  WolfeParams wolfe;         // of the line search: c1 1e-4, c2 0.9, 20 evaluations
+  void validate() const;     // throws Error naming the parameter
 };
 
 class LbfgsOptimizer final : public FirstOrderOptimizer {
@@ -39,14 +39,13 @@ class LbfgsOptimizer final : public FirstOrderOptimizer {
   void begin(SmoothProblem& problem, const VecX& x, double value, const VecX& gradient) override;
   std::optional<SolveStatus> step(SmoothProblem& problem, VecX& x, double& value, VecX& gradient) override;
 
-  long skipped_pairs() const { return skipped_pairs_; }        // s.y <= 0: not stored
+  long skipped_pairs() const { return skipped_pairs_; }          // s.y <= 0: not stored
   long line_search_evaluations() const { return evaluations_; }  // trials, all steps
 
  private:
   // Sets direction_ (a descent direction) and the first trial step.
   double compute_direction(SmoothProblem& problem, const VecX& gradient);
-  void remember(const VecX& x_old, const VecX& g_old, const VecX& x_new, const VecX& g_new,
-                const VecX& inverse_metric);
+  void remember(const VecX& x_old, const VecX& g_old, const VecX& x_new, const VecX& g_new, const VecX& inverse_metric);
 
   LbfgsParams params_;
   CurvatureHistory history_;

@@ -53,20 +53,20 @@ void NewtonOptimizer::begin_step(StepProblem&, const VecX&, double value, const 
   if (!params_.reuse_factor_across_steps) have_factor_ = false;
 }
 
-std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& a, double& value,
-                                                    VecX& gradient) {
+std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
   const DirichletSet& dirichlet = problem.dirichlet();
   dirichlet.gather_free(gradient, rhs_);
   const double gradient_norm = rhs_.norm();
-  const bool stale = !have_factor_ || factor_.rows() != rhs_.size() ||
-                     last_cg_iterations_ > params_.refactor_cg_iterations;
+  const bool stale =
+      !have_factor_ || factor_.rows() != rhs_.size() || last_cg_iterations_ > params_.refactor_cg_iterations;
   if (stale && !factorize_preconditioner(problem, a)) return SolveStatus::FactorizationFailed;
   auto precondition = [&](VecX& r) { factor_.solve_in_place(r.data(), static_cast<int>(r.size()), 1); };
   if (radius_ == 0.0) {  // the step's first iteration: the metric, the preconditioned gradient step's length
     const BackwardEulerObjective& objective = problem.objective();
     metric_.resize(rhs_.size());
     for (int v = 0; v < dirichlet.vertex_count(); ++v)
-      if (const int f = dirichlet.free_index()[v]; f >= 0) metric_.segment<3>(3 * f).setConstant(objective.inertia_weight(v));
+      if (const int f = dirichlet.free_index()[v]; f >= 0)
+        metric_.segment<3>(3 * f).setConstant(objective.inertia_weight(v));
     step_ = rhs_;
     precondition(step_);
     radius_ = params_.initial_radius * std::sqrt((step_.array().square() * metric_.array()).sum());
@@ -76,15 +76,14 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
   auto multiply = [&](const VecX& p, VecX& out) { out.noalias() = H * p; };
   // The forcing term, but no finer than the stop needs (the residual acceleration scales with g).
   const double needed = 0.1 * params_.acceleration_tolerance / problem.objective().residual_acceleration(gradient);
-  const double forcing =
-      std::min(params_.forcing_cap, std::max(gradient_norm / initial_gradient_norm_, needed));
+  const double forcing = std::min(params_.forcing_cap, std::max(gradient_norm / initial_gradient_norm_, needed));
   // L sums terms larger than itself (inertia, gravity, elastic), so its rounding error is a few
   // hundred ulps of |L| (10^4 stencils); below it a change of L says nothing.
   const double rounding = 1e-12 * (std::abs(value) + std::abs(start_value_));
   last_cg_iterations_ = 0;
   for (int trial = 0; trial < params_.max_trials; ++trial) {
-    const SteihaugResult sub = steihaug_cg(rhs_, radius_, forcing, params_.max_cg_iterations, multiply,
-                                           precondition, metric_, step_, cg_);
+    const SteihaugResult sub =
+        steihaug_cg(rhs_, radius_, forcing, params_.max_cg_iterations, multiply, precondition, metric_, step_, cg_);
     counters_.cg_iterations += sub.iterations;
     last_cg_iterations_ = std::max(last_cg_iterations_, sub.iterations);
     if (sub.end == SteihaugEnd::NegativeCurvature) ++counters_.negative_curvature;
@@ -96,8 +95,7 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
     if (predicted <= rounding) {
       // L cannot judge a step this small: take it if it lowers ||g|| and does not raise L beyond
       // its rounding; otherwise this iterate is a stationary point to the precision of L.
-      accept = std::isfinite(trial_value) && trial_value <= value + rounding &&
-               trial_gradient_.norm() < gradient_norm;
+      accept = std::isfinite(trial_value) && trial_value <= value + rounding && trial_gradient_.norm() < gradient_norm;
       if (!accept) return SolveStatus::PrecisionLimit;
     } else {
       const double ratio = std::isfinite(trial_value) ? (value - trial_value) / predicted : -INFINITY;

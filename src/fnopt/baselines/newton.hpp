@@ -34,8 +34,8 @@ struct NewtonParams {
   double accept_ratio = 1e-4;  // eta: a trial is taken when actual / predicted decrease > eta
   double shrink_below = 0.25;  // below this ratio the radius shrinks to shrink x ||d||_W
   double shrink = 0.25;
-  double grow_above = 0.75;    // above it a step that reached the boundary doubles the radius
-  int max_trials = 40;         // rejected trials per iteration before line-search-failed
+  double grow_above = 0.75;  // above it a step that reached the boundary doubles the radius
+  int max_trials = 40;       // rejected trials per iteration before line-search-failed
   // CG per subproblem to the relative residual min(forcing_cap, ||g|| / ||g_0||) (inexact Newton,
   // Eisenstat & Walker 1996: the forcing term shrinking like ||g|| keeps convergence quadratic).
   double forcing_cap = 1e-2;
@@ -57,9 +57,9 @@ struct NewtonParams {
 // Work counters, for benchmarks.
 struct NewtonCounters {
   long factorizations = 0;
-  long cg_iterations = 0;             // products with H
-  long negative_curvature = 0;        // subproblems that followed a negative-curvature direction
-  long rejected_trials = 0;           // trial steps the trust region turned down
+  long cg_iterations = 0;       // products with H
+  long negative_curvature = 0;  // subproblems that followed a negative-curvature direction
+  long rejected_trials = 0;     // trial steps the trust region turned down
 };
 
 class NewtonOptimizer final : public InnerOptimizer {
@@ -74,8 +74,7 @@ class NewtonOptimizer final : public InnerOptimizer {
   std::string name() const override { return "newton"; }
   std::string settings() const override;
   void begin_step(StepProblem& problem, const VecX& a, double value, const VecX& gradient) override;
-  std::optional<SolveStatus> iterate(StepProblem& problem, VecX& a, double& value,
-                                     VecX& gradient) override;
+  std::optional<SolveStatus> iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) override;
 
   const NewtonCounters& counters() const { return counters_; }
 

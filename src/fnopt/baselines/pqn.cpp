@@ -57,9 +57,9 @@ std::optional<SolveStatus> PqnOptimizer::step(SmoothProblem& problem, VecX& x, d
   g_old_ = gradient;
   // The rounding floor of L as in Newton (baselines/newton.cpp): L sums larger terms.
   const double rounding = 1e-12 * (std::abs(value) + std::abs(start_value_));
-  if (const auto stop = backtracking_line_search(problem, x, value, gradient, direction_,
-                                                 {value, slope, gradient.norm(), rounding}, params_.line_search,
-                                                 line_search_))
+  if (const auto stop =
+          backtracking_line_search(problem, x, value, gradient, direction_, {value, slope, gradient.norm(), rounding},
+                                   params_.line_search, line_search_))
     return stop;
   add_pair(x_old_, g_old_, x, gradient);
   return std::nullopt;

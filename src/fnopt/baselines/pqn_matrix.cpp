@@ -5,9 +5,7 @@
 
 namespace fnopt {
 
-const char* to_string(PqnMatrixKind kind) {
-  return kind == PqnMatrixKind::Isotropic ? "isotropic" : "rest-hessian";
-}
+const char* to_string(PqnMatrixKind kind) { return kind == PqnMatrixKind::Isotropic ? "isotropic" : "rest-hessian"; }
 
 PqnMatrixKind parse_pqn_matrix_kind(const std::string& name) {
   for (PqnMatrixKind kind : {PqnMatrixKind::Isotropic, PqnMatrixKind::RestHessian})
@@ -49,7 +47,8 @@ PqnMatrix build_pqn_matrix(const BackwardEulerObjective& objective, const std::v
     result.matrix = K;
     for (int v = 0; v < static_cast<int>(free_index.size()); ++v)
       if (free_index[v] >= 0)
-        for (int c = 0; c < 3; ++c) result.matrix.coeffRef(3 * free_index[v] + c, 3 * free_index[v] + c) += objective.inertia_weight(v);
+        for (int c = 0; c < 3; ++c)
+          result.matrix.coeffRef(3 * free_index[v] + c, 3 * free_index[v] + c) += objective.inertia_weight(v);
     return result;
   }
   // S_ij = trace of K's block (i, j): the sum of its entries (3i + c, 3j + c).
@@ -129,15 +128,23 @@ bool PqnFactorCache::Key::operator==(const Key& o) const {
 PqnFactorCache::Key PqnFactorCache::key_of(const StepProblem& problem) {
   const BackwardEulerObjective& objective = problem.objective();
   const Material& m = objective.material();
-  return {problem.grid().rows, problem.grid().cols, problem.grid().spacing, objective.dt(),
-          m.stretch,           m.shear,             m.bend,                 m.density,
-          m.damping,           problem.dirichlet().free_index()};
+  return {problem.grid().rows,
+          problem.grid().cols,
+          problem.grid().spacing,
+          objective.dt(),
+          m.stretch,
+          m.shear,
+          m.bend,
+          m.density,
+          m.damping,
+          problem.dirichlet().free_index()};
 }
 
 PqnFactor& PqnFactorCache::prepare(const StepProblem& problem) {
   Key key = key_of(problem);
   if (have_factor_ && key == key_) return factor_;
-  const PqnMatrix matrix = build_pqn_matrix(problem.objective(), key.free_index, kind_, problem.grid().rest_positions());
+  const PqnMatrix matrix =
+      build_pqn_matrix(problem.objective(), key.free_index, kind_, problem.grid().rest_positions());
   have_factor_ = factor_.factorize(matrix);
   ++factorizations_;
   // A is the inertia (positive) plus PSD terms: a failure means a non-finite material or dt.

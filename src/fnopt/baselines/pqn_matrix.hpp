@@ -18,8 +18,8 @@
 #include <vector>
 
 #include <fnopt/cloth/backward_euler.hpp>
-#include <fnopt/optimizer/step_problem.hpp>
 #include <fnopt/optimizer/sparse_cholesky.hpp>
+#include <fnopt/optimizer/step_problem.hpp>
 
 namespace fnopt {
 

@@ -30,8 +30,7 @@ void DirichletSet::scatter_free(const VecX& reduced, VecX& full) const {
     if (free_index_[k] >= 0) full.segment<3>(3 * k) = reduced.segment<3>(3 * free_index_[k]);
 }
 
-void DirichletSet::prescribe(VecX& a, const VecX& x, const VecX& v,
-                             const std::vector<Vec3>& targets, double dt) const {
+void DirichletSet::prescribe(VecX& a, const VecX& x, const VecX& v, const std::vector<Vec3>& targets, double dt) const {
   assert(targets.size() == fixed_.size());
   for (std::size_t h = 0; h < fixed_.size(); ++h) {
     const int k = fixed_[h];

@@ -28,8 +28,7 @@ class DirichletSet {
   void scatter_free(const VecX& reduced, VecX& full) const;
   // Writes the prescribed accelerations of the fixed vertices into `a`: targets[k] is the
   // position at t+1 of fixed_vertices()[k].
-  void prescribe(VecX& a, const VecX& x, const VecX& v, const std::vector<Vec3>& targets,
-                 double dt) const;
+  void prescribe(VecX& a, const VecX& x, const VecX& v, const std::vector<Vec3>& targets, double dt) const;
 
  private:
   std::vector<int> fixed_;

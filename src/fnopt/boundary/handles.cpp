@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include <fnopt/util/parse_text.hpp>
 #include <fnopt/util/error.hpp>
+#include <fnopt/util/parse_text.hpp>
 
 namespace fnopt {
 namespace {
@@ -36,8 +36,7 @@ std::vector<std::string> handle_preset_names() {
 
 HandleSet handle_preset(const Grid& grid, const std::string& preset) {
   const auto cells = preset_cells(preset, grid.rows, grid.cols);
-  require(!cells.empty(), "handles",
-          "unknown preset '" + preset + "' (valid: " + joined(handle_preset_names()) + ")");
+  require(!cells.empty(), "handles", "unknown preset '" + preset + "' (valid: " + joined(handle_preset_names()) + ")");
   HandleSet set{preset, {}};
   for (const auto& [i, j] : cells) set.vertices.push_back(grid.index(i, j));
   return set;
@@ -52,8 +51,7 @@ std::vector<std::pair<int, int>> parse_handle_list(const std::string& list) {
     int i = 0, j = 0;
     require(numbers.size() == 2 && parse_int(numbers[0], i) && parse_int(numbers[1], j), field,
             "entry '" + std::string(trim(entry)) + "' is not \"row,column\" (two integers)");
-    require(i >= 0 && j >= 0, field,
-            "entry '" + std::string(trim(entry)) + "' has a negative index");
+    require(i >= 0 && j >= 0, field, "entry '" + std::string(trim(entry)) + "' has a negative index");
     require(std::find(cells.begin(), cells.end(), std::pair{i, j}) == cells.end(), field,
             "vertex (" + std::to_string(i) + "," + std::to_string(j) + ") is listed twice");
     cells.emplace_back(i, j);
@@ -65,9 +63,8 @@ HandleSet handle_vertices_from_list(const Grid& grid, const std::string& list) {
   HandleSet set{"vertices", {}};
   for (const auto& [i, j] : parse_handle_list(list)) {
     require(i < grid.rows && j < grid.cols, "handle-vertices",
-            "vertex (" + std::to_string(i) + "," + std::to_string(j) + ") is outside the " +
-                std::to_string(grid.rows) + "x" + std::to_string(grid.cols) +
-                " grid (rows 0.." + std::to_string(grid.rows - 1) + ", columns 0.." +
+            "vertex (" + std::to_string(i) + "," + std::to_string(j) + ") is outside the " + std::to_string(grid.rows) +
+                "x" + std::to_string(grid.cols) + " grid (rows 0.." + std::to_string(grid.rows - 1) + ", columns 0.." +
                 std::to_string(grid.cols - 1) + ")");
     set.vertices.push_back(grid.index(i, j));
   }

@@ -9,7 +9,7 @@
 namespace fnopt {
 
 struct HandleSet {
-  std::string name;          // preset name, or "vertices" for an explicit list
+  std::string name;           // preset name, or "vertices" for an explicit list
   std::vector<int> vertices;  // grid vertex indices i*cols + j, in handle order (handle 0, 1, ...)
 };
 

@@ -7,8 +7,8 @@
 
 #include <Eigen/Geometry>
 
-#include <fnopt/util/parse_text.hpp>
 #include <fnopt/util/error.hpp>
+#include <fnopt/util/parse_text.hpp>
 
 namespace fnopt {
 namespace {
@@ -21,10 +21,9 @@ struct Translation {
   Vec3 direction;
 };
 const Translation kTranslations[] = {
-    {"xy_v2", {1, 1, 0}},        {"xy_v2_opp", {-1, -1, 0}},   {"yz_v2", {0, 1, 1}},
-    {"yz_v2_opp", {0, -1, -1}},  {"xz_v2", {1, 0, -1}},        {"xyz_v2", {1, 1, 1}},
-    {"xyz_v2_opp", {-1, -1, -1}}, {"xyz_v3", {1, -1, -1}},     {"xyz_v3_opp", {-1, 1, 1}},
-    {"xyz_v4", {-1, -1, 1}},     {"xyz_v4_opp", {1, 1, -1}},
+    {"xy_v2", {1, 1, 0}},       {"xy_v2_opp", {-1, -1, 0}}, {"yz_v2", {0, 1, 1}},         {"yz_v2_opp", {0, -1, -1}},
+    {"xz_v2", {1, 0, -1}},      {"xyz_v2", {1, 1, 1}},      {"xyz_v2_opp", {-1, -1, -1}}, {"xyz_v3", {1, -1, -1}},
+    {"xyz_v3_opp", {-1, 1, 1}}, {"xyz_v4", {-1, -1, 1}},    {"xyz_v4_opp", {1, 1, -1}},
 };
 
 // Rotations: handle `pivot` stays, the others turn by sign * (pi/2) * p(t) about +z through it.
@@ -112,14 +111,11 @@ std::vector<std::string> motion_names() {
   return names;
 }
 
-std::unique_ptr<HandleTrajectory> make_motion(const std::string& name, std::vector<Vec3> rest,
-                                              double speed) {
-  require(std::isfinite(speed) && speed > 0.0, "speed",
-          "must be a positive finite factor, got " + number_text(speed));
+std::unique_ptr<HandleTrajectory> make_motion(const std::string& name, std::vector<Vec3> rest, double speed) {
+  require(std::isfinite(speed) && speed > 0.0, "speed", "must be a positive finite factor, got " + number_text(speed));
   if (name == "static") return std::make_unique<StaticMotion>(std::move(rest), speed);
   for (const auto& m : kTranslations)
-    if (m.name == name)
-      return std::make_unique<TranslationMotion>(std::move(rest), speed, m.direction);
+    if (m.name == name) return std::make_unique<TranslationMotion>(std::move(rest), speed, m.direction);
   for (const auto& m : kRotations)
     if (m.name == name) {
       require(m.pivot < static_cast<int>(rest.size()), "motion",

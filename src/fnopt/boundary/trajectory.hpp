@@ -23,8 +23,7 @@ class HandleTrajectory {
 // alpha times faster: the position at time t is the formula's at alpha*t.
 // Throws Error("motion", "...") for an unknown name or a rot_h1 with fewer than 2 handles, and
 // Error("speed", "...") for a speed that is not positive and finite.
-std::unique_ptr<HandleTrajectory> make_motion(const std::string& name, std::vector<Vec3> rest,
-                                              double speed = 1.0);
+std::unique_ptr<HandleTrajectory> make_motion(const std::string& name, std::vector<Vec3> rest, double speed = 1.0);
 
 // Replays a CSV of handle positions: a header with t_s and hK_x,hK_y,hK_z for each handle K
 // (other columns ignored), rows in strictly increasing time, linear interpolation between rows,
@@ -34,8 +33,7 @@ std::unique_ptr<HandleTrajectory> make_motion(const std::string& name, std::vect
 // more than one motion. Throws Error("trajectory", "<path>: ...") for an unreadable file, a missing
 // column, columns for more handles than `handle_count`, a row of the wrong width, a non-numeric
 // or non-finite value, times that do not increase, no data rows, or an unknown or missing #NAME.
-std::unique_ptr<HandleTrajectory> load_trajectory_csv(const std::string& path, int handle_count,
-                                                      double speed = 1.0);
+std::unique_ptr<HandleTrajectory> load_trajectory_csv(const std::string& path, int handle_count, double speed = 1.0);
 
 std::vector<std::string> benchmark_motion_names();  // the fifteen of the benchmark
 std::vector<std::string> motion_names();            // the fifteen, then "static"

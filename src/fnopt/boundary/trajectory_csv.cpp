@@ -12,9 +12,9 @@
 #include <utility>
 #include <vector>
 
-#include <fnopt/util/parse_text.hpp>
 #include <fnopt/boundary/trajectory.hpp>
 #include <fnopt/util/error.hpp>
+#include <fnopt/util/parse_text.hpp>
 
 namespace fnopt {
 namespace {
@@ -22,10 +22,8 @@ namespace {
 // Handle positions at increasing times; linear in between, held outside.
 class TableTrajectory : public HandleTrajectory {
  public:
-  TableTrajectory(std::vector<double> times, std::vector<Vec3> positions, int handle_count,
-                  double speed)
-      : times_(std::move(times)), positions_(std::move(positions)),
-        handle_count_(handle_count), speed_(speed) {}
+  TableTrajectory(std::vector<double> times, std::vector<Vec3> positions, int handle_count, double speed)
+      : times_(std::move(times)), positions_(std::move(positions)), handle_count_(handle_count), speed_(speed) {}
 
   int handle_count() const override { return handle_count_; }
 
@@ -70,8 +68,7 @@ std::optional<int> handle_of_column(std::string_view name) {
     return std::nullopt;
   const auto digits = name.substr(1, name.size() - 3);
   int k = 0;
-  if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }) ||
-      !parse_int(digits, k))
+  if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }) || !parse_int(digits, k))
     return std::nullopt;
   return k;
 }
@@ -100,17 +97,13 @@ class CsvReader {
              " does not increase (previous row: " + number_text(times.back()) + ")");
       times.push_back(t);
       for (const auto& columns : handle_columns_)
-        positions.emplace_back(number(*line, columns[0]), number(*line, columns[1]),
-                               number(*line, columns[2]));
+        positions.emplace_back(number(*line, columns[0]), number(*line, columns[1]), number(*line, columns[2]));
     }
-    return std::make_unique<TableTrajectory>(std::move(times), std::move(positions),
-                                             handle_count_, speed);
+    return std::make_unique<TableTrajectory>(std::move(times), std::move(positions), handle_count_, speed);
   }
 
  private:
-  [[noreturn]] void fail(const std::string& problem) const {
-    throw Error("trajectory", spec_ + ": " + problem);
-  }
+  [[noreturn]] void fail(const std::string& problem) const { throw Error("trajectory", spec_ + ": " + problem); }
 
   void read_lines() {
     std::error_code ignored;
@@ -139,8 +132,8 @@ class CsvReader {
     const auto found = std::find(header.begin(), header.end(), name);
     if (found == header.end()) {
       if (required)
-        fail("missing column '" + name + "' (needs t_s and hK_x,hK_y,hK_z for each of the " +
-             "scene's " + std::to_string(handle_count_) + " handle(s), K = 0, 1, ...)");
+        fail("missing column '" + name + "' (needs t_s and hK_x,hK_y,hK_z for each of the " + "scene's " +
+             std::to_string(handle_count_) + " handle(s), K = 0, 1, ...)");
       return std::nullopt;
     }
     if (std::find(found + 1, header.end(), name) != header.end())
@@ -153,15 +146,14 @@ class CsvReader {
     motion_column_ = column("motion", false);
     for (int k = 0; k < handle_count_; ++k) {
       const std::string h = "h" + std::to_string(k);
-      handle_columns_.push_back(
-          {*column(h + "_x", true), *column(h + "_y", true), *column(h + "_z", true)});
+      handle_columns_.push_back({*column(h + "_x", true), *column(h + "_y", true), *column(h + "_z", true)});
     }
     // Positions for a handle the scene does not have mean the file was made for another scene.
     for (const auto name : lines_.front().fields) {
       const auto k = handle_of_column(name);
       if (k && *k >= handle_count_)
-        fail("has a column '" + std::string(name) + "' for handle " + std::to_string(*k) +
-             ", but the scene has " + std::to_string(handle_count_) + " handle(s)");
+        fail("has a column '" + std::string(name) + "' for handle " + std::to_string(*k) + ", but the scene has " +
+             std::to_string(handle_count_) + " handle(s)");
     }
   }
 
@@ -176,29 +168,27 @@ class CsvReader {
              " fields as in the header, found " + std::to_string(line->fields.size()));
       if (motion_column_) {
         const auto motion = line->fields[*motion_column_];
-        if (std::find(motions.begin(), motions.end(), motion) == motions.end())
-          motions.push_back(motion);
+        if (std::find(motions.begin(), motions.end(), motion) == motions.end()) motions.push_back(motion);
         if (source_.motion && motion != *source_.motion) continue;
       }
       rows.push_back(&*line);
     }
     std::string present;
     for (const auto motion : motions) present += (present.empty() ? "" : ", ") + std::string(motion);
-    if (source_.motion && !motion_column_)
-      fail("has no 'motion' column to pick '" + *source_.motion + "' from");
+    if (source_.motion && !motion_column_) fail("has no 'motion' column to pick '" + *source_.motion + "' from");
     if (source_.motion && rows.empty())
       fail("no rows with motion '" + *source_.motion + "' (present: " + present + ")");
     if (!source_.motion && motions.size() > 1)
-      fail("holds " + std::to_string(motions.size()) + " motions (" + present +
-           "); pick one with '" + source_.file + "#NAME'");
+      fail("holds " + std::to_string(motions.size()) + " motions (" + present + "); pick one with '" + source_.file +
+           "#NAME'");
     if (rows.empty()) fail("no data rows; needs at least one row after the header");
     return rows;
   }
 
   double number(const CsvLine& line, std::size_t column) const {
     const auto text = line.fields[column];
-    const std::string where = "line " + std::to_string(line.number) + ": column '" +
-                              std::string(lines_.front().fields[column]) + "': ";
+    const std::string where =
+        "line " + std::to_string(line.number) + ": column '" + std::string(lines_.front().fields[column]) + "': ";
     double value = 0.0;
     if (!parse_double(text, value)) fail(where + "'" + std::string(text) + "' is not a number");
     if (!std::isfinite(value)) fail(where + "value '" + std::string(text) + "' is not finite");
@@ -217,11 +207,9 @@ class CsvReader {
 
 }  // namespace
 
-std::unique_ptr<HandleTrajectory> load_trajectory_csv(const std::string& path, int handle_count,
-                                                      double speed) {
+std::unique_ptr<HandleTrajectory> load_trajectory_csv(const std::string& path, int handle_count, double speed) {
   assert(handle_count >= 0);
-  require(std::isfinite(speed) && speed > 0.0, "speed",
-          "must be a positive finite factor, got " + number_text(speed));
+  require(std::isfinite(speed) && speed > 0.0, "speed", "must be a positive finite factor, got " + number_text(speed));
   return CsvReader(path, handle_count).load(speed);
 }
 

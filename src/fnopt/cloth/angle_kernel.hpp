@@ -26,17 +26,15 @@ struct AngleKernel {
   using Vec = Eigen::Matrix<double, 9, 1>;
   using Mat = Eigen::Matrix<double, 9, 9>;
 
-  double stiffness = 0.0;        // K
-  double rest_angle = 0.0;       // theta0 [rad]
+  double stiffness = 0.0;            // K
+  double rest_angle = 0.0;           // theta0 [rad]
   Eigen::Vector3d u_coeff{0, 0, 0};  // u = sum_i u_coeff[i] x_i
   Eigen::Vector3d w_coeff{0, 0, 0};  // w = sum_i w_coeff[i] x_i
 
   static AngleKernel shear(double shear_stiffness, double spacing) {
     return {shear_stiffness * spacing * spacing / 4.0, 1.5707963267948966, {-1, 1, 0}, {-1, 0, 1}};
   }
-  static AngleKernel bend(double bend_stiffness) {
-    return {bend_stiffness, 0.0, {-1, 1, 0}, {0, -1, 1}};
-  }
+  static AngleKernel bend(double bend_stiffness) { return {bend_stiffness, 0.0, {-1, 1, 0}, {0, -1, 1}}; }
 
   double energy(const Vec& x) const {
     const double d = angle(edge(x, u_coeff), edge(x, w_coeff)) - rest_angle;
@@ -62,21 +60,18 @@ struct AngleKernel {
     dc << l.dc_du, l.dc_dw;
     Eigen::Matrix<double, 6, 6> Huw = l.d2E_dc2 * dc * dc.transpose();
     Huw.topLeftCorner<3, 3>() += l.dE_dc * (3 * c * uh * uh.transpose() - mixed - c * I) / (nu * nu);
-    Huw.bottomRightCorner<3, 3>() +=
-        l.dE_dc * (3 * c * wh * wh.transpose() - mixed - c * I) / (nw * nw);
+    Huw.bottomRightCorner<3, 3>() += l.dE_dc * (3 * c * wh * wh.transpose() - mixed - c * I) / (nw * nw);
     const Eigen::Matrix3d cross =
-        l.dE_dc * (I - uh * uh.transpose() - wh * wh.transpose() + c * uh * wh.transpose()) /
-        (nu * nw);
+        l.dE_dc * (I - uh * uh.transpose() - wh * wh.transpose() + c * uh * wh.transpose()) / (nu * nw);
     Huw.topRightCorner<3, 3>() += cross;
     Huw.bottomLeftCorner<3, 3>() += cross.transpose();
     if (project) Huw = project_psd<6>(Huw);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        H.block<3, 3>(3 * i, 3 * j) =
-            u_coeff[i] * u_coeff[j] * Huw.topLeftCorner<3, 3>() +
-            u_coeff[i] * w_coeff[j] * Huw.topRightCorner<3, 3>() +
-            w_coeff[i] * u_coeff[j] * Huw.bottomLeftCorner<3, 3>() +
-            w_coeff[i] * w_coeff[j] * Huw.bottomRightCorner<3, 3>();
+        H.block<3, 3>(3 * i, 3 * j) = u_coeff[i] * u_coeff[j] * Huw.topLeftCorner<3, 3>() +
+                                      u_coeff[i] * w_coeff[j] * Huw.topRightCorner<3, 3>() +
+                                      w_coeff[i] * u_coeff[j] * Huw.bottomLeftCorner<3, 3>() +
+                                      w_coeff[i] * w_coeff[j] * Huw.bottomRightCorner<3, 3>();
   }
 
  private:

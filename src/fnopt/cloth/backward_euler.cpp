@@ -43,8 +43,8 @@ double BackwardEulerObjective::value(const VecX& a) const {
     const auto ak = a.segment<3>(3 * k);
     total += masses_[k] * dt_ * dt_ * (0.5 * ak.squaredNorm() - gravity_.dot(ak));
     if (damping_ > 0.0)
-      total += damping_ * masses_[k] / (2.0 * dt_) *
-               (x_trial_.segment<3>(3 * k) - x_start_.segment<3>(3 * k)).squaredNorm();
+      total +=
+          damping_ * masses_[k] / (2.0 * dt_) * (x_trial_.segment<3>(3 * k) - x_start_.segment<3>(3 * k)).squaredNorm();
   }
   for (const auto& term : terms_) total += term->energy(x_trial_);
   return total;
@@ -75,9 +75,8 @@ namespace {
 std::atomic<long> next_pattern_id{0};  // hessian_pattern_id() of the next pattern built
 }  // namespace
 
-const Eigen::SparseMatrix<double>& BackwardEulerObjective::hessian(const VecX& a,
-                                                                    const std::vector<int>& free_index,
-                                                                    bool project) {
+const Eigen::SparseMatrix<double>& BackwardEulerObjective::hessian(const VecX& a, const std::vector<int>& free_index,
+                                                                   bool project) {
   const long generation = repulsion_ ? repulsion_->pattern_generation() : 0;
   if (!assembly_ || free_index != hessian_free_index_ || generation != assembled_generation_) {
     hessian_free_index_ = free_index;
@@ -115,8 +114,7 @@ double BackwardEulerObjective::potential(const VecX& x) const {
 
 double BackwardEulerObjective::kinetic(const VecX& v) const {
   double total = 0.0;
-  for (Eigen::Index k = 0; k < masses_.size(); ++k)
-    total += 0.5 * masses_[k] * v.segment<3>(3 * k).squaredNorm();
+  for (Eigen::Index k = 0; k < masses_.size(); ++k) total += 0.5 * masses_[k] * v.segment<3>(3 * k).squaredNorm();
   return total;
 }
 

@@ -61,8 +61,7 @@ class BackwardEulerObjective {
 
   // hess L(a) restricted to the free vertices (free_index[v] >= 0), each stencil projected to
   // PSD if `project`. The sparsity pattern is built on the first call for a given free set.
-  const Eigen::SparseMatrix<double>& hessian(const VecX& a, const std::vector<int>& free_index,
-                                             bool project);
+  const Eigen::SparseMatrix<double>& hessian(const VecX& a, const std::vector<int>& free_index, bool project);
 
   // The potential P(x) (elastic + gravity, zero at height 0) and the kinetic energy of v.
   double potential(const VecX& x) const;

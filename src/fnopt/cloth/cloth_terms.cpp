@@ -49,8 +49,8 @@ std::vector<std::unique_ptr<EnergyTerm>> make_cloth_terms(const Grid& grid, cons
     terms.push_back(std::make_unique<StencilTerm<AngleKernel>>(
         "shear", AngleKernel::shear(material.shear, grid.spacing), grid_shear_corners(grid)));
   if (material.bend > 0.0)
-    terms.push_back(std::make_unique<StencilTerm<AngleKernel>>(
-        "bend", AngleKernel::bend(material.bend), grid_bend_hinges(grid)));
+    terms.push_back(
+        std::make_unique<StencilTerm<AngleKernel>>("bend", AngleKernel::bend(material.bend), grid_bend_hinges(grid)));
   if (material.repulsion) {
     RepulsionParams params;
     params.stiffness = material.repulsion_stiffness;

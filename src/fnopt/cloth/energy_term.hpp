@@ -19,8 +19,7 @@ class EnergyTerm {
   // accumulate_hessian takes (-1 when the term has no Hessian).
   virtual int register_hessian(HessianAssembly& assembly) const = 0;
   // Adds hess E(x) into the assembly, each stencil's matrix projected to PSD if `project`.
-  virtual void accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly,
-                                  int handle) const = 0;
+  virtual void accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly, int handle) const = 0;
 };
 
 }  // namespace fnopt

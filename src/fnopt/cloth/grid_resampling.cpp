@@ -42,8 +42,8 @@ GridResampler::GridResampler(const Grid& from, const Grid& to) : from_(from), to
 }
 
 void GridResampler::apply(const VecX& field, VecX& out, int components) const {
-  require(components >= 1, "grid resampling", "components per vertex must be positive, got " +
-                                                  std::to_string(components));
+  require(components >= 1, "grid resampling",
+          "components per vertex must be positive, got " + std::to_string(components));
   const Eigen::Index expected = static_cast<Eigen::Index>(components) * from_.vertex_count();
   require(field.size() == expected, "grid resampling",
           "the field has " + std::to_string(field.size()) + " values, expected " + std::to_string(components) +
@@ -78,8 +78,8 @@ VecX prolong_field(const Grid& coarse, const VecX& field, const Grid& fine, int 
 }
 
 Grid grid_with_longer_edge(const Grid& grid, int longer_edge) {
-  require(longer_edge >= 3, "coarse grid", "needs at least 3 vertices along its longer edge, got " +
-                                               std::to_string(longer_edge));
+  require(longer_edge >= 3, "coarse grid",
+          "needs at least 3 vertices along its longer edge, got " + std::to_string(longer_edge));
   check_grid(grid, "source");
   const int longer = std::max(grid.rows, grid.cols), shorter = std::min(grid.rows, grid.cols);
   const int other = std::max(

@@ -34,7 +34,7 @@ class GridResampler {
 
  private:
   struct Stencil {
-    int corner = 0;           // source vertex (i0, j0), top-left of the cell used
+    int corner = 0;             // source vertex (i0, j0), top-left of the cell used
     double fi = 0.0, fj = 0.0;  // offsets in cells from it (outside [0, 1]: extended)
   };
   Grid from_, to_;

@@ -20,11 +20,10 @@ struct GridUnitStiffness {
 // one cell width h in one step (x changes by dt^2 a), so a = (h/dt^2) * (grid-unit value).
 inline double acceleration_per_grid_unit(const Grid& grid, double dt) { return grid.spacing / (dt * dt); }
 
-inline GridUnitStiffness grid_unit_stiffness(const Grid& grid, const Material& m, double dt,
-                                             double gravity) {
+inline GridUnitStiffness grid_unit_stiffness(const Grid& grid, const Material& m, double dt, double gravity) {
   const double h2 = grid.spacing * grid.spacing, dt2 = dt * dt;
-  return {m.stretch * dt2 / (m.density * h2), m.shear * dt2 / (m.density * h2),
-          m.bend * dt2 / (m.density * h2 * h2), gravity * dt2 / grid.spacing};
+  return {m.stretch * dt2 / (m.density * h2), m.shear * dt2 / (m.density * h2), m.bend * dt2 / (m.density * h2 * h2),
+          gravity * dt2 / grid.spacing};
 }
 
 }  // namespace fnopt

@@ -45,8 +45,7 @@ void HessianAssembly::finalize() {
         for (int r = 0; r < 3; ++r) inner[p++] = 3 * fa + r;
     }
   std::vector<double> values(inner.size(), 0.0);
-  matrix_ = Eigen::Map<const Eigen::SparseMatrix<double>>(n, n, outer[n], outer.data(),
-                                                          inner.data(), values.data());
+  matrix_ = Eigen::Map<const Eigen::SparseMatrix<double>>(n, n, outer[n], outer.data(), inner.data(), values.data());
   matrix_.makeCompressed();
 
   set_offset_.clear();

@@ -32,8 +32,7 @@ class HessianAssembly {
       for (int b = 0; b < N; ++b, ++slot) {
         if (slot->base < 0) continue;
         for (int c = 0; c < 3; ++c)
-          for (int r = 0; r < 3; ++r)
-            values[slot->base + c * slot->stride + r] += local(3 * a + r, 3 * b + c);
+          for (int r = 0; r < 3; ++r) values[slot->base + c * slot->stride + r] += local(3 * a + r, 3 * b + c);
       }
   }
   // Adds value * I_3 to the diagonal block of vertex v (no-op for a fixed vertex).

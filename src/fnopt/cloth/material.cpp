@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <map>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <fnopt/util/error.hpp>
@@ -31,10 +31,13 @@ Material load_material_file(const std::string& path) {
   std::ifstream in(path);
   require(static_cast<bool>(in), "material", "unknown preset or unreadable file '" + path + "' (presets: default)");
   Material m;
-  const std::map<std::string, double Material::*> fields = {
-      {"stretch", &Material::stretch}, {"shear", &Material::shear},     {"bend", &Material::bend},
-      {"density", &Material::density}, {"damping", &Material::damping}, {"repulsion_stiffness", &Material::repulsion_stiffness},
-      {"repulsion_range", &Material::repulsion_range}};
+  const std::map<std::string, double Material::*> fields = {{"stretch", &Material::stretch},
+                                                            {"shear", &Material::shear},
+                                                            {"bend", &Material::bend},
+                                                            {"density", &Material::density},
+                                                            {"damping", &Material::damping},
+                                                            {"repulsion_stiffness", &Material::repulsion_stiffness},
+                                                            {"repulsion_range", &Material::repulsion_range}};
   std::map<std::string, int> seen;  // key -> line
   std::string line;
   int number = 0;
@@ -51,8 +54,9 @@ Material load_material_file(const std::string& path) {
     std::string key, rest;
     key_in >> key;
     const auto field = fields.find(key);
-    require(field != fields.end(), where + ": " + key,
-            "unknown material key (valid: stretch, shear, bend, density, damping, repulsion_stiffness, repulsion_range)");
+    require(
+        field != fields.end(), where + ": " + key,
+        "unknown material key (valid: stretch, shear, bend, density, damping, repulsion_stiffness, repulsion_range)");
     const auto [first, fresh] = seen.emplace(key, number);
     require(fresh, where + ": " + key, "given twice (first on line " + std::to_string(first->second) + ")");
     double value = 0.0;

@@ -13,8 +13,8 @@ RepulsionTerm::RepulsionTerm(const Grid& grid, const RepulsionParams& params)
   require(std::isfinite(params.stiffness) && params.stiffness > 0.0, "repulsion.stiffness",
           "must be a positive finite number");
   require(std::isfinite(params.range) && params.range > 0.0, "repulsion.range", "must be a positive length");
-  require(params.candidate_margin >= 0.0 && params.pattern_margin >= params.candidate_margin,
-          "repulsion.margin", "needs 0 <= candidate margin <= pattern margin");
+  require(params.candidate_margin >= 0.0 && params.pattern_margin >= params.candidate_margin, "repulsion.margin",
+          "needs 0 <= candidate margin <= pattern margin");
 }
 
 bool RepulsionTerm::adjacent(const Grid& grid, int a, int b) {
@@ -51,11 +51,10 @@ void RepulsionTerm::begin_step(const VecX& x_start, const VecX& x_predicted) {
     if (a.j != b.j) return a.j < b.j;
     return a.distance < b.distance;
   });
-  found_.erase(std::unique(found_.begin(), found_.end(),
-                           [](const SpatialHash::Pair& a, const SpatialHash::Pair& b) {
-                             return a.i == b.i && a.j == b.j;
-                           }),
-               found_.end());
+  found_.erase(
+      std::unique(found_.begin(), found_.end(),
+                  [](const SpatialHash::Pair& a, const SpatialHash::Pair& b) { return a.i == b.i && a.j == b.j; }),
+      found_.end());
 
   candidates_.clear();
   for (const auto& p : found_)
@@ -74,8 +73,8 @@ void RepulsionTerm::begin_step(const VecX& x_start, const VecX& x_predicted) {
     for (const auto& p : found_) pattern_.push_back({p.i, p.j});
     ++generation_;
     for (std::size_t c = 0; c < candidates_.size(); ++c)
-      candidate_slot_[c] = static_cast<int>(
-          std::lower_bound(pattern_.begin(), pattern_.end(), candidates_[c]) - pattern_.begin());
+      candidate_slot_[c] =
+          static_cast<int>(std::lower_bound(pattern_.begin(), pattern_.end(), candidates_[c]) - pattern_.begin());
   }
 
   if (static_cast<long>(candidates_.size()) >= kParallelThreshold) {
@@ -125,8 +124,7 @@ int RepulsionTerm::register_hessian(HessianAssembly& assembly) const {
   return assembly.add_stencils(pattern_.empty() ? nullptr : pattern_[0].data(), pattern_.size(), 2);
 }
 
-void RepulsionTerm::accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly,
-                                       int handle) const {
+void RepulsionTerm::accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly, int handle) const {
   const long count = static_cast<long>(candidates_.size());
   if (count < kParallelThreshold) {
     RepulsionKernel::Mat H;

@@ -45,11 +45,11 @@
 namespace fnopt {
 
 struct RepulsionParams {
-  double stiffness = 0.0;           // lambda [N/m]
-  double range = 0.0;               // delta [m]
-  double candidate_margin = 0.5;    // r_c = delta (1 + this)
-  double pattern_margin = 0.8;      // r_p = delta (1 + this); < 1 keeps a flat cloth's pattern
-                                    // empty (second neighbours sit at 2h)
+  double stiffness = 0.0;         // lambda [N/m]
+  double range = 0.0;             // delta [m]
+  double candidate_margin = 0.5;  // r_c = delta (1 + this)
+  double pattern_margin = 0.8;    // r_p = delta (1 + this); < 1 keeps a flat cloth's pattern
+                                  // empty (second neighbours sit at 2h)
 };
 
 class RepulsionTerm final : public EnergyTerm {
@@ -69,8 +69,7 @@ class RepulsionTerm final : public EnergyTerm {
   double energy(const VecX& x) const override;
   double accumulate_gradient(const VecX& x, VecX& grad) const override;
   int register_hessian(HessianAssembly& assembly) const override;
-  void accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly,
-                          int handle) const override;
+  void accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly, int handle) const override;
 
   const RepulsionParams& params() const { return params_; }
   const RepulsionKernel& kernel() const { return kernel_; }

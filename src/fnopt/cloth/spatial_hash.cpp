@@ -59,9 +59,8 @@ void SpatialHash::pairs_within(const VecX& x, double radius, std::vector<Pair>& 
           }
         }
     // The 27 cells are visited in a fixed order, not by j: sort this point's pairs.
-    std::sort(out.begin() + first, out.end(), [](const Pair& a, const Pair& b) {
-      return a.i != b.i ? a.i < b.i : a.j < b.j;
-    });
+    std::sort(out.begin() + first, out.end(),
+              [](const Pair& a, const Pair& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; });
   }
 }
 

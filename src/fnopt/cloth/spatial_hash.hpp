@@ -36,9 +36,9 @@ class SpatialHash {
 
   double cell_ = 0.0;
   std::size_t mask_ = 0;
-  std::vector<Cell> cells_;             // per point
-  std::vector<int> bucket_start_;       // T + 1
-  std::vector<int> sorted_;             // point indices by bucket
+  std::vector<Cell> cells_;        // per point
+  std::vector<int> bucket_start_;  // T + 1
+  std::vector<int> sorted_;        // point indices by bucket
 };
 
 }  // namespace fnopt

@@ -45,21 +45,17 @@ class StencilTerm final : public EnergyTerm {
     const long count = static_cast<long>(stencils_.size());
     double total = 0.0;
 #pragma omp parallel for reduction(+ : total) schedule(static) if (count >= kParallelThreshold)
+    for (long s = 0; s < count; ++s) total += kernel_.gradient(gather(x, stencils_[s]), gradients_[s]);
     for (long s = 0; s < count; ++s)
-      total += kernel_.gradient(gather(x, stencils_[s]), gradients_[s]);
-    for (long s = 0; s < count; ++s)
-      for (int i = 0; i < N; ++i)
-        grad.segment<3>(3 * stencils_[s][i]) += gradients_[s].template segment<3>(3 * i);
+      for (int i = 0; i < N; ++i) grad.segment<3>(3 * stencils_[s][i]) += gradients_[s].template segment<3>(3 * i);
     return total;
   }
 
   int register_hessian(HessianAssembly& assembly) const override {
-    return assembly.add_stencils(stencils_.empty() ? nullptr : stencils_[0].data(),
-                                 stencils_.size(), N);
+    return assembly.add_stencils(stencils_.empty() ? nullptr : stencils_[0].data(), stencils_.size(), N);
   }
 
-  void accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly,
-                          int handle) const override {
+  void accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly, int handle) const override {
     const long count = static_cast<long>(stencils_.size());
 #pragma omp parallel for schedule(static) if (count >= kParallelThreshold)
     for (long s = 0; s < count; ++s) kernel_.hessian(gather(x, stencils_[s]), hessians_[s], project);

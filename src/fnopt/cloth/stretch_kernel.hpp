@@ -37,8 +37,7 @@ struct StretchKernel {
     const Eigen::Matrix3d axial = e * e.transpose() / (length * length);
     double transverse = 1.0 - rest_length / length;
     if (project && transverse < 0.0) transverse = -transverse;
-    const Eigen::Matrix3d He =
-        stiffness * (transverse * (Eigen::Matrix3d::Identity() - axial) + axial);
+    const Eigen::Matrix3d He = stiffness * (transverse * (Eigen::Matrix3d::Identity() - axial) + axial);
     H << He, -He, -He, He;
   }
 };

@@ -17,17 +17,13 @@ struct Fftw<float> {
   static int alignment_of(float* p) { return fftwf_alignment_of(p); }
   static void destroy(Plan p) { fftwf_destroy_plan(p); }
   static Plan plan_rows_r2c(int n, int howmany, float* in, Complex* out, unsigned flags) {
-    return fftwf_plan_many_dft_r2c(1, &n, howmany, in, nullptr, 1, n, out, nullptr, 1,
-                                   n / 2 + 1, flags);
+    return fftwf_plan_many_dft_r2c(1, &n, howmany, in, nullptr, 1, n, out, nullptr, 1, n / 2 + 1, flags);
   }
   static Plan plan_rows_c2r(int n, int howmany, Complex* in, float* out, unsigned flags) {
-    return fftwf_plan_many_dft_c2r(1, &n, howmany, in, nullptr, 1, n / 2 + 1, out, nullptr, 1,
-                                   n, flags);
+    return fftwf_plan_many_dft_c2r(1, &n, howmany, in, nullptr, 1, n / 2 + 1, out, nullptr, 1, n, flags);
   }
-  static Plan plan_columns(int n, int howmany, int stride, Complex* data, int sign,
-                           unsigned flags) {
-    return fftwf_plan_many_dft(1, &n, howmany, data, nullptr, stride, 1, data, nullptr, stride,
-                               1, sign, flags);
+  static Plan plan_columns(int n, int howmany, int stride, Complex* data, int sign, unsigned flags) {
+    return fftwf_plan_many_dft(1, &n, howmany, data, nullptr, stride, 1, data, nullptr, stride, 1, sign, flags);
   }
   static void execute_r2c(Plan p, float* in, Complex* out) { fftwf_execute_dft_r2c(p, in, out); }
   static void execute_c2r(Plan p, Complex* in, float* out) { fftwf_execute_dft_c2r(p, in, out); }
@@ -43,17 +39,13 @@ struct Fftw<double> {
   static int alignment_of(double* p) { return fftw_alignment_of(p); }
   static void destroy(Plan p) { fftw_destroy_plan(p); }
   static Plan plan_rows_r2c(int n, int howmany, double* in, Complex* out, unsigned flags) {
-    return fftw_plan_many_dft_r2c(1, &n, howmany, in, nullptr, 1, n, out, nullptr, 1, n / 2 + 1,
-                                  flags);
+    return fftw_plan_many_dft_r2c(1, &n, howmany, in, nullptr, 1, n, out, nullptr, 1, n / 2 + 1, flags);
   }
   static Plan plan_rows_c2r(int n, int howmany, Complex* in, double* out, unsigned flags) {
-    return fftw_plan_many_dft_c2r(1, &n, howmany, in, nullptr, 1, n / 2 + 1, out, nullptr, 1, n,
-                                  flags);
+    return fftw_plan_many_dft_c2r(1, &n, howmany, in, nullptr, 1, n / 2 + 1, out, nullptr, 1, n, flags);
   }
-  static Plan plan_columns(int n, int howmany, int stride, Complex* data, int sign,
-                           unsigned flags) {
-    return fftw_plan_many_dft(1, &n, howmany, data, nullptr, stride, 1, data, nullptr, stride, 1,
-                              sign, flags);
+  static Plan plan_columns(int n, int howmany, int stride, Complex* data, int sign, unsigned flags) {
+    return fftw_plan_many_dft(1, &n, howmany, data, nullptr, stride, 1, data, nullptr, stride, 1, sign, flags);
   }
   static void execute_r2c(Plan p, double* in, Complex* out) { fftw_execute_dft_r2c(p, in, out); }
   static void execute_c2r(Plan p, Complex* in, double* out) { fftw_execute_dft_c2r(p, in, out); }

@@ -52,8 +52,7 @@ struct Timings {
   double forward_backward_ms;
 };
 
-Timings time_backend(const BenchClock& clock, FNO2d& model, const torch::Tensor& x,
-                     SpectralBackend backend) {
+Timings time_backend(const BenchClock& clock, FNO2d& model, const torch::Tensor& x, SpectralBackend backend) {
   model->options.spectral_backend(backend);
   Timings t{};
   t.forward_ms = best_ms(clock, [&] {
@@ -111,20 +110,18 @@ std::string percent(double part, double whole) {
 void run_fno_bench(std::ostream& out, int threads, const FNO2dOptions& options, const std::vector<int>& grids) {
   torch::set_num_threads(std::max(1, threads));
   const BenchClock clock(torch::get_num_threads() == 1);
-  out << "FNO2d forward / forward+backward, float32, " << options.fourier_layers()
-      << " Fourier layers, width " << options.width() << ", modes " << options.modes_x() << "x"
-      << options.modes_y() << ", lifting " << options.lifting_channels() << ", projection "
-      << options.projection_channels() << ", scale head\n"
+  out << "FNO2d forward / forward+backward, float32, " << options.fourier_layers() << " Fourier layers, width "
+      << options.width() << ", modes " << options.modes_x() << "x" << options.modes_y() << ", lifting "
+      << options.lifting_channels() << ", projection " << options.projection_channels() << ", scale head\n"
       << "threads: " << torch::get_num_threads() << ", timed on " << clock.name() << "\n"
       << "BLAS: " << fno::runtime_blas() << " (LibTorch " << fno::torch_blas_info() << ")\n\n";
 
   char line[256];
-  std::snprintf(line, sizeof line, "%-14s | %-19s | %-28s | %s\n", "", "forward ms",
-                "forward+backward ms", "share of FFTW forward time");
+  std::snprintf(line, sizeof line, "%-14s | %-19s | %-28s | %s\n", "", "forward ms", "forward+backward ms",
+                "share of FFTW forward time");
   out << line;
-  std::snprintf(line, sizeof line, "%-8s %5s | %9s %9s | %9s %9s %8s | %6s %6s %6s %6s %6s\n",
-                "grid", "batch", "FFTW", "torch.fft", "FFTW", "torch.fft", "speedup", "lift",
-                "spect", "skip", "proj", "other");
+  std::snprintf(line, sizeof line, "%-8s %5s | %9s %9s | %9s %9s %8s | %6s %6s %6s %6s %6s\n", "grid", "batch", "FFTW",
+                "torch.fft", "FFTW", "torch.fft", "speedup", "lift", "spect", "skip", "proj", "other");
   out << line;
   for (const int64_t n : grids) {
     for (const int64_t batch : {1, 3}) {
@@ -136,11 +133,9 @@ void run_fno_bench(std::ostream& out, int threads, const FNO2dOptions& options, 
       const FNO2dStageTimes s = stage_times(model, x);
       const double total = total_ms(s);
       const std::string grid = std::to_string(n) + "x" + std::to_string(n);
-      std::snprintf(line, sizeof line,
-                    "%-8s %5lld | %9.2f %9.2f | %9.2f %9.2f %7.2fx | %s %s %s %s %s\n",
-                    grid.c_str(), static_cast<long long>(batch), fftw.forward_ms, tfft.forward_ms,
-                    fftw.forward_backward_ms, tfft.forward_backward_ms,
-                    tfft.forward_backward_ms / fftw.forward_backward_ms,
+      std::snprintf(line, sizeof line, "%-8s %5lld | %9.2f %9.2f | %9.2f %9.2f %7.2fx | %s %s %s %s %s\n", grid.c_str(),
+                    static_cast<long long>(batch), fftw.forward_ms, tfft.forward_ms, fftw.forward_backward_ms,
+                    tfft.forward_backward_ms, tfft.forward_backward_ms / fftw.forward_backward_ms,
                     percent(s.lifting_ms, total).c_str(), percent(s.spectral_ms, total).c_str(),
                     percent(s.skip_ms, total).c_str(), percent(s.projection_ms, total).c_str(),
                     percent(s.other_ms, total).c_str());
@@ -150,16 +145,15 @@ void run_fno_bench(std::ostream& out, int threads, const FNO2dOptions& options, 
 
   out << "\nOne spectral convolution alone (" << options.width() << " -> " << options.width() << " channels, modes "
       << options.modes_x() << "x" << options.modes_y() << "), forward+backward ms\n";
-  std::snprintf(line, sizeof line, "%-8s %5s | %9s %9s %8s\n", "grid", "batch", "FFTW",
-                "torch.fft", "speedup");
+  std::snprintf(line, sizeof line, "%-8s %5s | %9s %9s %8s\n", "grid", "batch", "FFTW", "torch.fft", "speedup");
   out << line;
   for (const int64_t n : grids) {
     for (const int64_t batch : {1, 3}) {
       const double fftw = spectral_layer_ms(clock, options, batch, n, SpectralBackend::fftw);
       const double tfft = spectral_layer_ms(clock, options, batch, n, SpectralBackend::torch_fft);
       const std::string grid = std::to_string(n) + "x" + std::to_string(n);
-      std::snprintf(line, sizeof line, "%-8s %5lld | %9.2f %9.2f %7.2fx\n", grid.c_str(),
-                    static_cast<long long>(batch), fftw, tfft, tfft / fftw);
+      std::snprintf(line, sizeof line, "%-8s %5lld | %9.2f %9.2f %7.2fx\n", grid.c_str(), static_cast<long long>(batch),
+                    fftw, tfft, tfft / fftw);
       out << line << std::flush;
     }
   }

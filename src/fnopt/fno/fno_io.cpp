@@ -20,9 +20,7 @@ namespace {
 constexpr const char* kFormat = "fnopt-fno";
 constexpr const char* kArchitecture = "fno2d";
 
-[[noreturn]] void fail(const std::string& path, const std::string& problem) {
-  throw Error(path + ": " + problem);
-}
+[[noreturn]] void fail(const std::string& path, const std::string& problem) { throw Error(path + ": " + problem); }
 
 std::string first_line(const std::string& text) { return text.substr(0, text.find('\n')); }
 
@@ -73,29 +71,25 @@ torch::serialize::InputArchive open_archive(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail(path, "no such FNO weights file");
   if (!std::ifstream(path, std::ios::binary)) fail(path, "cannot open the FNO weights file");
-  if (!starts_like_zip(path))
-    fail(path, "not an fnopt FNO weights file (not a LibTorch archive)");
+  if (!starts_like_zip(path)) fail(path, "not an fnopt FNO weights file (not a LibTorch archive)");
   torch::serialize::InputArchive archive;
   try {
     archive.load_from(path, torch::Device(torch::kCPU));
   } catch (const c10::Error& e) {
-    fail(path, "truncated or corrupt FNO weights file (" +
-                   first_line(e.what_without_backtrace()) + ")");
+    fail(path, "truncated or corrupt FNO weights file (" + first_line(e.what_without_backtrace()) + ")");
   }
   c10::IValue value;
-  if (!archive.try_read("format", value) || !value.isString() ||
-      value.toStringRef() != kFormat)
+  if (!archive.try_read("format", value) || !value.isString() || value.toStringRef() != kFormat)
     fail(path, std::string("not an fnopt FNO weights file (no \"") + kFormat + "\" format tag)");
-  if (!archive.try_read("version", value) || !value.isInt())
-    fail(path, "FNO weights file without a format version");
+  if (!archive.try_read("version", value) || !value.isInt()) fail(path, "FNO weights file without a format version");
   if (value.toInt() < kFnoFirstReadableVersion || value.toInt() > kFnoFileVersion)
     fail(path, "FNO weights format version " + std::to_string(value.toInt()) + ", this build reads versions " +
                    std::to_string(kFnoFirstReadableVersion) + " to " + std::to_string(kFnoFileVersion));
   if (!archive.try_read("architecture", value) || !value.isString())
     fail(path, "FNO weights file without an architecture");
   if (value.toStringRef() != kArchitecture)
-    fail(path, "FNO weights of architecture \"" + value.toStringRef() +
-                   "\", this build reads \"" + kArchitecture + "\"");
+    fail(path,
+         "FNO weights of architecture \"" + value.toStringRef() + "\", this build reads \"" + kArchitecture + "\"");
   return archive;
 }
 
@@ -146,8 +140,7 @@ torch::Tensor read_parameter(torch::serialize::InputArchive& parameters, const s
   return tensor;
 }
 
-void read_parameters(torch::serialize::InputArchive& archive, const std::string& path,
-                     FNO2dImpl& model) {
+void read_parameters(torch::serialize::InputArchive& archive, const std::string& path, FNO2dImpl& model) {
   torch::serialize::InputArchive stored;
   if (!archive.try_read("parameters", stored)) fail(path, "FNO weights file without parameters");
   torch::NoGradGuard no_grad;
@@ -155,9 +148,8 @@ void read_parameters(torch::serialize::InputArchive& archive, const std::string&
     const torch::Tensor value = read_parameter(stored, parameter.key());
     if (!value.defined()) fail(path, "FNO parameter \"" + parameter.key() + "\" missing");
     if (value.sizes() != parameter.value().sizes())
-      fail(path, "FNO parameter \"" + parameter.key() + "\" has shape " +
-                     shape_text(value.sizes()) + ", its options need " +
-                     shape_text(parameter.value().sizes()));
+      fail(path, "FNO parameter \"" + parameter.key() + "\" has shape " + shape_text(value.sizes()) +
+                     ", its options need " + shape_text(parameter.value().sizes()));
     parameter.value().copy_(value);
   }
   // Version 2 on: the parameters must hash to the stored checksum.
@@ -188,9 +180,8 @@ void save_fno(const std::string& path, const FNO2d& model) {
   archive.write("version", c10::IValue(kFnoFileVersion));
   archive.write("architecture", c10::IValue(std::string(kArchitecture)));
   torch::serialize::OutputArchive options(archive.compilation_unit());
-  for_each_stored_option(model->options, [&](const char* name, const auto& field) {
-    options.write(name, c10::IValue(field));
-  });
+  for_each_stored_option(model->options,
+                         [&](const char* name, const auto& field) { options.write(name, c10::IValue(field)); });
   archive.write("options", options);
   torch::serialize::OutputArchive parameters(archive.compilation_unit());
   model->save(parameters);
@@ -203,8 +194,7 @@ void save_fno(const std::string& path, const FNO2d& model) {
     archive.save_to(temporary);
   } catch (const c10::Error& e) {
     std::remove(temporary.c_str());
-    fail(path, "cannot write the FNO weights file (" + first_line(e.what_without_backtrace()) +
-                   ")");
+    fail(path, "cannot write the FNO weights file (" + first_line(e.what_without_backtrace()) + ")");
   }
   if (std::rename(temporary.c_str(), path.c_str()) != 0) {
     const std::string reason = std::strerror(errno);

@@ -1,10 +1,11 @@
 #pragma once
 // FNO2d weights on disk: one LibTorch archive (a zip file) holding
 //   format       "fnopt-fno"        (what kind of file this is)
-//   version      1                  (layout of this file; bumped on incompatible changes)
+//   version      2                  (layout of this file, kFnoFileVersion; bumped on incompatible changes)
 //   architecture "fno2d"            (which model the parameters belong to)
 //   options/<name>                  every FNO2dOptions field that shapes the model
 //   parameters/...                  the parameters, in torch::nn::Module::save's layout
+//   checksum                        of the parameters, checked on load (from version 2)
 // Files are written atomically (temporary file, then rename). Every way a file can be wrong
 // (missing, not an archive, truncated, another format, version or architecture, parameters
 // that do not fit the options) is one fnopt::Error "<path>: <problem>".

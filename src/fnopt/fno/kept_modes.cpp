@@ -10,10 +10,8 @@ namespace fnopt::fno {
 KeptModes kept_modes(int64_t rows, int64_t cols, int64_t modes_x, int64_t modes_y) {
   require(rows > 0 && cols > 0, "spectral convolution",
           "grid must be non-empty, got " + std::to_string(rows) + "x" + std::to_string(cols));
-  require(modes_x > 0 && modes_x % 2 == 0 && modes_y > 0 && modes_y % 2 == 0,
-          "spectral convolution",
-          "modes must be positive and even, got " + std::to_string(modes_x) + "x" +
-              std::to_string(modes_y));
+  require(modes_x > 0 && modes_x % 2 == 0 && modes_y > 0 && modes_y % 2 == 0, "spectral convolution",
+          "modes must be positive and even, got " + std::to_string(modes_x) + "x" + std::to_string(modes_y));
   KeptModes m;
   m.rows = rows;
   m.cols = cols;

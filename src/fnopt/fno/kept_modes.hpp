@@ -11,11 +11,11 @@
 namespace fnopt::fno {
 
 struct KeptModes {
-  int64_t rows = 0;             // R, grid size along the first axis
-  int64_t cols = 0;             // C, grid size along the second (half-spectrum) axis
-  int64_t lowest_row_freq = 0;  // the smallest kept kx (≤ 0)
-  int64_t kept_rows = 0;        // kept kx: lowest_row_freq, ..., lowest_row_freq + kept_rows − 1
-  int64_t kept_cols = 0;        // number of kept ky: 0, ..., kept_cols − 1
+  int64_t rows = 0;               // R, grid size along the first axis
+  int64_t cols = 0;               // C, grid size along the second (half-spectrum) axis
+  int64_t lowest_row_freq = 0;    // the smallest kept kx (≤ 0)
+  int64_t kept_rows = 0;          // kept kx: lowest_row_freq, ..., lowest_row_freq + kept_rows − 1
+  int64_t kept_cols = 0;          // number of kept ky: 0, ..., kept_cols − 1
   int64_t weight_row_offset = 0;  // index of lowest_row_freq on the weight's kx axis (kx + mx/2)
 
   int64_t half_cols() const { return cols / 2 + 1; }

@@ -10,8 +10,7 @@ namespace {
 // callers order their loops so that each weight block (1.3 MB per layer at width 64, modes 8)
 // is read once for the whole batch.
 template <bool conjugate_b, typename Real>
-inline void multiply_add(Real* __restrict acc, const Real* __restrict a,
-                         const Real* __restrict b, int64_t modes) {
+inline void multiply_add(Real* __restrict acc, const Real* __restrict a, const Real* __restrict b, int64_t modes) {
   const Real sign = conjugate_b ? Real(-1) : Real(1);
   for (int64_t m = 0; m < 2 * modes; m += 2) {
     const Real bi = sign * b[m + 1];

@@ -57,9 +57,8 @@ class SpectralConv2dFunction : public torch::autograd::Function<SpectralConv2dFu
     const KeptModes m = fno::kept_modes_for(x, weight);
     const int64_t batch = x.size(0), in = weight.size(0), out = weight.size(1);
     const torch::Tensor w = fno::kept_weight(weight, m).reshape({in, out, m.kept_count(), 2});
-    const torch::Tensor x_hat =
-        fno::analyze(x.reshape({batch * in, m.rows, m.cols}), m, 1.0 / (m.rows * m.cols))
-            .view({batch, in, m.kept_count(), 2});
+    const torch::Tensor x_hat = fno::analyze(x.reshape({batch * in, m.rows, m.cols}), m, 1.0 / (m.rows * m.cols))
+                                    .view({batch, in, m.kept_count(), 2});
     const torch::Tensor y_hat = fno::mix_modes(x_hat, w);
     save_modes(ctx, m);
     ctx->saved_data["x_hat"] = x_hat;
@@ -74,21 +73,18 @@ class SpectralConv2dFunction : public torch::autograd::Function<SpectralConv2dFu
     const torch::Tensor weight = ctx->get_saved_variables()[0];
     const torch::Tensor x_hat = ctx->saved_data.at("x_hat").toTensor();
     const int64_t batch = x_hat.size(0), in = weight.size(0), out = weight.size(1);
-    const torch::Tensor g_hat =
-        fno::analyze(grad_outputs[0].reshape({batch * out, m.rows, m.cols}), m, 1.0)
-            .view({batch, out, m.kept_count(), 2});
+    const torch::Tensor g_hat = fno::analyze(grad_outputs[0].reshape({batch * out, m.rows, m.cols}), m, 1.0)
+                                    .view({batch, out, m.kept_count(), 2});
     torch::Tensor grad_x, grad_weight;
     if (ctx->needs_input_grad(0)) {
       const torch::Tensor w = fno::kept_weight(weight, m).reshape({in, out, m.kept_count(), 2});
       const torch::Tensor h = fno::mix_modes_adjoint_input(g_hat, w);
-      grad_x = fno::synthesize(h.view({batch * in, m.kept_rows, m.kept_cols, 2}), m,
-                               1.0 / (m.rows * m.cols))
+      grad_x = fno::synthesize(h.view({batch * in, m.kept_rows, m.kept_cols, 2}), m, 1.0 / (m.rows * m.cols))
                    .view({batch, in, m.rows, m.cols});
     }
     if (ctx->needs_input_grad(1)) {
       const torch::Tensor alpha_g =
-          g_hat.view({batch, out, m.kept_rows, m.kept_cols, 2}) *
-          column_multiplicity(m, g_hat.options());
+          g_hat.view({batch, out, m.kept_rows, m.kept_cols, 2}) * column_multiplicity(m, g_hat.options());
       const torch::Tensor kept_grad =
           fno::mix_modes_adjoint_weight(alpha_g.view({batch, out, m.kept_count(), 2}), x_hat)
               .view({in, out, m.kept_rows, m.kept_cols, 2});
@@ -109,23 +105,18 @@ torch::Tensor spectral_conv2d(const torch::Tensor& x, const torch::Tensor& weigh
   return SpectralConv2dFunction::apply(x, weight);
 }
 
-torch::Tensor spectral_conv2d(const torch::Tensor& x, const torch::Tensor& weight,
-                              SpectralBackend backend) {
-  return backend == SpectralBackend::fftw ? spectral_conv2d(x, weight)
-                                          : spectral_conv2d_torchfft(x, weight);
+torch::Tensor spectral_conv2d(const torch::Tensor& x, const torch::Tensor& weight, SpectralBackend backend) {
+  return backend == SpectralBackend::fftw ? spectral_conv2d(x, weight) : spectral_conv2d_torchfft(x, weight);
 }
 
-SpectralConv2dImpl::SpectralConv2dImpl(const SpectralConv2dOptions& options_)
-    : options(options_) {
+SpectralConv2dImpl::SpectralConv2dImpl(const SpectralConv2dOptions& options_) : options(options_) {
   require(options.in_channels() > 0 && options.out_channels() > 0, "spectral convolution",
           "channel counts must be positive");
   fno::kept_modes(1, 1, options.modes_x(), options.modes_y());  // validates the modes
-  const double init_std = std::sqrt(1.0 / static_cast<double>(options.in_channels() +
-                                                              options.out_channels()));
-  weight = register_parameter(
-      "weight", torch::randn({options.in_channels(), options.out_channels(), options.modes_x(),
-                              options.modes_y() / 2 + 1, 2}) *
-                    init_std);
+  const double init_std = std::sqrt(1.0 / static_cast<double>(options.in_channels() + options.out_channels()));
+  weight = register_parameter("weight", torch::randn({options.in_channels(), options.out_channels(), options.modes_x(),
+                                                      options.modes_y() / 2 + 1, 2}) *
+                                            init_std);
 }
 
 torch::Tensor SpectralConv2dImpl::forward(const torch::Tensor& x, SpectralBackend backend) {

@@ -24,8 +24,7 @@ torch::Tensor spectral_conv2d(const torch::Tensor& x, const torch::Tensor& weigh
 // and benchmarks, and the backend for devices FFTW does not run on.
 torch::Tensor spectral_conv2d_torchfft(const torch::Tensor& x, const torch::Tensor& weight);
 
-torch::Tensor spectral_conv2d(const torch::Tensor& x, const torch::Tensor& weight,
-                              SpectralBackend backend);
+torch::Tensor spectral_conv2d(const torch::Tensor& x, const torch::Tensor& weight, SpectralBackend backend);
 
 struct SpectralConv2dOptions {
   SpectralConv2dOptions(int64_t in_channels, int64_t out_channels)

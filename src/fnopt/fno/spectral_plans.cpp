@@ -24,8 +24,7 @@ struct OwnedPlans {
   OwnedPlans(const OwnedPlans&) = delete;
   OwnedPlans& operator=(const OwnedPlans&) = delete;
   ~OwnedPlans() {
-    for (auto p : {plans.rows_forward, plans.cols_forward, plans.cols_backward,
-                   plans.rows_backward})
+    for (auto p : {plans.rows_forward, plans.cols_forward, plans.cols_backward, plans.rows_backward})
       if (p) Fftw<Real>::destroy(p);
   }
 };
@@ -37,8 +36,7 @@ std::unique_ptr<OwnedPlans<Real>> create_plans(int rows, int cols, int kept_cols
   // Plans are made on scratch arrays of the right size and alignment and executed later on
   // the caller's arrays (FFTW's new-array execute functions).
   Real* field = static_cast<Real*>(F::malloc(sizeof(Real) * rows * cols));
-  auto* spectrum = static_cast<typename F::Complex*>(
-      F::malloc(sizeof(typename F::Complex) * rows * half));
+  auto* spectrum = static_cast<typename F::Complex*>(F::malloc(sizeof(typename F::Complex) * rows * half));
   auto owned = std::make_unique<OwnedPlans<Real>>();
   SpectralPlans<Real>& p = owned->plans;
   if (field && spectrum) {
@@ -55,9 +53,9 @@ std::unique_ptr<OwnedPlans<Real>> create_plans(int rows, int cols, int kept_cols
   }
   F::free(field);
   F::free(spectrum);
-  require(p.rows_forward && p.cols_forward && p.cols_backward && p.rows_backward, "FFTW",
-          "could not plan the spectral convolution of a " + std::to_string(rows) + "x" +
-              std::to_string(cols) + " grid");
+  require(
+      p.rows_forward && p.cols_forward && p.cols_backward && p.rows_backward, "FFTW",
+      "could not plan the spectral convolution of a " + std::to_string(rows) + "x" + std::to_string(cols) + " grid");
   return owned;
 }
 
@@ -69,9 +67,7 @@ const SpectralPlans<Real>& spectral_plans(int64_t rows, int64_t cols, int64_t ke
   static std::map<Key, std::unique_ptr<OwnedPlans<Real>>> cache;
   std::lock_guard<std::mutex> lock(planner_mutex());
   auto& slot = cache[Key{rows, cols, kept_cols}];
-  if (!slot)
-    slot = create_plans<Real>(static_cast<int>(rows), static_cast<int>(cols),
-                              static_cast<int>(kept_cols));
+  if (!slot) slot = create_plans<Real>(static_cast<int>(rows), static_cast<int>(cols), static_cast<int>(kept_cols));
   return slot->plans;
 }
 

@@ -50,16 +50,14 @@ thread_local ThreadScratch field_scratch;
 int64_t grain(const KeptModes& m) { return std::max<int64_t>(1, 4096 / (m.rows * m.cols)); }
 
 template <typename Real>
-void analyze_impl(const Real* field, Real* out, int64_t count, const KeptModes& m,
-                  Real scale) {
+void analyze_impl(const Real* field, Real* out, int64_t count, const KeptModes& m, Real scale) {
   using F = Fftw<Real>;
   using Complex = typename F::Complex;
   const SpectralPlans<Real>& plans = spectral_plans<Real>(m.rows, m.cols, m.kept_cols);
   const int64_t plane = m.rows * m.cols;
   const int64_t half = m.half_cols();
   at::parallel_for(0, count, grain(m), [&](int64_t begin, int64_t end) {
-    auto* spectrum =
-        static_cast<Complex*>(spectrum_scratch.bytes(sizeof(Complex) * m.rows * half));
+    auto* spectrum = static_cast<Complex*>(spectrum_scratch.bytes(sizeof(Complex) * m.rows * half));
     for (int64_t n = begin; n < end; ++n) {
       // FFTW's r2c does not write to its input, whatever the const-ness of its signature.
       Real* in = const_cast<Real*>(field + n * plane);
@@ -83,8 +81,7 @@ void analyze_impl(const Real* field, Real* out, int64_t count, const KeptModes& 
 }
 
 template <typename Real>
-void synthesize_impl(const Real* spectrum_in, Real* field, int64_t count, const KeptModes& m,
-                     Real scale) {
+void synthesize_impl(const Real* spectrum_in, Real* field, int64_t count, const KeptModes& m, Real scale) {
   using F = Fftw<Real>;
   using Complex = typename F::Complex;
   const SpectralPlans<Real>& plans = spectral_plans<Real>(m.rows, m.cols, m.kept_cols);
@@ -92,8 +89,7 @@ void synthesize_impl(const Real* spectrum_in, Real* field, int64_t count, const 
   const int64_t half = m.half_cols();
   const bool has_nyquist_col = m.cols % 2 == 0;
   at::parallel_for(0, count, grain(m), [&](int64_t begin, int64_t end) {
-    auto* spectrum =
-        static_cast<Complex*>(spectrum_scratch.bytes(sizeof(Complex) * m.rows * half));
+    auto* spectrum = static_cast<Complex*>(spectrum_scratch.bytes(sizeof(Complex) * m.rows * half));
     for (int64_t n = begin; n < end; ++n) {
       // c2r destroys its input, and every column the modes do not reach must read as zero.
       std::memset(static_cast<void*>(spectrum), 0, sizeof(Complex) * m.rows * half);
@@ -128,19 +124,18 @@ void synthesize_impl(const Real* spectrum_in, Real* field, int64_t count, const 
 void require_cpu_real(const torch::Tensor& t, const char* what) {
   require(t.device().is_cpu(), "FFTW spectral convolution",
           std::string(what) + " must be a CPU tensor (use the torch::fft backend elsewhere)");
-  require(t.scalar_type() == torch::kFloat || t.scalar_type() == torch::kDouble,
-          "FFTW spectral convolution", std::string(what) + " must be float or double");
+  require(t.scalar_type() == torch::kFloat || t.scalar_type() == torch::kDouble, "FFTW spectral convolution",
+          std::string(what) + " must be float or double");
 }
 
 }  // namespace
 
 torch::Tensor analyze(const torch::Tensor& field, const KeptModes& modes, double scale) {
   require_cpu_real(field, "input");
-  require(field.dim() == 3 && field.size(1) == modes.rows && field.size(2) == modes.cols,
-          "FFTW spectral convolution", "field does not match the grid of its modes");
+  require(field.dim() == 3 && field.size(1) == modes.rows && field.size(2) == modes.cols, "FFTW spectral convolution",
+          "field does not match the grid of its modes");
   const torch::Tensor in = field.contiguous();
-  torch::Tensor out =
-      torch::empty({in.size(0), modes.kept_rows, modes.kept_cols, 2}, in.options());
+  torch::Tensor out = torch::empty({in.size(0), modes.kept_rows, modes.kept_cols, 2}, in.options());
   AT_DISPATCH_FLOATING_TYPES(in.scalar_type(), "fnopt_fno_analyze", [&] {
     analyze_impl<scalar_t>(in.data_ptr<scalar_t>(), out.data_ptr<scalar_t>(), in.size(0), modes,
                            static_cast<scalar_t>(scale));
@@ -150,14 +145,14 @@ torch::Tensor analyze(const torch::Tensor& field, const KeptModes& modes, double
 
 torch::Tensor synthesize(const torch::Tensor& spectrum, const KeptModes& modes, double scale) {
   require_cpu_real(spectrum, "spectrum");
-  require(spectrum.dim() == 4 && spectrum.size(1) == modes.kept_rows &&
-              spectrum.size(2) == modes.kept_cols && spectrum.size(3) == 2,
+  require(spectrum.dim() == 4 && spectrum.size(1) == modes.kept_rows && spectrum.size(2) == modes.kept_cols &&
+              spectrum.size(3) == 2,
           "FFTW spectral convolution", "spectrum does not match its kept modes");
   const torch::Tensor in = spectrum.contiguous();
   torch::Tensor out = torch::empty({in.size(0), modes.rows, modes.cols}, in.options());
   AT_DISPATCH_FLOATING_TYPES(in.scalar_type(), "fnopt_fno_synthesize", [&] {
-    synthesize_impl<scalar_t>(in.data_ptr<scalar_t>(), out.data_ptr<scalar_t>(), in.size(0),
-                              modes, static_cast<scalar_t>(scale));
+    synthesize_impl<scalar_t>(in.data_ptr<scalar_t>(), out.data_ptr<scalar_t>(), in.size(0), modes,
+                              static_cast<scalar_t>(scale));
   });
   return out;
 }

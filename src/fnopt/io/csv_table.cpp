@@ -47,9 +47,12 @@ CsvTable CsvTable::read(const std::string& path) {
   for (std::size_t k = 0; k < content.size(); ++k) {
     const char c = content[k];
     if (quoted) {
-      if (c == '"' && k + 1 < content.size() && content[k + 1] == '"') cell += '"', ++k;
-      else if (c == '"') quoted = false;
-      else cell += c;
+      if (c == '"' && k + 1 < content.size() && content[k + 1] == '"')
+        cell += '"', ++k;
+      else if (c == '"')
+        quoted = false;
+      else
+        cell += c;
     } else if (c == '"') {
       quoted = true;
       any = true;

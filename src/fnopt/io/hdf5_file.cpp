@@ -42,11 +42,10 @@ Hdf5File::~Hdf5File() {
   if (file_ >= 0) H5Fclose(file_);
 }
 
-void Hdf5File::write_raw(const std::string& name, const std::vector<hsize_t>& dims, hid_t file_type,
-                         hid_t memory_type, const void* data) {
+void Hdf5File::write_raw(const std::string& name, const std::vector<hsize_t>& dims, hid_t file_type, hid_t memory_type,
+                         const void* data) {
   Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
-  Handle set(H5Dcreate2(file_, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-             H5Dclose);
+  Handle set(H5Dcreate2(file_, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
   if (!set.valid() || H5Dwrite(set.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
     throw Error(path_ + ": cannot write dataset '" + name + "'");
 }
@@ -104,9 +103,9 @@ void Hdf5File::write_attribute(const std::string& name, hid_t file_type, hid_t m
                                const std::string& object) {
   Handle target(H5Oopen(file_, object.c_str(), H5P_DEFAULT), H5Oclose);
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-  Handle attr(target.valid() ? H5Acreate2(target.get(), name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT)
-                             : -1,
-              H5Aclose);
+  Handle attr(
+      target.valid() ? H5Acreate2(target.get(), name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT) : -1,
+      H5Aclose);
   if (!attr.valid() || H5Awrite(attr.get(), memory_type, value) < 0)
     throw Error(path_ + ": cannot write attribute '" + name + "' of '" + object + "'");
 }

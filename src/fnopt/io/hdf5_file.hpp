@@ -37,8 +37,8 @@ class Hdf5File {
   int int_attribute(const std::string& name) const;  // converts on read
 
  private:
-  void write_raw(const std::string& name, const std::vector<hsize_t>& dims, hid_t file_type,
-                 hid_t memory_type, const void* data);
+  void write_raw(const std::string& name, const std::vector<hsize_t>& dims, hid_t file_type, hid_t memory_type,
+                 const void* data);
   void read_raw(const std::string& name, hid_t memory_type, void* data) const;
   void write_attribute(const std::string& name, hid_t file_type, hid_t memory_type, const void* value,
                        const std::string& object);

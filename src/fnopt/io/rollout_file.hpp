@@ -29,8 +29,8 @@ void write_rollout_file(const std::string& path, const RolloutResult& rollout, c
 struct TrajectoryFrames {
   int rows = 0;
   int cols = 0;
-  std::vector<double> times;                // [s]
-  std::vector<Eigen::VectorXf> positions;   // per frame, 3 floats per vertex, vertex i*cols + j
+  std::vector<double> times;               // [s]
+  std::vector<Eigen::VectorXf> positions;  // per frame, 3 floats per vertex, vertex i*cols + j
 };
 
 // Throws Error naming the file for anything missing or inconsistent.

@@ -27,11 +27,20 @@ std::string escape(const std::string& text) {
   std::string out;
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -45,8 +54,10 @@ std::string fmt(double v) {
 
 std::string tick_text(double v) {
   char text[32];
-  if (v != 0.0 && (std::abs(v) >= 1e5 || std::abs(v) < 1e-3)) std::snprintf(text, sizeof text, "%.0e", v);
-  else std::snprintf(text, sizeof text, "%g", v);
+  if (v != 0.0 && (std::abs(v) >= 1e5 || std::abs(v) < 1e-3))
+    std::snprintf(text, sizeof text, "%.0e", v);
+  else
+    std::snprintf(text, sizeof text, "%g", v);
   return text;
 }
 
@@ -77,7 +88,10 @@ struct Axis {
       const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
       double step = magnitude;
       for (double m : {1.0, 2.0, 5.0, 10.0})
-        if (m * magnitude >= raw) { step = m * magnitude; break; }
+        if (m * magnitude >= raw) {
+          step = m * magnitude;
+          break;
+        }
       lo = std::floor(min_value / step) * step;
       hi = std::ceil(max_value / step) * step;
       for (double v = lo; v <= hi + 0.5 * step; v += step) ticks.push_back(std::abs(v) < 1e-12 * step ? 0.0 : v);
@@ -181,8 +195,8 @@ void render_panel(std::ostringstream& svg, const PlotPanel& panel, double ox, do
         svg << "<circle cx=\"" << fmt(x) << "\" cy=\"" << fmt(y) << "\" r=\"4\" fill=\"" << colour << "\"/>\n";
       }
       if (!p.label.empty())
-        svg << "<text x=\"" << fmt(x + 7) << "\" y=\"" << fmt(y - 6) << "\" font-size=\"11\" fill=\"" << colour
-            << "\">" << escape(p.label) << "</text>\n";
+        svg << "<text x=\"" << fmt(x + 7) << "\" y=\"" << fmt(y - 6) << "\" font-size=\"11\" fill=\"" << colour << "\">"
+            << escape(p.label) << "</text>\n";
     }
   }
   if (hidden > 0)  // above the frame's top right corner, clear of the points and line labels
@@ -202,8 +216,10 @@ std::vector<std::string> wrap(const std::string& text, std::size_t width) {
     word.clear();
   };
   for (char c : text) {
-    if (c == ' ') flush_word();
-    else word += c;
+    if (c == ' ')
+      flush_word();
+    else
+      word += c;
   }
   flush_word();
   if (!line.empty()) lines.push_back(line);

@@ -37,8 +37,8 @@ struct PlotPanel {
 
 struct PlotFigure {
   std::string title;
-  std::vector<std::string> notes;          // lines of text under the title
-  int columns = 2;                         // panels per row
+  std::vector<std::string> notes;           // lines of text under the title
+  int columns = 2;                          // panels per row
   std::string marked_meaning = "diverged";  // legend entry for marked points ("" = none)
   std::vector<PlotPanel> panels;
 };

@@ -22,8 +22,8 @@ std::string LearnedOptimizer::name() const {
 std::string LearnedOptimizer::settings() const {
   const auto& o = model_->options;
   const LearnedParams& p = rule_.params();
-  return name() + ": model=" + model_name_ + " width=" + std::to_string(o.width()) + " layers=" +
-         std::to_string(o.fourier_layers()) + " modes=" + std::to_string(o.modes_x()) + "x" +
+  return name() + ": model=" + model_name_ + " width=" + std::to_string(o.width()) +
+         " layers=" + std::to_string(o.fourier_layers()) + " modes=" + std::to_string(o.modes_x()) + "x" +
          std::to_string(o.modes_y()) + (o.in_channels() == 9 ? " combined" : "") +
          " safeguard=" + (p.safeguard ? "on" : "off") + " line_search=" + (p.line_search ? "on" : "off") +
          (p.subspace > 0 ? " subspace=" + std::to_string(p.subspace) + (p.carry_subspace ? " carried" : "") : "");
@@ -49,7 +49,8 @@ bool LearnedOptimizer::continues_previous_step(const BackwardEulerObjective& obj
   const VecX& x = objective.start_positions();
   if (previous_start_.size() != x.size()) return false;
   // Backward Euler advanced the previous step's start by x_{t+1} = x_t + dt v_{t+1}.
-  const double mismatch = (x - objective.dt() * objective.start_velocities() - previous_start_).lpNorm<Eigen::Infinity>();
+  const double mismatch =
+      (x - objective.dt() * objective.start_velocities() - previous_start_).lpNorm<Eigen::Infinity>();
   return mismatch <= kContinuationTolerance * (1.0 + x.lpNorm<Eigen::Infinity>());
 }
 

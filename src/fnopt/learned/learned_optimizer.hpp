@@ -11,8 +11,8 @@
 #include <string>
 
 #include <fnopt/fno/fno2d.hpp>
-#include <fnopt/optimizer/inner_optimizer.hpp>
 #include <fnopt/learned/proposal_rule.hpp>
+#include <fnopt/optimizer/inner_optimizer.hpp>
 
 namespace fnopt {
 

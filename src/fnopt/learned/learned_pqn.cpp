@@ -34,10 +34,10 @@ bool LearnedPqnParams::proposes_at(int iteration) const {
 // Where the FNO runs: the step's grid or a coarser one, with its handle mask.
 struct LearnedPqnOptimizer::ProposalGrid {
   Grid fine;
-  std::vector<int> fixed;  // the fine handles it was built for
+  std::vector<int> fixed;                                  // the fine handles it was built for
   std::optional<GridResampler> restriction, prolongation;  // empty on the step's own grid
-  Grid grid;           // the FNO's grid
-  torch::Tensor mask;  // [1, 1, R, C] on it: 0 at the handles
+  Grid grid;                                               // the FNO's grid
+  torch::Tensor mask;                                      // [1, 1, R, C] on it: 0 at the handles
 
   bool serves(const StepProblem& problem) const {
     const Grid& g = problem.grid();
@@ -59,9 +59,9 @@ LearnedPqnOptimizer::~LearnedPqnOptimizer() = default;
 
 std::string LearnedPqnOptimizer::settings() const {
   const auto& o = model_->options;
-  return "fnopt-pqn: model=" + model_name_ + " width=" + std::to_string(o.width()) + " modes=" +
-         std::to_string(o.modes_x()) + "x" + std::to_string(o.modes_y()) + " proposal grid=" +
-         (params_.coarse_size > 0 ? std::to_string(params_.coarse_size) : std::string("fine")) +
+  return "fnopt-pqn: model=" + model_name_ + " width=" + std::to_string(o.width()) +
+         " modes=" + std::to_string(o.modes_x()) + "x" + std::to_string(o.modes_y()) +
+         " proposal grid=" + (params_.coarse_size > 0 ? std::to_string(params_.coarse_size) : std::string("fine")) +
          " proposals at iteration " + std::to_string(params_.first) +
          (params_.every > 0 ? " then every " + std::to_string(params_.every) : std::string(" only")) + "; " +
          pqn_.settings();
@@ -102,8 +102,8 @@ void LearnedPqnOptimizer::propose(const StepProblem& problem, const VecX& gradie
     input = &coarse_;
   }
   const torch::Tensor coordinates = to_coordinate_samples(*input, g.grid);
-  const LearnedStep step = learned_step(
-      model_, to_model_layout(coordinates, samples_per_environment(model_->options)), LearnedState{}, g.mask);
+  const LearnedStep step = learned_step(model_, to_model_layout(coordinates, samples_per_environment(model_->options)),
+                                        LearnedState{}, g.mask);
   const torch::Tensor delta = gate_coordinates(to_coordinate_layout(step.delta), coordinates);
   // Any scale will do: the step length along p is set by A (alpha in the header).
   if (g.prolongation) {
@@ -129,7 +129,8 @@ void LearnedPqnOptimizer::measure_proposal(StepProblem& problem, const VecX& a, 
     return;  // nothing to measure along this proposal
   ++proposals_;
   trial_ = a + (-slope / curvature) * direction_;
-  if (std::isfinite(problem.value_gradient(trial_, trial_gradient_)) && pqn_.add_pair(a, gradient, trial_, trial_gradient_))
+  if (std::isfinite(problem.value_gradient(trial_, trial_gradient_)) &&
+      pqn_.add_pair(a, gradient, trial_, trial_gradient_))
     ++kept_pairs_;
 }
 

@@ -28,8 +28,8 @@ torch::Tensor to_coordinate_layout(const torch::Tensor& model_samples) {
 torch::Tensor learned_inputs(const torch::Tensor& gradient, const LearnedState& state) {
   const auto sigma_g = gradient.pow(2).mean({1, 2, 3}, true).sqrt().clamp_min(1e-30);
   const auto g_hat = 10.0 * torch::tanh(gradient / (10.0 * sigma_g));
-  const auto g_prev = state.gradient.defined() ? 10.0 * torch::tanh(state.gradient / (10.0 * sigma_g))
-                                               : torch::zeros_like(gradient);
+  const auto g_prev =
+      state.gradient.defined() ? 10.0 * torch::tanh(state.gradient / (10.0 * sigma_g)) : torch::zeros_like(gradient);
   const auto d_prev = state.delta.defined() ? soft_normalize(state.delta) : torch::zeros_like(gradient);
   return torch::cat({g_hat, g_prev, d_prev}, 1).detach();
 }
@@ -52,8 +52,9 @@ void check_learned_model(const FNO2dOptions& options, const std::string& path) {
   const bool combined = options.in_channels() == 9 && options.out_channels() == 3;
   require((per_coordinate || combined) && options.scale_head(), path,
           "not a learned-optimizer model (needs an FNO with 3 input channels and 1 output channel, or 9 and 3, "
-          "and a scale head; this one has " + std::to_string(options.in_channels()) + " in, " +
-              std::to_string(options.out_channels()) + " out" + (options.scale_head() ? "" : ", no scale head") + ")");
+          "and a scale head; this one has " +
+              std::to_string(options.in_channels()) + " in, " + std::to_string(options.out_channels()) + " out" +
+              (options.scale_head() ? "" : ", no scale head") + ")");
 }
 
 FNO2d load_learned_model(const std::string& path) {

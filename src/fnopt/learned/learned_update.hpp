@@ -24,7 +24,7 @@
 namespace fnopt {
 
 inline constexpr double kInitialStepScale = 0.05;  // s at the first iteration
-inline constexpr double kMinStepScale = 1e-6;       // the bounds s is clamped to
+inline constexpr double kMinStepScale = 1e-6;      // the bounds s is clamped to
 inline constexpr double kMaxStepScale = 10.0;
 
 // Samples per environment: 3 (per-coordinate layout) or 1 (combined layout).

@@ -42,8 +42,7 @@ LearnedState ProposalRule::apply(StepProblem& problem, const torch::Tensor& grad
                        : params_.line_search ? secant_update(problem, a, value, gradient)
                                              : 1.0;
   LearnedState next{gradient_samples, alpha == 1.0 ? proposal.delta : proposal.delta * alpha,
-                    alpha == 1.0 ? proposal.scale
-                                 : (proposal.scale * alpha).clamp(kMinStepScale, kMaxStepScale)};
+                    alpha == 1.0 ? proposal.scale : (proposal.scale * alpha).clamp(kMinStepScale, kMaxStepScale)};
   if (params_.safeguard && !(value <= start_value)) {
     a.swap(start_);
     gradient.swap(start_gradient_);
@@ -68,8 +67,8 @@ double ProposalRule::secant_update(StepProblem& problem, VecX& a, double& value,
   const double slope_before = start_gradient_.dot(direction_), slope_after = gradient.dot(direction_);
   // A descent direction along which L curves upward: the secant step is defined.
   if (!(slope_before < 0.0 && slope_after > slope_before && std::isfinite(value))) return 1.0;
-  const double alpha = std::clamp(slope_before / (slope_before - slope_after), 1.0 / params_.max_rescale,
-                                  params_.max_rescale);
+  const double alpha =
+      std::clamp(slope_before / (slope_before - slope_after), 1.0 / params_.max_rescale, params_.max_rescale);
   if (std::abs(alpha - 1.0) <= params_.min_rescale) return 1.0;
   trial_ = start_ + alpha * direction_;
   return take_trial_if_lower(problem, a, value, gradient) ? alpha : 1.0;

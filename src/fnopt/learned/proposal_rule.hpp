@@ -66,8 +66,8 @@ class ProposalRule {
   // Applies `proposal` (grid units, the model's layout) made from the masked gradient samples
   // `gradient_samples` at a. On entry value and gradient are L and its masked gradient at a; on
   // return they are those of the new iterate. Returns the recurrent state for the next proposal.
-  LearnedState apply(StepProblem& problem, const torch::Tensor& gradient_samples, const LearnedStep& proposal,
-                     VecX& a, double& value, VecX& gradient);
+  LearnedState apply(StepProblem& problem, const torch::Tensor& gradient_samples, const LearnedStep& proposal, VecX& a,
+                     double& value, VecX& gradient);
 
  private:
   // Moves a (with value and gradient) to start_ + alpha (a - start_) if that lowers L; returns

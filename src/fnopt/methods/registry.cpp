@@ -10,9 +10,9 @@
 #include <fnopt/baselines/implicit_euler.hpp>
 #include <fnopt/baselines/lbfgs.hpp>
 #include <fnopt/baselines/newton.hpp>
-#include <fnopt/optimizer/interpolated_optimizer.hpp>
 #include <fnopt/learned/learned_optimizer.hpp>
 #include <fnopt/learned/learned_pqn.hpp>
+#include <fnopt/optimizer/interpolated_optimizer.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/flag_names.hpp>
 #include <fnopt/util/installed_data.hpp>
@@ -59,30 +59,36 @@ PqnParams pqn_params(const OptimizerChoice& c) {
 
 const std::vector<OptimizerEntry>& optimizer_table() {
   static const std::vector<OptimizerEntry> table = {
-      {"pqn", {BudgetKind::Iterations, false, false, 1.5, 10},
+      {"pqn",
+       {BudgetKind::Iterations, false, false, 1.5, 10},
        [](const OptimizerChoice& c) { return std::make_unique<PqnOptimizer>(pqn_params(c)); }},
-      {"newton", {BudgetKind::ToTolerance, true, false, 8.0, 0},
+      {"newton",
+       {BudgetKind::ToTolerance, true, false, 8.0, 0},
        [](const OptimizerChoice&) { return std::make_unique<NewtonOptimizer>(); }},
-      {"implicit-euler", {BudgetKind::OneSolve, false, false, 30.0, 1},
+      {"implicit-euler",
+       {BudgetKind::OneSolve, false, false, 30.0, 1},
        [](const OptimizerChoice&) { return std::make_unique<ImplicitEulerOptimizer>(); }},
       {"fnopt", kLearned, [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false); }},
       {"fnopt-ls", kLearned, [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/true); }},
       {"fnopt-ss", kLearned,
        [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false, kFnoptSubspace); }},
-      {"fnopt-pqn", {BudgetKind::Iterations, false, false, 2.0, 10},
+      {"fnopt-pqn",
+       {BudgetKind::Iterations, false, false, 2.0, 10},
        [](const OptimizerChoice& c) {
          LearnedPqnParams params;
          params.pqn = pqn_params(c);
          return std::make_unique<LearnedPqnOptimizer>(c.model.empty() ? shipped_model_path() : c.model, params);
        }},
-      {"gd", {BudgetKind::Iterations, false, true, 1.0, 500},
+      {"gd",
+       {BudgetKind::Iterations, false, true, 1.0, 500},
        [](const OptimizerChoice& c) {
          GradientDescentParams params;
          if (c.learning_rate > 0.0) params.learning_rate = c.learning_rate;
          params.curvature_scaled = c.gd_curvature_scaled;
          return std::make_unique<GradientDescentOptimizer>(params);
        }},
-      {"adam", {BudgetKind::Iterations, false, true, 1.0, 500},
+      {"adam",
+       {BudgetKind::Iterations, false, true, 1.0, 500},
        [](const OptimizerChoice& c) {
          AdamParams params;
          if (c.learning_rate > 0.0) params.learning_rate = c.learning_rate;
@@ -94,7 +100,8 @@ const std::vector<OptimizerEntry>& optimizer_table() {
          params.line_search = false;
          return std::make_unique<LbfgsOptimizer>(params);
        }},
-      {"lbfgs-ls", {BudgetKind::Iterations, false, false, 1.3, 100},
+      {"lbfgs-ls",
+       {BudgetKind::Iterations, false, false, 1.3, 100},
        [](const OptimizerChoice&) {
          LbfgsParams params;
          params.line_search = true;
@@ -113,13 +120,14 @@ bool is_interpolated(const std::string& name) { return name.find(kInterpTag) != 
 
 std::unique_ptr<InnerOptimizer> make_interpolated(const OptimizerChoice& c) {
   const auto at = c.name.find(kInterpTag);
-  const std::string method = c.name.substr(0, at), size = c.name.substr(at + std::char_traits<char>::length(kInterpTag));
+  const std::string method = c.name.substr(0, at),
+                    size = c.name.substr(at + std::char_traits<char>::length(kInterpTag));
   InterpolatedParams params;
-  require(!method.empty() && !is_interpolated(method) && parse_int(size, params.coarse_size) &&
-              params.coarse_size >= 3,
+  require(!method.empty() && !is_interpolated(method) && parse_int(size, params.coarse_size) && params.coarse_size >= 3,
           "optimizer",
-          "'" + c.name + "': expected METHOD-interpK, K >= 3 the coarse grid's vertices along its longer edge "
-          "(e.g. fnopt-interp32)");
+          "'" + c.name +
+              "': expected METHOD-interpK, K >= 3 the coarse grid's vertices along its longer edge "
+              "(e.g. fnopt-interp32)");
   OptimizerChoice coarse = c;
   coarse.name = method;
   coarse.make();  // an unknown METHOD fails here, with the list of names
@@ -189,13 +197,15 @@ InnerSolveOptions OptimizerChoice::solve_options() const {
   // One iteration gives the interpolated answer.
   if (is_interpolated(name)) return {1, 0.0};
   switch (method_traits(name).budget) {
-    case BudgetKind::OneSolve: return {1, 0.0};
+    case BudgetKind::OneSolve:
+      return {1, 0.0};
     case BudgetKind::ToTolerance: {
       InnerSolveOptions options = NewtonOptimizer::reference_solve_options();
       if (iterations > 0) options.max_iterations = iterations;
       return options;
     }
-    case BudgetKind::Iterations: break;
+    case BudgetKind::Iterations:
+      break;
   }
   return {iterations > 0 ? iterations : 10, 0.0};
 }

@@ -21,8 +21,8 @@ enum class BudgetKind {
 // What the commands need to know of a method without comparing its name.
 struct MethodTraits {
   BudgetKind budget = BudgetKind::Iterations;
-  bool reference = false;      // defines the exact step that every error is measured against
-  bool learning_rate = false;  // takes --lr (compare sweeps it)
+  bool reference = false;       // defines the exact step that every error is measured against
+  bool learning_rate = false;   // takes --lr (compare sweeps it)
   double iteration_cost = 1.0;  // relative cost of one iteration, for progress ETAs only
   int suite_budget = 100;       // iterations per step in the stability suite (0: to tolerance)
 };
@@ -41,9 +41,9 @@ struct OptimizerChoice {
   // pqn, the fastest method for its error on one CPU thread at every grid measured (32^2: the
   // learned fnopt-ss's e_CD at a ninth of its time; docs/results.md, "The error-time frontier").
   std::string name = "pqn";
-  int iterations = 0;           // budget per step; 0 = the method's default
-  double learning_rate = 0.0;   // 0 = the method's default
-  std::string model;            // learned optimizer weights
+  int iterations = 0;          // budget per step; 0 = the method's default
+  double learning_rate = 0.0;  // 0 = the method's default
+  std::string model;           // learned optimizer weights
   int pqn_history = PqnParams{}.history;
   std::string pqn_matrix = to_string(PqnParams{}.matrix);
   // gd's learning rate in units of 1/lambda_max(P^-1 H) (true, the command line's) or of the

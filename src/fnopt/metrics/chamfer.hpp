@@ -24,7 +24,7 @@ namespace fnopt {
 using Triangles = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
 struct ChamferOptions {
-  int samples = 10000;           // points per mesh
+  int samples = 10000;            // points per mesh
   std::uint64_t seed = 20240607;  // the fixed seed (same stream for both meshes and every frame)
 
   void validate() const;
@@ -32,8 +32,7 @@ struct ChamferOptions {
 
 // `count` points uniformly by area on the mesh (positions: 3 per vertex). A mesh of zero area
 // gets its points on the triangles picked uniformly.
-std::vector<Vec3> sample_mesh_surface(const VecX& positions, const Triangles& triangles, int count,
-                                      std::uint64_t seed);
+std::vector<Vec3> sample_mesh_surface(const VecX& positions, const Triangles& triangles, int count, std::uint64_t seed);
 
 // Symmetric mean squared nearest-neighbour distance between two point sets (NaN if either set
 // holds a non-finite point, 0 if both are empty).

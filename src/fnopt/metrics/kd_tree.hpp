@@ -16,7 +16,7 @@ class KdTree3 {
   explicit KdTree3(std::vector<Vec3> points);
 
   struct Neighbour {
-    int index = -1;           // into the points given to the constructor, -1 if there are none
+    int index = -1;  // into the points given to the constructor, -1 if there are none
     double squared_distance = 0.0;
   };
   Neighbour nearest(const Vec3& query) const;
@@ -26,9 +26,9 @@ class KdTree3 {
 
  private:
   struct Node {
-    int begin = 0, end = 0;    // range of sorted_ (leaves)
+    int begin = 0, end = 0;     // range of sorted_ (leaves)
     int left = -1, right = -1;  // -1: leaf
-    Vec3 lo, hi;               // bounding box of the node's points
+    Vec3 lo, hi;                // bounding box of the node's points
   };
   int build(int begin, int end);
   void search(int node, const Vec3& query, Neighbour& best) const;
@@ -37,7 +37,7 @@ class KdTree3 {
   }
 
   std::vector<Vec3> points_;
-  std::vector<int> order_;   // sorted_[k] = points_[order_[k]]
+  std::vector<int> order_;  // sorted_[k] = points_[order_[k]]
   std::vector<Vec3> sorted_;
   std::vector<Node> nodes_;
   int root_ = -1;

@@ -25,7 +25,7 @@
 
 namespace fnopt {
 
-constexpr double kSelfContactReferenceStiffness = 1.0;  // lambda_ref [N/m]
+constexpr double kSelfContactReferenceStiffness = 1.0;                        // lambda_ref [N/m]
 constexpr std::array<double, 3> kSelfContactThresholds = {1e-5, 1e-4, 1e-3};  // [J]
 
 struct SelfContactFrame {
@@ -42,8 +42,8 @@ struct SelfContactSummary {
   double mean_energy = 0.0, max_energy = 0.0;
   std::array<double, 3> share_above{};  // fraction of frames above kSelfContactThresholds
   int max_pairs_half = 0, max_pairs_quarter = 0;
-  double frames_with_quarter = 0.0;     // fraction of frames with a pair closer than delta/4
-  double min_distance = 1.0;            // over all frames, in units of delta
+  double frames_with_quarter = 0.0;  // fraction of frames with a pair closer than delta/4
+  double min_distance = 1.0;         // over all frames, in units of delta
 };
 
 // Measures one configuration x of `grid` (delta = h). `hash` is scratch, reused across calls.

@@ -38,8 +38,8 @@ StepErrorBench::StepErrorBench(const Scene& scene, const TrajectoryFrames& refer
     if (!steps_.empty() && steps_.back() == t) continue;
     State state;
     state.x = reference.positions[t].cast<double>();
-    state.v = t > 0 ? VecX((state.x - reference.positions[t - 1].cast<double>()) / dt_)
-                    : VecX(VecX::Zero(grid_.dof_count()));
+    state.v =
+        t > 0 ? VecX((state.x - reference.positions[t - 1].cast<double>()) / dt_) : VecX(VecX::Zero(grid_.dof_count()));
     for (int h = 0; h < handle_count; ++h) state.targets.push_back(setup.trajectory->position(h, (t + 1) * dt_));
     objective_->begin_step(state.x, state.v);
     VecX a = VecX::Zero(grid_.dof_count());

@@ -35,7 +35,7 @@ struct StepErrorSample {
 
 struct StepErrorSummary {
   std::vector<StepErrorSample> samples;
-  double mean = 0.0;    // arithmetic mean of the errors
+  double mean = 0.0;  // arithmetic mean of the errors
   double median = 0.0;
 };
 

@@ -74,9 +74,8 @@ TrajectoryComparison compare_trajectories(const TrajectoryFrames& reference, con
     const Eigen::VectorXf& x_ref = reference.positions[match.reference];
     if (result.correspondence) result.e3d_per_frame.push_back(relative_frame_error(x, x_ref));
     if (options.chamfer_enabled && k % stride == 0)
-      result.chamfer_per_frame.push_back(mesh_chamfer_distance(x.cast<double>(), rollout_triangles,
-                                                               x_ref.cast<double>(), reference_triangles,
-                                                               options.chamfer));
+      result.chamfer_per_frame.push_back(mesh_chamfer_distance(
+          x.cast<double>(), rollout_triangles, x_ref.cast<double>(), reference_triangles, options.chamfer));
   }
   result.chamfer = mean_of(result.chamfer_per_frame);
   result.e3d = mean_of(result.e3d_per_frame);

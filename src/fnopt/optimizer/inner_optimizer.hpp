@@ -23,8 +23,7 @@ class InnerOptimizer {
   virtual void begin_step(StepProblem& problem, const VecX& a, double value, const VecX& gradient) = 0;
   // One iteration: moves a (free dofs only) and leaves value and gradient at the new iterate.
   // Returns a status to stop early (e.g. LineSearchFailed), or nothing to go on.
-  virtual std::optional<SolveStatus> iterate(StepProblem& problem, VecX& a, double& value,
-                                             VecX& gradient) = 0;
+  virtual std::optional<SolveStatus> iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) = 0;
 };
 
 struct InnerSolveOptions {
@@ -48,7 +47,6 @@ struct InnerSolveResult {
 };
 
 // Runs one time step: iterates from a until the tolerance, the budget or a stop status.
-InnerSolveResult solve_step(InnerOptimizer& optimizer, StepProblem& problem, VecX& a,
-                            const InnerSolveOptions& options);
+InnerSolveResult solve_step(InnerOptimizer& optimizer, StepProblem& problem, VecX& a, const InnerSolveOptions& options);
 
 }  // namespace fnopt

@@ -9,8 +9,8 @@
 namespace fnopt {
 
 void InterpolatedParams::validate() const {
-  require(coarse_size >= 3, "interp coarse", "needs at least 3 vertices along the longer edge, got " +
-                                                 std::to_string(coarse_size));
+  require(coarse_size >= 3, "interp coarse",
+          "needs at least 3 vertices along the longer edge, got " + std::to_string(coarse_size));
   require((coarse_rows == 0) == (coarse_cols == 0), "interp coarse", "give both coarse rows and columns, or neither");
   require(coarse_rows == 0 || (coarse_rows >= 3 && coarse_cols >= 3), "interp coarse",
           "an explicit coarse grid needs at least 3 rows and 3 columns");
@@ -41,9 +41,8 @@ struct InterpolatedOptimizer::Coarse {
     const Material &m = material, &n = o.material();
     return g.rows == fine.rows && g.cols == fine.cols && g.spacing == fine.spacing && h == fine_handles &&
            m.stretch == n.stretch && m.shear == n.shear && m.bend == n.bend && m.density == n.density &&
-           m.damping == n.damping && m.repulsion == n.repulsion &&
-           m.repulsion_stiffness == n.repulsion_stiffness && m.repulsion_range == n.repulsion_range &&
-           gravity == o.gravity() && dt == o.dt();
+           m.damping == n.damping && m.repulsion == n.repulsion && m.repulsion_stiffness == n.repulsion_stiffness &&
+           m.repulsion_range == n.repulsion_range && gravity == o.gravity() && dt == o.dt();
   }
 };
 
@@ -90,9 +89,9 @@ void InterpolatedOptimizer::prepare(const StepProblem& problem) {
   c->material = objective.material();
   c->gravity = objective.gravity();
   c->dt = dt;
-  c->grid = params_.coarse_rows > 0
-                ? Grid::make(params_.coarse_rows, params_.coarse_cols, fine.spacing * (std::max(fine.rows, fine.cols) - 1))
-                : grid_with_longer_edge(fine, params_.coarse_size);
+  c->grid = params_.coarse_rows > 0 ? Grid::make(params_.coarse_rows, params_.coarse_cols,
+                                                 fine.spacing * (std::max(fine.rows, fine.cols) - 1))
+                                    : grid_with_longer_edge(fine, params_.coarse_size);
   c->objective = std::make_unique<BackwardEulerObjective>(c->grid, c->material, dt, c->gravity);
   std::map<int, std::vector<int>> landed;
   for (int h : fine_handles) landed[nearest_vertex(c->grid, fine, h)].push_back(h);

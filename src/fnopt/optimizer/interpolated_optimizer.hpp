@@ -26,8 +26,8 @@
 namespace fnopt {
 
 struct InterpolatedParams {
-  int coarse_size = 32;   // vertices along the coarse grid's longer edge (aspect ratio kept)
-  int coarse_rows = 0;    // an explicit coarse grid instead (both > 0)
+  int coarse_size = 32;  // vertices along the coarse grid's longer edge (aspect ratio kept)
+  int coarse_rows = 0;   // an explicit coarse grid instead (both > 0)
   int coarse_cols = 0;
   InnerSolveOptions coarse_solve{10, 0.0};  // budget and tolerance of the coarse solve
 

@@ -22,12 +22,18 @@ inline bool is_converged(SolveStatus status) {
 
 inline const char* to_string(SolveStatus status) {
   switch (status) {
-    case SolveStatus::Converged: return "converged";
-    case SolveStatus::IterationBudget: return "iteration-budget";
-    case SolveStatus::LineSearchFailed: return "line-search-failed";
-    case SolveStatus::FactorizationFailed: return "factorization-failed";
-    case SolveStatus::NonFinite: return "non-finite";
-    case SolveStatus::PrecisionLimit: return "precision-limit";
+    case SolveStatus::Converged:
+      return "converged";
+    case SolveStatus::IterationBudget:
+      return "iteration-budget";
+    case SolveStatus::LineSearchFailed:
+      return "line-search-failed";
+    case SolveStatus::FactorizationFailed:
+      return "factorization-failed";
+    case SolveStatus::NonFinite:
+      return "non-finite";
+    case SolveStatus::PrecisionLimit:
+      return "precision-limit";
   }
   return "unknown";
 }

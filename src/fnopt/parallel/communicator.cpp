@@ -82,11 +82,13 @@ void check(int code, const char* what) {
 }  // namespace
 
 void Communicator::sum(float* data, std::size_t count) const {
-  if (size_ > 1) check(MPI_Allreduce(MPI_IN_PLACE, data, count_of(count), MPI_FLOAT, MPI_SUM, MPI_COMM_WORLD), "Allreduce");
+  if (size_ > 1)
+    check(MPI_Allreduce(MPI_IN_PLACE, data, count_of(count), MPI_FLOAT, MPI_SUM, MPI_COMM_WORLD), "Allreduce");
 }
 
 void Communicator::sum(double* data, std::size_t count) const {
-  if (size_ > 1) check(MPI_Allreduce(MPI_IN_PLACE, data, count_of(count), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD), "Allreduce");
+  if (size_ > 1)
+    check(MPI_Allreduce(MPI_IN_PLACE, data, count_of(count), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD), "Allreduce");
 }
 
 int Communicator::sum(int value) const {
@@ -113,7 +115,8 @@ std::vector<std::string> Communicator::gather(const std::string& text) const {
     for (int r = 0; r < size_; ++r) offsets[r] = count_of(total), total += lengths[r];
     all.resize(total);
   }
-  check(MPI_Gatherv(text.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0, MPI_COMM_WORLD),
+  check(MPI_Gatherv(text.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0,
+                    MPI_COMM_WORLD),
         "Gatherv");
   std::vector<std::string> texts;
   for (int r = 0; r < static_cast<int>(lengths.size()); ++r) texts.push_back(all.substr(offsets[r], lengths[r]));
@@ -136,7 +139,8 @@ Communicator::Message receive(const MPI_Status& status) {
   Communicator::Message message;
   message.source = status.MPI_SOURCE;
   message.text.resize(length);
-  check(MPI_Recv(message.text.data(), length, MPI_CHAR, status.MPI_SOURCE, kRootMessageTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+  check(MPI_Recv(message.text.data(), length, MPI_CHAR, status.MPI_SOURCE, kRootMessageTag, MPI_COMM_WORLD,
+                 MPI_STATUS_IGNORE),
         "Recv");
   return message;
 }

@@ -1,7 +1,7 @@
 #include <fnopt/scenes/scene.hpp>
 
-#include <fnopt/util/memory_limit.hpp>
 #include <fnopt/scenes/scene_checks.hpp>
+#include <fnopt/util/memory_limit.hpp>
 
 namespace fnopt {
 namespace {
@@ -45,19 +45,24 @@ void Scene::validate() const {
 
 bool repulsion_enabled(const Scene& scene) {
   switch (scene.repulsion) {
-    case RepulsionMode::On: return true;
-    case RepulsionMode::Off: return false;
-    case RepulsionMode::Auto: break;
+    case RepulsionMode::On:
+      return true;
+    case RepulsionMode::Off:
+      return false;
+    case RepulsionMode::Auto:
+      break;
   }
-  return scene.handle_vertices.empty() &&
-         (scene.handles == "corner-center" || scene.handles == "single-mid-edge");
+  return scene.handle_vertices.empty() && (scene.handles == "corner-center" || scene.handles == "single-mid-edge");
 }
 
 std::string repulsion_mode_name(RepulsionMode mode) {
   switch (mode) {
-    case RepulsionMode::On: return "true";
-    case RepulsionMode::Off: return "false";
-    case RepulsionMode::Auto: break;
+    case RepulsionMode::On:
+      return "true";
+    case RepulsionMode::Off:
+      return "false";
+    case RepulsionMode::Auto:
+      break;
   }
   return "auto";
 }
@@ -69,13 +74,12 @@ ResolvedScene resolve(const Scene& scene) {
   ResolvedScene setup{scene, Grid::make(scene.rows, scene.cols, scene.size), {}, nullptr};
   setup.handles = scene_handles(scene, setup.grid);
   const int handle_count = static_cast<int>(setup.handles.vertices.size());
-  setup.trajectory =
-      scene.trajectory.empty()
-          ? make_motion(scene.motion, rest_positions_of(setup.grid, setup.handles), scene.speed)
-          : load_trajectory_csv(scene.trajectory, handle_count, scene.speed);
+  setup.trajectory = scene.trajectory.empty()
+                         ? make_motion(scene.motion, rest_positions_of(setup.grid, setup.handles), scene.speed)
+                         : load_trajectory_csv(scene.trajectory, handle_count, scene.speed);
   require(setup.trajectory->handle_count() == handle_count, "trajectory",
-          "moves " + std::to_string(setup.trajectory->handle_count()) +
-              " handle(s), the scene has " + std::to_string(handle_count));
+          "moves " + std::to_string(setup.trajectory->handle_count()) + " handle(s), the scene has " +
+              std::to_string(handle_count));
   return setup;
 }
 

@@ -20,17 +20,17 @@ enum class RepulsionMode { Auto, On, Off };
 struct Scene {
   int rows = 32;
   int cols = 32;
-  double size = 1.0;                   // side of the longer edge [m]
+  double size = 1.0;  // side of the longer edge [m]
   std::string material_name = "default";
-  Material material;                   // resolved values (material_preset, then overrides)
-  std::string handles = "corner";      // preset name
-  std::string handle_vertices;         // explicit "i,j;..." list; overrides `handles` if set
+  Material material;               // resolved values (material_preset, then overrides)
+  std::string handles = "corner";  // preset name
+  std::string handle_vertices;     // explicit "i,j;..." list; overrides `handles` if set
   std::string motion = "xy_v2";
-  std::string trajectory;              // CSV path; overrides `motion` if set
-  double speed = 1.0;                  // handle speed factor alpha
-  double dt = 1.0 / 60.0;              // [s]
+  std::string trajectory;  // CSV path; overrides `motion` if set
+  double speed = 1.0;      // handle speed factor alpha
+  double dt = 1.0 / 60.0;  // [s]
   int frames = 390;
-  Vec3 gravity{0.0, 0.0, -9.81};       // [m/s^2]
+  Vec3 gravity{0.0, 0.0, -9.81};  // [m/s^2]
   RepulsionMode repulsion = RepulsionMode::Auto;
 
   // Checks every field; throws Error("<field>: <problem>") for the first bad one (rows < 3,

@@ -8,17 +8,16 @@
 #include <vector>
 
 #include <fnopt/boundary/handles.hpp>
-#include <fnopt/cloth/grid_units.hpp>
-#include <fnopt/util/parse_text.hpp>
 #include <fnopt/boundary/trajectory.hpp>
+#include <fnopt/cloth/grid_units.hpp>
 #include <fnopt/util/error.hpp>
+#include <fnopt/util/parse_text.hpp>
 #include <fnopt/util/types.hpp>
 
 namespace fnopt::scene_checks {
 
 inline void grid_extent(const std::string& field, int count) {
-  require(count >= 3, field, "the grid needs at least 3 vertices along each side, got " +
-                                 std::to_string(count));
+  require(count >= 3, field, "the grid needs at least 3 vertices along each side, got " + std::to_string(count));
 }
 
 // A rollout keeps every frame's positions (12 bytes per vertex) and its solvers work with a few
@@ -45,8 +44,8 @@ inline void frame_count(int frames) {
 
 inline void gravity(const Vec3& g) {
   require(g.allFinite(), "gravity",
-          "must be three finite numbers in m/s^2, got (" + number_text(g.x()) + ", " +
-              number_text(g.y()) + ", " + number_text(g.z()) + ")");
+          "must be three finite numbers in m/s^2, got (" + number_text(g.x()) + ", " + number_text(g.y()) + ", " +
+              number_text(g.z()) + ")");
 }
 
 // Each field finite and in range can still give a scene that no step can take: in grid units
@@ -60,16 +59,15 @@ constexpr double kMaxGridUnits = 1e100;
 
 inline void grid_units(const Grid& grid, const Material& m, double dt, const Vec3& gravity) {
   const double h = grid.spacing, dt2 = dt * dt, mass = m.density * h * h;
-  require(std::isnormal(dt2), "dt",
-          number_text(dt) + " s is out of range in grid units: dt^2 = " + number_text(dt2));
+  require(std::isnormal(dt2), "dt", number_text(dt) + " s is out of range in grid units: dt^2 = " + number_text(dt2));
   require(std::isnormal(h * h) && std::isnormal(h * h * h * h), "size",
           number_text(grid.spacing) + " m per cell is out of range in grid units: h^4 = " + number_text(h * h * h * h));
   require(std::isnormal(mass), "density",
           number_text(m.density) + " kg/m^2 is out of range in grid units: the mass rho h^2 of a vertex is " +
               number_text(mass) + " kg");
   const GridUnitStiffness units = grid_unit_stiffness(grid, m, dt, gravity.norm());
-  const std::string with = " (dt " + number_text(dt) + " s, density " + number_text(m.density) + " kg/m^2, h " +
-                           number_text(h) + " m)";
+  const std::string with =
+      " (dt " + number_text(dt) + " s, density " + number_text(m.density) + " kg/m^2, h " + number_text(h) + " m)";
   auto finite = [&](const std::string& field, double value, double grid_units, const std::string& unit,
                     const std::string& formula) {
     require(std::isfinite(grid_units) && grid_units <= kMaxGridUnits, field,

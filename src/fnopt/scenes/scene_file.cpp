@@ -7,9 +7,9 @@
 #include <map>
 #include <sstream>
 
-#include <fnopt/util/parse_text.hpp>
 #include <fnopt/scenes/scene.hpp>
 #include <fnopt/scenes/scene_checks.hpp>
+#include <fnopt/util/parse_text.hpp>
 
 namespace fnopt {
 namespace {
@@ -33,8 +33,8 @@ double time_step_value(const std::string& value) {
   const auto parts = split(value, '/');
   if (parts.size() == 1) return number_value("dt", value);
   double numerator = 0.0, denominator = 0.0;
-  require(parts.size() == 2 && parse_double(parts[0], numerator) &&
-              parse_double(parts[1], denominator) && denominator != 0.0,
+  require(parts.size() == 2 && parse_double(parts[0], numerator) && parse_double(parts[1], denominator) &&
+              denominator != 0.0,
           "dt", "expected a number or a fraction like 1/60, got '" + value + "'");
   return numerator / denominator;
 }
@@ -42,8 +42,8 @@ double time_step_value(const std::string& value) {
 Vec3 vector_value(const std::string& key, const std::string& value) {
   const auto parts = split(value, ',');
   Vec3 parsed;
-  require(parts.size() == 3 && parse_double(parts[0], parsed.x()) &&
-              parse_double(parts[1], parsed.y()) && parse_double(parts[2], parsed.z()),
+  require(parts.size() == 3 && parse_double(parts[0], parsed.x()) && parse_double(parts[1], parsed.y()) &&
+              parse_double(parts[2], parsed.z()),
           key, "expected three numbers \"x,y,z\", got '" + value + "'");
   return parsed;
 }
@@ -118,8 +118,7 @@ const std::map<std::string, Setter>& setters() {
          s.motion = value;
          s.trajectory.clear();  // a later motion overrides an earlier CSV
        }},
-      {"trajectory",
-       [](Scene& s, const std::string&, const std::string& value) { s.trajectory = value; }},
+      {"trajectory", [](Scene& s, const std::string&, const std::string& value) { s.trajectory = value; }},
       {"speed",
        [](Scene& s, const std::string& key, const std::string& value) {
          s.speed = number_value(key, value);
@@ -140,10 +139,8 @@ const std::map<std::string, Setter>& setters() {
          s.gravity = vector_value(key, value);
          gravity(s.gravity);
        }},
-      {"repulsion",
-       [](Scene& s, const std::string& key, const std::string& value) {
-         s.repulsion = repulsion_mode_value(key, value);
-       }},
+      {"repulsion", [](Scene& s, const std::string& key,
+                       const std::string& value) { s.repulsion = repulsion_mode_value(key, value); }},
       {"repulsion-stiffness", material_field(&Material::repulsion_stiffness)},
       {"repulsion-range", material_field(&Material::repulsion_range)},
   };
@@ -190,12 +187,10 @@ std::string_view without_comment(std::string_view line) {
 
 void apply_scene_setting(Scene& scene, const std::string& key, const std::string& value) {
   const auto setter = setters().find(key);
-  require(setter != setters().end(), key,
-          "unknown setting (valid: " + joined(setting_names()) + ")");
+  require(setter != setters().end(), key, "unknown setting (valid: " + joined(setting_names()) + ")");
   const std::string text(trim(value));
   // An empty list or path clears it, so that a later file or flag can undo an earlier one.
-  require(!text.empty() || key == "handle-vertices" || key == "trajectory", key,
-          "expected a value after '='");
+  require(!text.empty() || key == "handle-vertices" || key == "trajectory", key, "expected a value after '='");
   setter->second(scene, key, text);
   resolve_repulsion(scene);  // handles, handle-vertices, repulsion and material all bear on it
 }
@@ -263,8 +258,7 @@ std::string to_scene_text(const Scene& scene) {
       << "rows = " << scene.rows << "\n"
       << "cols = " << scene.cols << "\n"
       << "size = " << exact(scene.size) << "\n"
-      << "material = " << (material_is_file ? absolute(scene.material_name) : scene.material_name)
-      << "\n"
+      << "material = " << (material_is_file ? absolute(scene.material_name) : scene.material_name) << "\n"
       << "stretch = " << exact(scene.material.stretch) << "\n"
       << "shear = " << exact(scene.material.shear) << "\n"
       << "bend = " << exact(scene.material.bend) << "\n"
@@ -277,10 +271,10 @@ std::string to_scene_text(const Scene& scene) {
   out << "speed = " << exact(scene.speed) << "\n"
       << "dt = " << exact(scene.dt) << "\n"
       << "frames = " << scene.frames << "\n"
-      << "gravity = " << exact(scene.gravity.x()) << "," << exact(scene.gravity.y()) << ","
-      << exact(scene.gravity.z()) << "\n"
-      << "repulsion = " << repulsion_mode_name(scene.repulsion) << "  # resolved: "
-      << (repulsion_enabled(scene) ? "on" : "off") << "\n"
+      << "gravity = " << exact(scene.gravity.x()) << "," << exact(scene.gravity.y()) << "," << exact(scene.gravity.z())
+      << "\n"
+      << "repulsion = " << repulsion_mode_name(scene.repulsion)
+      << "  # resolved: " << (repulsion_enabled(scene) ? "on" : "off") << "\n"
       << "repulsion-stiffness = " << exact(scene.material.repulsion_stiffness) << "\n"
       << "repulsion-range = " << exact(scene.material.repulsion_range) << "\n";
   return out.str();

@@ -11,10 +11,27 @@ namespace {
 
 // The order settings apply in; keys not listed (unknown ones) come last, and fail there.
 const std::vector<std::string>& setting_order() {
-  static const std::vector<std::string> order = {
-      "res",     "rows",    "cols",   "size",   "material", "stretch", "shear", "bend",  "density",
-      "damping", "handles", "handle-vertices", "motion", "trajectory", "speed", "frames", "dt",
-      "gravity", "repulsion-stiffness", "repulsion-range", "repulsion"};
+  static const std::vector<std::string> order = {"res",
+                                                 "rows",
+                                                 "cols",
+                                                 "size",
+                                                 "material",
+                                                 "stretch",
+                                                 "shear",
+                                                 "bend",
+                                                 "density",
+                                                 "damping",
+                                                 "handles",
+                                                 "handle-vertices",
+                                                 "motion",
+                                                 "trajectory",
+                                                 "speed",
+                                                 "frames",
+                                                 "dt",
+                                                 "gravity",
+                                                 "repulsion-stiffness",
+                                                 "repulsion-range",
+                                                 "repulsion"};
   return order;
 }
 

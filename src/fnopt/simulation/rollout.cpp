@@ -26,7 +26,8 @@ int RolloutResult::total_iterations() const {
 }
 
 int RolloutResult::converged_steps() const {
-  return static_cast<int>(std::count_if(steps.begin(), steps.end(), [](const StepRecord& s) { return is_converged(s.status); }));
+  return static_cast<int>(
+      std::count_if(steps.begin(), steps.end(), [](const StepRecord& s) { return is_converged(s.status); }));
 }
 
 double ms_per_frame(const RolloutResult& rollout) {

@@ -12,33 +12,33 @@
 namespace fnopt {
 
 struct RolloutOptions {
-  InnerSolveOptions solve;          // budget and tolerance of every step
-  bool warm_start = false;          // start each step from the previous step's acceleration
-  double divergence_strain = 3.0;   // an edge longer than (1 + this) x rest means divergence
+  InnerSolveOptions solve;         // budget and tolerance of every step
+  bool warm_start = false;         // start each step from the previous step's acceleration
+  double divergence_strain = 3.0;  // an edge longer than (1 + this) x rest means divergence
 };
 
 struct StepRecord {
-  double wall_ms = 0.0;         // inner solve only: gradients, optimizer, line searches
+  double wall_ms = 0.0;  // inner solve only: gradients, optimizer, line searches
   SolveStatus status = SolveStatus::IterationBudget;
   int iterations = 0;
-  double initial_loss = 0.0;    // L(a_0)
-  double loss = 0.0;            // L(a_N)
+  double initial_loss = 0.0;  // L(a_0)
+  double loss = 0.0;          // L(a_N)
   double initial_gradient_norm = 0.0;
   double gradient_norm = 0.0;
-  double max_strain = 0.0;      // after the step
-  double energy = 0.0;          // kinetic + potential after the step [J]
+  double max_strain = 0.0;  // after the step
+  double energy = 0.0;      // kinetic + potential after the step [J]
 };
 
 struct RolloutResult {
   Grid grid;
   std::vector<int> handle_vertices;
   double dt = 0.0;
-  std::vector<double> times;                     // [s], frame 0 = the initial state
-  std::vector<Eigen::VectorXf> positions;        // per frame, 3 floats per vertex
+  std::vector<double> times;                      // [s], frame 0 = the initial state
+  std::vector<Eigen::VectorXf> positions;         // per frame, 3 floats per vertex
   std::vector<std::vector<Vec3>> handle_targets;  // per frame, prescribed handle positions
-  std::vector<StepRecord> steps;                 // per step (frames - 1 of them)
+  std::vector<StepRecord> steps;                  // per step (frames - 1 of them)
   bool diverged = false;
-  std::string divergence;                        // why and when, empty if it did not diverge
+  std::string divergence;  // why and when, empty if it did not diverge
 
   double mean_step_ms() const;
   double max_strain() const;

@@ -4,9 +4,9 @@
 #include <filesystem>
 #include <map>
 
-#include <fnopt/methods/registry.hpp>
 #include <fnopt/io/csv_table.hpp>
 #include <fnopt/io/markdown_report.hpp>
+#include <fnopt/methods/registry.hpp>
 #include <fnopt/util/parse_text.hpp>
 #include <fnopt/version.hpp>
 
@@ -16,7 +16,9 @@ bool is_converged_run(const RunSpec& spec) {
   return spec.budget == 0 && method_traits(spec.method).budget == BudgetKind::ToTolerance;
 }
 
-std::string budget_text(const RunSpec& spec) { return is_converged_run(spec) ? "converged" : std::to_string(spec.budget); }
+std::string budget_text(const RunSpec& spec) {
+  return is_converged_run(spec) ? "converged" : std::to_string(spec.budget);
+}
 
 double plotted_ms(const RunResult& r, int threads) {
   return threads == 1 && std::isfinite(r.cpu_share) ? r.ms * std::min(1.0, r.cpu_share) : r.ms;
@@ -57,8 +59,8 @@ std::vector<bool> pareto_optimal(const std::vector<std::pair<double, double>>& p
     const auto [ms, error] = points[i];
     if (!std::isfinite(ms) || !std::isfinite(error)) continue;
     optimal[i] = std::none_of(points.begin(), points.end(), [&](const std::pair<double, double>& other) {
-      return std::isfinite(other.first) && std::isfinite(other.second) && other.first <= ms &&
-             other.second <= error && (other.first < ms || other.second < error);
+      return std::isfinite(other.first) && std::isfinite(other.second) && other.first <= ms && other.second <= error &&
+             (other.first < ms || other.second < error);
     });
   }
   return optimal;
@@ -88,8 +90,7 @@ struct MeanRun {
   double ms = NAN, e_cd = NAN;
 };
 
-std::vector<MeanRun> finished_means(const std::vector<RunResult>& results, const std::string& resolution,
-                                    int threads) {
+std::vector<MeanRun> finished_means(const std::vector<RunResult>& results, const std::string& resolution, int threads) {
   std::map<std::pair<std::string, int>, std::vector<const RunResult*>> runs;
   std::vector<std::pair<std::string, int>> order;
   for (const auto& r : results)
@@ -134,9 +135,8 @@ PlotFigure make_compare_plot(const std::vector<RunResult>& results, const std::v
                  " motion" + (motions.size() == 1 ? "" : "s") + ")";
   figure.notes = notes;
   figure.marked_meaning = "diverged in at least one motion (error: the mean over the motions it finished)";
-  const bool have_arcsim = std::any_of(results.begin(), results.end(), [](const RunResult& r) {
-    return std::isfinite(r.e_cd_arcsim);
-  });
+  const bool have_arcsim =
+      std::any_of(results.begin(), results.end(), [](const RunResult& r) { return std::isfinite(r.e_cd_arcsim); });
   struct Metric {
     std::string title, y_label;
     double RunResult::*value;
@@ -147,8 +147,8 @@ PlotFigure make_compare_plot(const std::vector<RunResult>& results, const std::v
       {"e_CD x 10^3 vs the Newton reference", "e_CD x 10^3 (Chamfer, vs Newton)", &RunResult::e_cd, 1e3, true},
       {"per-step error vs the Newton step", "mean (L(a_N) - L*)/(L(a_0) - L*)", &RunResult::step_mean, 1.0, true}};
   if (have_arcsim)
-    metrics.push_back({"e_CD x 10^3 vs ARCSim", "e_CD x 10^3 (Chamfer, vs ARCSim)", &RunResult::e_cd_arcsim, 1e3,
-                       false});
+    metrics.push_back(
+        {"e_CD x 10^3 vs ARCSim", "e_CD x 10^3 (Chamfer, vs ARCSim)", &RunResult::e_cd_arcsim, 1e3, false});
   const std::string x_label = threads == 1 ? "ms/frame, 1 thread (after warm-up; wall time x CPU share)"
                                            : "ms/frame, " + std::to_string(threads) + " threads (after warm-up)";
   figure.columns = static_cast<int>(metrics.size());  // one row of panels per resolution
@@ -185,8 +185,9 @@ PlotFigure make_compare_plot(const std::vector<RunResult>& results, const std::v
       }
       if (&metric == &metrics.front()) {  // the error-time frontier of the means over the motions
         std::vector<MeanRun> means = finished_means(results, res, threads);
-        means.erase(std::remove_if(means.begin(), means.end(), [](const MeanRun& m) { return is_converged_run(m.spec); }),
-                    means.end());
+        means.erase(
+            std::remove_if(means.begin(), means.end(), [](const MeanRun& m) { return is_converged_run(m.spec); }),
+            means.end());
         std::vector<std::pair<double, double>> points;
         for (const MeanRun& m : means) points.push_back({m.ms, m.e_cd});
         const std::vector<bool> optimal = pareto_optimal(points);
@@ -194,9 +195,9 @@ PlotFigure make_compare_plot(const std::vector<RunResult>& results, const std::v
         front.name = "frontier (fastest for its error)";
         front.band = true;
         for (std::size_t k = 0; k < means.size(); ++k)
-          if (optimal[k])
-            front.points.push_back({means[k].ms, 1e3 * means[k].e_cd, "", false});
-        std::sort(front.points.begin(), front.points.end(), [](const PlotPoint& a, const PlotPoint& b) { return a.x < b.x; });
+          if (optimal[k]) front.points.push_back({means[k].ms, 1e3 * means[k].e_cd, "", false});
+        std::sort(front.points.begin(), front.points.end(),
+                  [](const PlotPoint& a, const PlotPoint& b) { return a.x < b.x; });
         if (front.points.size() > 1) panel.series.push_back(front);
       }
       figure.panels.push_back(panel);
@@ -291,8 +292,9 @@ std::vector<SuperresColumns> superres_columns(const std::vector<RunResult>& resu
 PlotFigure superres_figure(const std::vector<RunResult>& results, const std::vector<std::string>& resolutions,
                            const std::vector<SuperresColumns>& columns, const CompareReport& report) {
   PlotFigure figure;
-  figure.title = "fnopt compare: zero-shot super-resolution (32^2-trained model on each grid vs solve coarse + "
-                 "interpolate)";
+  figure.title =
+      "fnopt compare: zero-shot super-resolution (32^2-trained model on each grid vs solve coarse + "
+      "interpolate)";
   figure.notes = report.notes;
   figure.notes.push_back("x: vertices of the fine grid (log); labels: the resolution (RxC = rows x columns)");
   figure.marked_meaning = "diverged (no error: it did not finish)";
@@ -308,9 +310,8 @@ PlotFigure superres_figure(const std::vector<RunResult>& results, const std::vec
       {"per-step error vs the Newton step", "mean (L(a_N) - L*)/(L(a_0) - L*)", &Aggregate::step, 1.0},
       {"run time", report.threads == 1 ? "ms/frame, 1 thread (wall x CPU share)" : "ms/frame", &Aggregate::ms, 1.0}};
   std::vector<std::string> order = resolutions;
-  std::stable_sort(order.begin(), order.end(), [](const std::string& a, const std::string& b) {
-    return vertex_count_of(a) < vertex_count_of(b);
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [](const std::string& a, const std::string& b) { return vertex_count_of(a) < vertex_count_of(b); });
   for (const Metric& metric : metrics) {
     PlotPanel panel;
     panel.title = metric.title;
@@ -344,8 +345,9 @@ void write_compare_report(const CompareReport& report, const std::vector<RunResu
   md.code(report.command_line);
   md.heading("Scenes");
   std::vector<std::string> scene_items = {
-      "resolutions: " + joined(report.resolutions) + " (N: N x N vertices; RxC: R rows x C columns; the cloth's "
-      "longer edge has the scene's size, cells are square)",
+      "resolutions: " + joined(report.resolutions) +
+          " (N: N x N vertices; RxC: R rows x C columns; the cloth's "
+          "longer edge has the scene's size, cells are square)",
       "optimizers: " + joined(report.methods),
       std::to_string(report.threads) + " thread" + (report.threads == 1 ? "" : "s") + " for every timing"};
   for (const auto& note : report.notes) scene_items.push_back(note);
@@ -360,8 +362,8 @@ void write_compare_report(const CompareReport& report, const std::vector<RunResu
                (report.threads == 1 ? "one thread, after warm-up, wall time x the CPU share the process got"
                                     : "after warm-up, wall time") +
                (report.motions.size() > 1 ? "; every number is the mean over the motions" : "") + ".");
-  const std::vector<std::string> header = {"method", "N", "ms/frame", "e_CD x10^3", "e_3D x10^2", "per-step error",
-                                           "diverged"};
+  const std::vector<std::string> header = {"method",         "N",       "ms/frame", "e_CD x10^3", "e_3D x10^2",
+                                           "per-step error", "diverged"};
   for (const auto& res : report.resolutions) {
     std::vector<std::vector<std::string>> rows;
     for (const auto& method : report.methods)
@@ -376,9 +378,10 @@ void write_compare_report(const CompareReport& report, const std::vector<RunResu
     md.table(header, rows);
   }
   md.heading("The error-time frontier");
-  md.paragraph("A run is on the frontier of its scene when no other run of the scene is as fast and as close to "
-               "Newton, and better in one (compare.csv, column frontier). Per resolution, over the means across "
-               "motions of the runs that diverged nowhere: the fastest method within each e_CD level.");
+  md.paragraph(
+      "A run is on the frontier of its scene when no other run of the scene is as fast and as close to "
+      "Newton, and better in one (compare.csv, column frontier). Per resolution, over the means across "
+      "motions of the runs that diverged nowhere: the fastest method within each e_CD level.");
   for (const auto& res : report.resolutions) {
     std::vector<std::vector<std::string>> rows;
     for (const LevelWinner& w : fastest_within(results, res, report.error_levels, report.threads))

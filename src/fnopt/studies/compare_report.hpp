@@ -68,18 +68,18 @@ PlotFigure make_compare_plot(const std::vector<RunResult>& results, const std::v
                              int threads, const std::vector<std::string>& notes);
 
 struct CompareReport {
-  std::string directory;                 // where report.md, compare.csv, compare.svg live
+  std::string directory;  // where report.md, compare.csv, compare.svg live
   std::string command_line;
   std::string scene_text;                // the resolved scene of the first resolution
   std::vector<std::string> resolutions;  // in the order run
   std::vector<std::string> motions;
   std::vector<std::string> methods;
-  std::vector<std::string> notes;        // as on the plot
+  std::vector<std::string> notes;  // as on the plot
   int threads = 1;
-  bool superres = false;                 // write the super-resolution section and superres.svg
-  std::string preset;                    // "superres" or empty
-  std::string status;                    // e.g. "finished" or "in progress: 7 of 24 runs"
-  std::vector<double> error_levels;      // e_CD levels of the "fastest within" table
+  bool superres = false;             // write the super-resolution section and superres.svg
+  std::string preset;                // "superres" or empty
+  std::string status;                // e.g. "finished" or "in progress: 7 of 24 runs"
+  std::vector<double> error_levels;  // e_CD levels of the "fastest within" table
 };
 
 // Writes DIR/report.md and, if report.superres and the results hold fnopt and an

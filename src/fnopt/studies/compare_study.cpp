@@ -7,8 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <optional>
 #include <iomanip>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -18,12 +18,12 @@
 #include <fnopt/io/svg_plot.hpp>
 #include <fnopt/metrics/step_error.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
+#include <fnopt/parallel/sweep_schedule.hpp>
 #include <fnopt/simulation/newton_reference.hpp>
 #include <fnopt/studies/resumed_rows.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/parse_text.hpp>
 #include <fnopt/util/progress_bar.hpp>
-#include <fnopt/parallel/sweep_schedule.hpp>
 
 namespace fnopt {
 
@@ -76,10 +76,27 @@ std::string run_key(const std::string& method, const std::string& budget, const 
   return ResumedRows::key({method, budget, res, motion});
 }
 
-const std::vector<std::string> kColumns = {
-    "method", "N", "lr", "lr_source", "resolution", "motion", "frames", "threads", "ms_per_frame",
-    "cpu_share", "ms_per_frame_cpu", "iterations_per_frame", "e_cd_x1e3", "e_3d_x1e2", "step_error_mean", "step_error_median", "max_strain_pct",
-    "diverged", "frontier", "e_cd_arcsim_x1e3", "note"};
+const std::vector<std::string> kColumns = {"method",
+                                           "N",
+                                           "lr",
+                                           "lr_source",
+                                           "resolution",
+                                           "motion",
+                                           "frames",
+                                           "threads",
+                                           "ms_per_frame",
+                                           "cpu_share",
+                                           "ms_per_frame_cpu",
+                                           "iterations_per_frame",
+                                           "e_cd_x1e3",
+                                           "e_3d_x1e2",
+                                           "step_error_mean",
+                                           "step_error_median",
+                                           "max_strain_pct",
+                                           "diverged",
+                                           "frontier",
+                                           "e_cd_arcsim_x1e3",
+                                           "note"};
 
 std::vector<std::string> csv_row(const RunResult& r, int threads) {
   // Undefined values (a diverged run's errors) are empty cells, not "nan".
@@ -150,17 +167,17 @@ std::string encode(const RunResult& r) {
   s << std::setprecision(17);
   s << r.spec.method << kSeparator << r.spec.budget << kSeparator << r.resolution << kSeparator << r.motion
     << kSeparator << r.lr_source << kSeparator << r.note;
-  for (double v : {r.lr, r.ms, r.cpu_share, r.iterations, r.e_cd, r.e_3d, r.step_mean, r.step_median, r.strain,
-                   r.e_cd_arcsim})
+  for (double v :
+       {r.lr, r.ms, r.cpu_share, r.iterations, r.e_cd, r.e_3d, r.step_mean, r.step_median, r.strain, r.e_cd_arcsim})
     s << kSeparator << v;
-  s << kSeparator << r.diverged << kSeparator << r.failed << kSeparator << r.frames << kSeparator
-    << r.frames_requested;
+  s << kSeparator << r.diverged << kSeparator << r.failed << kSeparator << r.frames << kSeparator << r.frames_requested;
   return s.str();
 }
 
 RunResult decode(const std::string& text) {
   const std::vector<std::string_view> f = split(text, kSeparator);
-  if (f.size() != 20) throw Error("compare", "a run's result arrived damaged (" + std::to_string(f.size()) + " fields)");
+  if (f.size() != 20)
+    throw Error("compare", "a run's result arrived damaged (" + std::to_string(f.size()) + " fields)");
   RunResult r;
   auto number = [](std::string_view v) {
     double value = NAN;
@@ -173,8 +190,8 @@ RunResult decode(const std::string& text) {
   r.motion = f[3];
   r.lr_source = f[4];
   r.note = f[5];
-  double* fields[] = {&r.lr, &r.ms, &r.cpu_share, &r.iterations, &r.e_cd, &r.e_3d, &r.step_mean, &r.step_median,
-                      &r.strain, &r.e_cd_arcsim};
+  double* fields[] = {&r.lr,   &r.ms,        &r.cpu_share,   &r.iterations, &r.e_cd,
+                      &r.e_3d, &r.step_mean, &r.step_median, &r.strain,     &r.e_cd_arcsim};
   for (int i = 0; i < 10; ++i) *fields[i] = number(f[6 + i]);
   r.diverged = f[16] == "1";
   r.failed = f[17] == "1";
@@ -276,9 +293,9 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
                  "every timing)%s, output %s\n",
                  scenes.size(), scenes.size() == 1 ? "" : "s", study.resolutions_text.c_str(),
                  joined(motion_names_used).c_str(), runs.size(), base.frames, threads, threads == 1 ? "" : "s",
-                 comm.size() > 1 ? (", " + std::to_string(comm.size()) + " processes").c_str() : "",
-                 study.out.c_str());
-    if (resumed.size() > 0) std::fprintf(stderr, "resuming: %zu finished runs in %s\n", resumed.size(), csv_path.c_str());
+                 comm.size() > 1 ? (", " + std::to_string(comm.size()) + " processes").c_str() : "", study.out.c_str());
+    if (resumed.size() > 0)
+      std::fprintf(stderr, "resuming: %zu finished runs in %s\n", resumed.size(), csv_path.c_str());
   }
 
   // Rank 0's view of the results: the finished runs by (scene, run), rows of compare.csv in the
@@ -288,7 +305,8 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
   std::vector<RunResult> unplanned_rows;
   std::set<std::string> planned;
   for (const Scene& scene : scenes)
-    for (const auto& run : runs) planned.insert(run_key(run.method, budget_text(run), resolution_text(scene), motion_text(scene)));
+    for (const auto& run : runs)
+      planned.insert(run_key(run.method, budget_text(run), resolution_text(scene), motion_text(scene)));
   // Rows of the earlier CSV that this run does not redo (other methods, budgets, resolutions
   // or motions) stay in it: resuming with a subset never drops finished work.
   for (const auto& row : resumed.unplanned(planned)) {
@@ -300,8 +318,10 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
     std::vector<RunResult> results = unplanned_rows;
     for (std::size_t s = 0; s < scenes.size(); ++s)
       for (int i = 0; i < static_cast<int>(runs.size()); ++i) {
-        if (const auto* earlier = resumed_row(s, runs[i])) results.push_back(result_of_row(runs[i], *earlier));
-        else if (const auto it = finished.find({s, i}); it != finished.end()) results.push_back(it->second);
+        if (const auto* earlier = resumed_row(s, runs[i]))
+          results.push_back(result_of_row(runs[i], *earlier));
+        else if (const auto it = finished.find({s, i}); it != finished.end())
+          results.push_back(it->second);
       }
     mark_frontier(results, threads);
     return results;
@@ -331,9 +351,8 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
   report.threads = threads;
   report.preset = study.preset;
   report.error_levels = error_levels;
-  report.superres = study.preset == "superres" ||
-                    (std::count(methods.begin(), methods.end(), "fnopt") > 0 &&
-                     std::any_of(methods.begin(), methods.end(), is_interpolated_method));
+  report.superres = study.preset == "superres" || (std::count(methods.begin(), methods.end(), "fnopt") > 0 &&
+                                                   std::any_of(methods.begin(), methods.end(), is_interpolated_method));
   const std::size_t total_runs = runs.size() * scenes.size();
   std::set<std::size_t> reference_states;  // per-step samples of the references, as drawn
   auto write_outputs = [&](const std::vector<RunResult>& results, const std::string& status) {
@@ -345,9 +364,12 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
     for (int f : frames) frame_texts.push_back(std::to_string(f));
     for (std::size_t n : reference_states) state_texts.push_back(std::to_string(n));
     std::vector<std::string> notes = {
-        joined(frame_texts, " or ") + " frames" + (frames.size() > 1 ? " (see each row)" : "") + " at dt = " +
-            dt_text(base.dt) + " s; N = iterations per time step; errors vs the converged Newton rollout (residual acceleration <= 1e-4 m/s^2); " +
-            "per-step error on " + (state_texts.empty() ? std::to_string(study.step_samples) : joined(state_texts, " or ")) +
+        joined(frame_texts, " or ") + " frames" + (frames.size() > 1 ? " (see each row)" : "") +
+            " at dt = " + dt_text(base.dt) +
+            " s; N = iterations per time step; errors vs the converged Newton rollout (residual acceleration <= 1e-4 "
+            "m/s^2); " +
+            "per-step error on " +
+            (state_texts.empty() ? std::to_string(study.step_samples) : joined(state_texts, " or ")) +
             " reference states; e_CD with " + std::to_string(chamfer.samples) + " points per mesh",
         "motions: " + joined(motion_names_used)};
     if (!lr_notes.empty()) notes.push_back("learning rates (swept on the first scene): " + joined(lr_notes));
@@ -376,8 +398,9 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
     for (int line = 0; line < 3; ++line) body = message.find('\n', body) + 1;
     if (body >= message.size()) return;
     const RunResult r = decode(message.substr(body));
-    const int run = task.run >= 0 ? task.run
-                                  : static_cast<int>(std::find_if(runs.begin(), runs.end(), is_converged_run) - runs.begin());
+    const int run = task.run >= 0
+                        ? task.run
+                        : static_cast<int>(std::find_if(runs.begin(), runs.end(), is_converged_run) - runs.begin());
     finished[{task.scene, run}] = r;
     const std::vector<RunResult> results = all_results();
     write_table(results);
@@ -385,7 +408,8 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
                                std::to_string(total_runs) + " runs done");
     const std::string label = run_label(runs[run], scenes[task.scene]);
     bar->update(static_cast<int>(done_units * unit_scale), label + " done");
-    std::fprintf(stderr, "%-26s %8.2f ms/frame (cpu share %.2f)  e_CD %8.3f  e_3D %8.3f  step err %9.3g  strain %6.1f%%  %s\n",
+    std::fprintf(stderr,
+                 "%-26s %8.2f ms/frame (cpu share %.2f)  e_CD %8.3f  e_3D %8.3f  step err %9.3g  strain %6.1f%%  %s\n",
                  label.c_str(), r.ms, r.cpu_share, 1e3 * r.e_cd, 1e2 * r.e_3d, r.step_mean, 100 * r.strain,
                  r.failed ? r.note.c_str() : (r.diverged ? "DIVERGED" : "ok"));
   };
@@ -396,8 +420,10 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
   auto finish_task = [&](int phase, std::size_t index, int states, const std::optional<RunResult>& result) {
     const std::string message = std::to_string(phase) + "\n" + std::to_string(index) + "\n" + std::to_string(states) +
                                 "\n" + (result ? encode(*result) : std::string());
-    if (root) record(message);
-    else comm.send_to_root(message);
+    if (root)
+      record(message);
+    else
+      comm.send_to_root(message);
   };
   // Rank 0 waits for the other ranks' tasks of a phase.
   auto wait_for_phase = [&](int phase, const std::vector<int>& rank_of) {
@@ -437,7 +463,8 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
     c.bench = std::make_unique<StepErrorBench>(scene, c.reference, study.step_samples);
     if (!study.arcsim_dir.empty() && scene.rows == scene.cols && scene.trajectory.empty()) {
       const std::string path =
-          (fs::path(study.arcsim_dir) / ("arcsim_N" + resolution_text(scene) + "_" + motion_text(scene) + ".h5")).string();
+          (fs::path(study.arcsim_dir) / ("arcsim_N" + resolution_text(scene) + "_" + motion_text(scene) + ".h5"))
+              .string();
       if (fs::exists(path)) c.arcsim = read_trajectory_frames(path);
     }
     return c;
@@ -453,7 +480,9 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
     }
     const Scene& scene = scenes[s];
     const std::string cache = reference_file(scene);
-    if (root) std::fprintf(stderr, "reference %s/%s: cached %s\n", resolution_text(scene).c_str(), motion_text(scene).c_str(), cache.c_str());
+    if (root)
+      std::fprintf(stderr, "reference %s/%s: cached %s\n", resolution_text(scene).c_str(), motion_text(scene).c_str(),
+                   cache.c_str());
     context = make_context(s, resolve(scene), read_trajectory_frames(cache));
     return context;
   };
@@ -466,11 +495,11 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
     const RolloutResult& rollout = timed.rollout;
     r.cpu_share = timed.cpu_share;
     if (study.keep_rollouts)
-      write_rollout_file((fs::path(study.out) / ("rollout_" + run.method +
-                                                 (run.budget ? "_" + std::to_string(run.budget) : "") + "_" +
-                                                 resolution_text(scene) + "_" + motion_text(scene) + ".h5"))
-                             .string(),
-                         rollout, to_scene_text(scene), optimizer.settings());
+      write_rollout_file(
+          (fs::path(study.out) / ("rollout_" + run.method + (run.budget ? "_" + std::to_string(run.budget) : "") + "_" +
+                                  resolution_text(scene) + "_" + motion_text(scene) + ".h5"))
+              .string(),
+          rollout, to_scene_text(scene), optimizer.settings());
     r.frames = static_cast<int>(rollout.steps.size());
     r.ms = ms_per_frame(rollout);
     r.iterations = iterations_per_frame(rollout);
@@ -483,7 +512,8 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
     const TrajectoryComparison comparison = compare_trajectories(c.reference, frames, -1.0, comparison_options);
     r.e_cd = rollout.diverged ? NAN : comparison.chamfer;
     r.e_3d = rollout.diverged ? NAN : comparison.e3d;
-    if (c.arcsim && !rollout.diverged) r.e_cd_arcsim = compare_trajectories(*c.arcsim, frames, -1.0, comparison_options).chamfer;
+    if (c.arcsim && !rollout.diverged)
+      r.e_cd_arcsim = compare_trajectories(*c.arcsim, frames, -1.0, comparison_options).chamfer;
     const auto fresh = choice.make();  // a fresh optimizer: no state from the rollout
     const StepErrorSummary steps = c.bench->evaluate(*fresh, choice.solve_options());
     r.step_mean = steps.mean;
@@ -513,8 +543,8 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
     RolloutOptions options;
     options.solve = reference_options;
     ResolvedScene resolved = resolve(scene);
-    const TimedRollout reference = rollout_with_progress(resolved, newton, options, reference_tasks[i].units,
-                                                         "reference " + res + "/" + motion);
+    const TimedRollout reference =
+        rollout_with_progress(resolved, newton, options, reference_tasks[i].units, "reference " + res + "/" + motion);
     write_rollout_file(reference_file(scene), reference.rollout, to_scene_text(scene), newton.settings());
     if (reference.rollout.diverged)
       std::fprintf(stderr, "warning: the Newton reference of %s/%s %s\n", res.c_str(), motion.c_str(),
@@ -549,7 +579,8 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
   std::map<std::string, std::vector<double>> lr_candidates = study.learning_rates;
   for (std::size_t s = 0; s < scenes.size(); ++s)
     for (const auto& run : runs)
-      if (const auto* row = resumed_row(s, run); row && uses_learning_rate(run.method) && !chosen_lr.count({run.method, run.budget}))
+      if (const auto* row = resumed_row(s, run);
+          row && uses_learning_rate(run.method) && !chosen_lr.count({run.method, run.budget}))
         chosen_lr[{run.method, run.budget}] = {result_of_row(run, *row).lr, (*row)[3]};
   std::string lr_text;  // "method budget value source" lines, rank 0's choice for every rank
   if (root && !run_tasks.empty()) {
@@ -617,7 +648,8 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
       RolloutOptions options;
       options.solve = choice.solve_options();
       options.warm_start = study.warm_start;
-      const TimedRollout timed = rollout_with_progress(*c.resolved, *optimizer, options, run_tasks[i].units, run_label(run, scenes[s]));
+      const TimedRollout timed =
+          rollout_with_progress(*c.resolved, *optimizer, options, run_tasks[i].units, run_label(run, scenes[s]));
       measure(s, run, choice, *optimizer, timed, r);
     } catch (const std::exception& e) {
       r.failed = true;
@@ -658,7 +690,9 @@ std::vector<RunSpec> compare_runs(const std::vector<std::string>& methods, const
         if (given != capped.end())
           for (int budget : given->second) runs.push_back({method, budget});
         break;
-      case BudgetKind::OneSolve: runs.push_back({method, 1}); break;
+      case BudgetKind::OneSolve:
+        runs.push_back({method, 1});
+        break;
       case BudgetKind::Iterations:
         for (int budget : given != capped.end() ? given->second : budgets) runs.push_back({method, budget});
         break;

@@ -12,8 +12,8 @@
 #include <vector>
 
 #include <fnopt/methods/registry.hpp>
-#include <fnopt/parallel/communicator.hpp>
 #include <fnopt/metrics/chamfer.hpp>
+#include <fnopt/parallel/communicator.hpp>
 #include <fnopt/scenes/scene.hpp>
 #include <fnopt/studies/compare_report.hpp>
 
@@ -28,16 +28,16 @@ struct CompareStudy {
   // by the mean per-step error, per method and budget.
   std::map<std::string, std::vector<double>> learning_rates = {{"gd", {0.25, 0.5, 1, 1.5, 1.9}},
                                                                {"adam", {0.0003, 0.001, 0.003, 0.01}}};
-  std::string out;                   // the output directory (made and checked writable)
-  std::string arcsim_dir;            // "" for none
-  std::string preset;                // "superres" or ""
-  std::string resolutions_text;      // as given, for the banner
-  std::string command_line;          // for report.md
+  std::string out;                                            // the output directory (made and checked writable)
+  std::string arcsim_dir;                                     // "" for none
+  std::string preset;                                         // "superres" or ""
+  std::string resolutions_text;                               // as given, for the banner
+  std::string command_line;                                   // for report.md
   std::vector<double> error_levels = {1e-3, 0.3e-3, 0.1e-3};  // e_CD levels of the "fastest within" lines
   ChamferOptions chamfer;
   int cd_stride = 2;
   int step_samples = 16;
-  int threads = 1;                   // in effect (set by the caller), printed with every timing
+  int threads = 1;  // in effect (set by the caller), printed with every timing
   bool warm_start = false;
   bool keep_rollouts = false;
   bool resume = false;

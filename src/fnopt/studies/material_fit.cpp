@@ -16,7 +16,6 @@
 namespace fnopt {
 namespace {
 
-
 double rollout_error(const FitReference& reference, const Material& material, const MaterialFitParams& params) {
   Scene scene = reference.scene;
   scene.material = material;
@@ -45,10 +44,14 @@ MaterialCoefficient material_coefficient(const std::string& name) {
 
 std::string coefficient_name(MaterialCoefficient coefficient) {
   switch (coefficient) {
-    case MaterialCoefficient::Stretch: return "stretch";
-    case MaterialCoefficient::Shear: return "shear";
-    case MaterialCoefficient::Bend: return "bend";
-    case MaterialCoefficient::Damping: return "damping";
+    case MaterialCoefficient::Stretch:
+      return "stretch";
+    case MaterialCoefficient::Shear:
+      return "shear";
+    case MaterialCoefficient::Bend:
+      return "bend";
+    case MaterialCoefficient::Damping:
+      return "damping";
   }
   return "";
 }
@@ -59,20 +62,28 @@ double coefficient_of(const Material& material, MaterialCoefficient coefficient)
 
 double& coefficient_of(Material& material, MaterialCoefficient coefficient) {
   switch (coefficient) {
-    case MaterialCoefficient::Stretch: return material.stretch;
-    case MaterialCoefficient::Shear: return material.shear;
-    case MaterialCoefficient::Bend: return material.bend;
-    case MaterialCoefficient::Damping: return material.damping;
+    case MaterialCoefficient::Stretch:
+      return material.stretch;
+    case MaterialCoefficient::Shear:
+      return material.shear;
+    case MaterialCoefficient::Bend:
+      return material.bend;
+    case MaterialCoefficient::Damping:
+      return material.damping;
   }
   return material.stretch;
 }
 
 const CoefficientRange& MaterialFitParams::range(MaterialCoefficient coefficient) const {
   switch (coefficient) {
-    case MaterialCoefficient::Stretch: return stretch_range;
-    case MaterialCoefficient::Shear: return shear_range;
-    case MaterialCoefficient::Bend: return bend_range;
-    case MaterialCoefficient::Damping: return damping_range;
+    case MaterialCoefficient::Stretch:
+      return stretch_range;
+    case MaterialCoefficient::Shear:
+      return shear_range;
+    case MaterialCoefficient::Bend:
+      return bend_range;
+    case MaterialCoefficient::Damping:
+      return damping_range;
   }
   return stretch_range;
 }
@@ -98,8 +109,8 @@ void MaterialFitParams::validate() const {
           "must be positive and at most the initial step");
   require(max_evaluations >= 1, "fit.max_evaluations", "must be at least 1");
   require(frames >= 0, "fit.frames", "must be non-negative (0: the reference's duration)");
-  require(std::isfinite(newton_tolerance) && newton_tolerance > 0.0 && newton_tolerance < 1.0,
-          "fit.newton_tolerance", "must be in (0, 1)");
+  require(std::isfinite(newton_tolerance) && newton_tolerance > 0.0 && newton_tolerance < 1.0, "fit.newton_tolerance",
+          "must be in (0, 1)");
   require(chamfer_stride >= 1, "fit.chamfer_stride", "must be at least 1");
   chamfer.validate();
 }

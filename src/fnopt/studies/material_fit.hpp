@@ -43,13 +43,13 @@ struct MaterialFitParams {
   CoefficientRange shear_range{1e-3, 1e4};
   CoefficientRange bend_range{1e-9, 1e-2};
   CoefficientRange damping_range{1e-3, 1e2};
-  double initial_step = 1.0;     // first poll step in ln(coefficient): a factor e = 2.7
-  double final_step = 0.02;      // stop once the step is below this (2 % relative change)
-  int max_evaluations = 120;     // rollouts at most, per reference set
-  int frames = 0;                // time steps per rollout; 0 = the reference's whole duration
+  double initial_step = 1.0;       // first poll step in ln(coefficient): a factor e = 2.7
+  double final_step = 0.02;        // stop once the step is below this (2 % relative change)
+  int max_evaluations = 120;       // rollouts at most, per reference set
+  int frames = 0;                  // time steps per rollout; 0 = the reference's whole duration
   double newton_tolerance = 1e-6;  // relative gradient tolerance of the Newton steps: the fit
                                    // compares shapes at the mm level, far above what 1e-6 moves
-  int chamfer_stride = 2;        // e_CD on every k-th matched frame
+  int chamfer_stride = 2;          // e_CD on every k-th matched frame
   ChamferOptions chamfer;
 
   const CoefficientRange& range(MaterialCoefficient coefficient) const;

@@ -34,11 +34,26 @@ std::string sci(double value) {
 }
 
 const std::vector<std::string>& run_columns() {
-  static const std::vector<std::string> columns = {
-      "preset", "repulsion", "optimizer", "res", "frames", "frames_done", "ms_per_frame", "iterations_per_step",
-      "converged_steps", "mean_energy_J", "max_energy_J", "share_above_1e-5J", "share_above_1e-4J",
-      "share_above_1e-3J", "max_pairs_half_delta", "max_pairs_quarter_delta", "share_frames_quarter_delta",
-      "min_distance_over_delta", "max_strain_pct", "diverged"};
+  static const std::vector<std::string> columns = {"preset",
+                                                   "repulsion",
+                                                   "optimizer",
+                                                   "res",
+                                                   "frames",
+                                                   "frames_done",
+                                                   "ms_per_frame",
+                                                   "iterations_per_step",
+                                                   "converged_steps",
+                                                   "mean_energy_J",
+                                                   "max_energy_J",
+                                                   "share_above_1e-5J",
+                                                   "share_above_1e-4J",
+                                                   "share_above_1e-3J",
+                                                   "max_pairs_half_delta",
+                                                   "max_pairs_quarter_delta",
+                                                   "share_frames_quarter_delta",
+                                                   "min_distance_over_delta",
+                                                   "max_strain_pct",
+                                                   "diverged"};
   return columns;
 }
 
@@ -102,8 +117,8 @@ RunResult run_one(const Scene& base, const std::string& preset, bool repulsion, 
 
 // The printed / Markdown table: the columns a reader compares, from a row of repulsion.csv.
 std::vector<std::string> table_header() {
-  return {"preset", "repulsion", "optimizer", "ms/frame", "it/step", "mean E_rep [J]", "E>1e-5", "E>1e-4",
-          "E>1e-3", "max #<δ/2", "max #<δ/4", "frames #<δ/4", "min d/δ", "strain", "status"};
+  return {"preset", "repulsion", "optimizer", "ms/frame",     "it/step", "mean E_rep [J]", "E>1e-5", "E>1e-4",
+          "E>1e-3", "max #<δ/2", "max #<δ/4", "frames #<δ/4", "min d/δ", "strain",         "status"};
 }
 
 std::vector<std::string> table_row(const std::vector<std::string>& row) {
@@ -116,11 +131,21 @@ std::vector<std::string> table_row(const std::vector<std::string>& row) {
   auto percent = [&](const std::string& column) { return fixed(100.0 * number(column), 0) + "%"; };
   std::string status = cell["diverged"] == "yes" ? "diverged" : "finite";
   if (cell["converged_steps"] != "budget") status += ", " + cell["converged_steps"] + " conv";
-  return {cell["preset"], cell["repulsion"], cell["optimizer"], fixed(number("ms_per_frame"), 1),
-          fixed(number("iterations_per_step"), 1), sci(number("mean_energy_J")), percent("share_above_1e-5J"),
-          percent("share_above_1e-4J"), percent("share_above_1e-3J"), cell["max_pairs_half_delta"],
-          cell["max_pairs_quarter_delta"], percent("share_frames_quarter_delta"),
-          fixed(number("min_distance_over_delta"), 2), fixed(number("max_strain_pct"), 0) + "%", status};
+  return {cell["preset"],
+          cell["repulsion"],
+          cell["optimizer"],
+          fixed(number("ms_per_frame"), 1),
+          fixed(number("iterations_per_step"), 1),
+          sci(number("mean_energy_J")),
+          percent("share_above_1e-5J"),
+          percent("share_above_1e-4J"),
+          percent("share_above_1e-3J"),
+          cell["max_pairs_half_delta"],
+          cell["max_pairs_quarter_delta"],
+          percent("share_frames_quarter_delta"),
+          fixed(number("min_distance_over_delta"), 2),
+          fixed(number("max_strain_pct"), 0) + "%",
+          status};
 }
 
 void print_table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
@@ -192,8 +217,7 @@ void run_repulsion_study(const RepulsionStudy& study) {
     const CsvTable earlier = CsvTable::read(energy_path);
     require(earlier.columns() == energy_columns(), "resume",
             energy_path + ": written by another version of repulsion-study: cannot resume");
-    for (const auto& row : earlier.rows())
-      kept_energy[ResumedRows::key({row[0], row[1], row[2]})].push_back(row);
+    for (const auto& row : earlier.rows()) kept_energy[ResumedRows::key({row[0], row[1], row[2]})].push_back(row);
   }
   std::fprintf(stderr,
                "fnopt repulsion-study: %dx%d grid, motion %s, %d frames, presets corner-center, single-mid-edge, "
@@ -205,8 +229,7 @@ void run_repulsion_study(const RepulsionStudy& study) {
   // Progress in frame-cost units (methods/registry.hpp), as compare and stability count it.
   auto cost = [&](const OptimizerChoice& choice) {
     const InnerSolveOptions solve = choice.solve_options();
-    return base.frames * frame_cost(choice.name, solve.max_iterations, solve.to_tolerance(),
-                                    base.rows * base.cols);
+    return base.frames * frame_cost(choice.name, solve.max_iterations, solve.to_tolerance(), base.rows * base.cols);
   };
   double total_cost = 0.0, done_cost = 0.0;
   for (const std::string& preset : repulsion_presets())
@@ -262,19 +285,20 @@ void run_repulsion_study(const RepulsionStudy& study) {
   write_svg((fs::path(study.out) / svg_name).string(), make_plot(energy.rows(), study));
 
   MarkdownReport report("Self-repulsion study");
-  report.paragraph("Handle presets whose cloth folds onto itself (corner-center, single-mid-edge) and the corner "
-                   "control, each simulated with self-repulsion off and on (lambda = " +
-                   sci(base.material.repulsion_stiffness) + " N/m, delta = h), " + std::to_string(base.rows) +
-                   "x" + std::to_string(base.cols) + " grid, motion " + base.motion + ", " +
-                   std::to_string(base.frames) + " frames at dt = " + number_text(base.dt) + " s, " +
-                   std::to_string(study.threads) + " thread(s).");
-  report.bullets({"E_rep: the repulsive energy of each frame's configuration under the same barrier with a fixed "
-                  "reference lambda_ref = 1 N/m and delta = h (metrics/self_contact.hpp), averaged over frames.",
-                  "E>1e-5 / 1e-4 / 1e-3: share of frames whose E_rep exceeds 1e-5 J (the cloth touches itself), "
-                  "1e-4 J (pressed contact; one pair at delta/2 is 1.7e-4 J at 32x32), 1e-3 J (deep contact).",
-                  "max #<δ/2, #<δ/4: the most non-adjacent vertex pairs closer than delta/2, delta/4 in any "
-                  "frame (penetration proxies); frames #<δ/4: share of frames with such a pair; min d/δ: the "
-                  "smallest pair distance in any frame."});
+  report.paragraph(
+      "Handle presets whose cloth folds onto itself (corner-center, single-mid-edge) and the corner "
+      "control, each simulated with self-repulsion off and on (lambda = " +
+      sci(base.material.repulsion_stiffness) + " N/m, delta = h), " + std::to_string(base.rows) + "x" +
+      std::to_string(base.cols) + " grid, motion " + base.motion + ", " + std::to_string(base.frames) +
+      " frames at dt = " + number_text(base.dt) + " s, " + std::to_string(study.threads) + " thread(s).");
+  report.bullets(
+      {"E_rep: the repulsive energy of each frame's configuration under the same barrier with a fixed "
+       "reference lambda_ref = 1 N/m and delta = h (metrics/self_contact.hpp), averaged over frames.",
+       "E>1e-5 / 1e-4 / 1e-3: share of frames whose E_rep exceeds 1e-5 J (the cloth touches itself), "
+       "1e-4 J (pressed contact; one pair at delta/2 is 1.7e-4 J at 32x32), 1e-3 J (deep contact).",
+       "max #<δ/2, #<δ/4: the most non-adjacent vertex pairs closer than delta/2, delta/4 in any "
+       "frame (penetration proxies); frames #<δ/4: share of frames with such a pair; min d/δ: the "
+       "smallest pair distance in any frame."});
   report.table(table_header(), table_rows);
   report.image(svg_name, "repulsive energy over time");
   report.paragraph("Every column of every run: repulsion.csv; the energy of every frame: repulsion_energy.csv.");

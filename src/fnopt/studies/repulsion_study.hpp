@@ -15,11 +15,11 @@
 namespace fnopt {
 
 struct RepulsionStudy {
-  Scene base;                              // grid, motion, frames, repulsion stiffness; validated
+  Scene base;                               // grid, motion, frames, repulsion stiffness; validated
   std::vector<OptimizerChoice> optimizers;  // names and models checked by the caller
-  std::string out;                         // the output directory (made and checked writable)
-  std::string command_line;                // for report.md
-  int threads = 1;                         // in effect (set by the caller)
+  std::string out;                          // the output directory (made and checked writable)
+  std::string command_line;                 // for report.md
+  int threads = 1;                          // in effect (set by the caller)
   bool resume = false;
 };
 

@@ -45,8 +45,8 @@ void clear_bar_line() {
 void print_row(const StabilityRow& r) {
   clear_bar_line();
   std::fprintf(stderr, "%-22s %-9s %-20s %-8s %4d/%-4d strain %7.1f%%  growth %7.3g  e3D %7.3g  %8.2f ms/frame%s%s\n",
-               r.case_name.c_str(), r.method.c_str(), budget_text(r.solve).c_str(), to_string(r.outcome),
-               r.frames_done, r.frames_requested, 100 * r.max_strain, r.energy_growth, 100 * r.e3d, r.ms_per_frame,
+               r.case_name.c_str(), r.method.c_str(), budget_text(r.solve).c_str(), to_string(r.outcome), r.frames_done,
+               r.frames_requested, 100 * r.max_strain, r.energy_growth, 100 * r.e3d, r.ms_per_frame,
                r.reason.empty() ? "" : "  ", r.reason.c_str());
 }
 
@@ -61,27 +61,27 @@ void write_report(const Outputs& out, const StabilityStudy& study, const std::ve
   const auto& methods = study.methods;
   const auto& method_names = study.method_names;
   const int threads = study.threads;
-  std::vector<std::string> notes = {
-      std::to_string(base.frames) + " frames at dt = " + dt_text(base.dt) + " s on the base scene; " +
-          std::to_string(threads) + " thread" + (threads == 1 ? "" : "s") +
-          "; marked: diverged (strain > 300 % or non-finite) or error"};
+  std::vector<std::string> notes = {std::to_string(base.frames) + " frames at dt = " + dt_text(base.dt) +
+                                    " s on the base scene; " + std::to_string(threads) + " thread" +
+                                    (threads == 1 ? "" : "s") +
+                                    "; marked: diverged (strain > 300 % or non-finite) or error"};
   write_svg(out.svg, stability_plot(rows, cases, method_names, notes));
 
   MarkdownReport report("fnopt stability");
   report.paragraph(std::string(complete ? "" : "**Partial: the study is still running or was stopped.** ") +
                    "Stiff and extreme cases, every inner optimizer on each, against the case's Newton reference "
-                   "(run to a residual acceleration of 1e-4 m/s^2 each step; steps that stop short are counted below). fnopt " FNOPT_VERSION ", started " + started +
-                   ", " + std::to_string(threads) + " thread" + (threads == 1 ? "" : "s") + ".");
+                   "(run to a residual acceleration of 1e-4 m/s^2 each step; steps that stop short are counted below). "
+                   "fnopt " FNOPT_VERSION ", started " +
+                   started + ", " + std::to_string(threads) + " thread" + (threads == 1 ? "" : "s") + ".");
   report.code(study.command_line);
   std::vector<std::string> setup = {
       "base scene: " + std::to_string(base.rows) + "x" + std::to_string(base.cols) + " grid, " +
-          (base.handle_vertices.empty() ? base.handles : "explicit") + " handles, " +
-          (base.trajectory.empty() ? "motion " + base.motion : "trajectory " + base.trajectory) + ", speed " +
-          number_text(base.speed) + ", material " + base.material_name + " (stretch " +
-          number_text(base.material.stretch) + " N/m, shear " + number_text(base.material.shear) + " N/m, bend " +
-          number_text(base.material.bend) + " N m, density " + number_text(base.material.density) + " kg/m^2), dt " +
-          dt_text(base.dt) + " s, " + std::to_string(base.frames) + " frames (" +
-          number_text(base.frames * base.dt) + " s)"};
+      (base.handle_vertices.empty() ? base.handles : "explicit") + " handles, " +
+      (base.trajectory.empty() ? "motion " + base.motion : "trajectory " + base.trajectory) + ", speed " +
+      number_text(base.speed) + ", material " + base.material_name + " (stretch " + number_text(base.material.stretch) +
+      " N/m, shear " + number_text(base.material.shear) + " N/m, bend " + number_text(base.material.bend) +
+      " N m, density " + number_text(base.material.density) + " kg/m^2), dt " + dt_text(base.dt) + " s, " +
+      std::to_string(base.frames) + " frames (" + number_text(base.frames * base.dt) + " s)"};
   std::string optimizers;
   for (const auto& m : methods)
     optimizers += (optimizers.empty() ? "" : ", ") + m.method + " (" +
@@ -98,14 +98,13 @@ void write_report(const Outputs& out, const StabilityStudy& study, const std::ve
     // Every case scene was validated before any run: its grid exists.
     const GridUnitStiffness g =
         grid_unit_stiffness(Grid::make(s.rows, s.cols, s.size), s.material, s.dt, s.gravity.norm());
-    const std::string k_text = CsvTable::number(g.stretch, 3) + " / " + CsvTable::number(g.shear, 3) + " / " +
-                               CsvTable::number(g.bend, 3);
+    const std::string k_text =
+        CsvTable::number(g.stretch, 3) + " / " + CsvTable::number(g.shear, 3) + " / " + CsvTable::number(g.bend, 3);
     case_rows.push_back({std::to_string(k + 1), cases[k].name, cases[k].description,
-                         std::to_string(s.rows) + "x" + std::to_string(s.cols), std::to_string(s.frames) + " x " +
-                         dt_text(s.dt) + " s", k_text});
+                         std::to_string(s.rows) + "x" + std::to_string(s.cols),
+                         std::to_string(s.frames) + " x " + dt_text(s.dt) + " s", k_text});
   }
-  report.table({"#", "case", "what it changes", "grid", "frames", "k~ stretch / shear / bend (grid units)"},
-               case_rows);
+  report.table({"#", "case", "what it changes", "grid", "frames", "k~ stretch / shear / bend (grid units)"}, case_rows);
 
   report.heading("What fails where");
   report.bullets(stability_summary(rows, method_names));
@@ -173,18 +172,21 @@ void run_stability_study(const StabilityStudy& study, const Communicator& comm) 
     for (const auto& m : methods) {
       const double cost = s.frames * frame_cost(m, s);
       total_cost += cost;
-      if (is_resumed(c, m)) resumed_cost += cost;
-      else all_resumed = false;
+      if (is_resumed(c, m))
+        resumed_cost += cost;
+      else
+        all_resumed = false;
     }
     if (!reference_listed && !all_resumed) total_cost += s.frames * frame_cost(reference_method, s);
   }
   const double unit = std::max(1.0, total_cost / 1e6);  // at most ~1e6 units: fits an int
-  std::optional<ProgressBar> bar;  // rank 0's, over every rank's work
+  std::optional<ProgressBar> bar;                       // rank 0's, over every rank's work
   double done_cost = resumed_cost;
   if (comm.is_root()) {
     bar.emplace("stability", static_cast<int>(total_cost / unit), static_cast<int>(resumed_cost / unit));
     std::string method_text;
-    for (const auto& m : methods) method_text += (method_text.empty() ? "" : ", ") + m.method + " " + budget_text(m.solve);
+    for (const auto& m : methods)
+      method_text += (method_text.empty() ? "" : ", ") + m.method + " " + budget_text(m.solve);
     std::fprintf(stderr,
                  "fnopt stability: %zu case%s x %zu optimizers (%s), base %dx%d, %d frames at dt %s, %d thread%s%s, "
                  "output %s\n",
@@ -233,7 +235,8 @@ void run_stability_study(const StabilityStudy& study, const Communicator& comm) 
     for (const auto& cells : unplanned) table.add_row(cells);
     for (std::size_t k = 0; k < cases.size(); ++k)
       for (std::size_t j = 0; j < methods.size(); ++j) {
-        if (const auto* earlier = resumed.find(row_key(cases[k].name, methods[j].method, budget_text(methods[j].solve)))) {
+        if (const auto* earlier =
+                resumed.find(row_key(cases[k].name, methods[j].method, budget_text(methods[j].solve)))) {
           rows.push_back(stability_row_from_csv(*earlier));
           rows.back().reference = methods[j].reference;
           table.add_row(*earlier);
@@ -306,16 +309,16 @@ void run_stability_study(const StabilityStudy& study, const Communicator& comm) 
     if (reference.failed || reference.rollout.diverged) {
       clear_bar_line();
       std::fprintf(stderr, "warning: the Newton reference of %s %s%s\n", c.name.c_str(),
-                   reference.failed ? "failed: " : "", reference.failed ? reference.error.c_str()
-                                                                        : reference.rollout.divergence.c_str());
+                   reference.failed ? "failed: " : "",
+                   reference.failed ? reference.error.c_str() : reference.rollout.divergence.c_str());
     }
     std::string message = std::to_string(k) + "\n";
     for (std::size_t j = 0; j < methods.size(); ++j) {
       const StabilityMethod& m = methods[j];
       if (is_resumed(c, m)) continue;
-      const StabilityRow row = m.reference ? stability_row(c.name, m, reference, &reference)  // counted above
-                                           : stability_row(c.name, m, run_with_progress(scene, m, m.method + " " + c.name),
-                                                           &reference);
+      const StabilityRow row =
+          m.reference ? stability_row(c.name, m, reference, &reference)  // counted above
+                      : stability_row(c.name, m, run_with_progress(scene, m, m.method + " " + c.name), &reference);
       const std::vector<std::string> cells = stability_csv_row(row);
       if (root) {
         record(k, j, row, cells);
@@ -325,8 +328,10 @@ void run_stability_study(const StabilityStudy& study, const Communicator& comm) 
       for (const std::string& cell : cells) message += '\x1f' + cell;
       message += '\x1e';
     }
-    if (root) write_report(out, study, rows, table, started, false);
-    else comm.send_to_root(message);
+    if (root)
+      write_report(out, study, rows, table, started, false);
+    else
+      comm.send_to_root(message);
   }
   if (!root) return;
   for (std::size_t t = 0; t < tasks.size(); ++t)

@@ -20,7 +20,9 @@ int frames_for_dt(const Scene& base, double dt) {
 
 StabilityCase material_case(const std::string& name, const std::string& what, double Material::*field,
                             const std::string& field_name, double factor) {
-  return {name, what + " x" + number_text(factor) + " of the base scene's", {"material." + field_name},
+  return {name,
+          what + " x" + number_text(factor) + " of the base scene's",
+          {"material." + field_name},
           [field, factor](const Scene& base) {
             Scene s = base;
             s.material.*field *= factor;
@@ -29,8 +31,10 @@ StabilityCase material_case(const std::string& name, const std::string& what, do
 }
 
 StabilityCase speed_case(double factor) {
-  return {"speed-x" + number_text(factor), "handle speed x" + number_text(factor) + " (the motion played faster)",
-          {"speed"}, [factor](const Scene& base) {
+  return {"speed-x" + number_text(factor),
+          "handle speed x" + number_text(factor) + " (the motion played faster)",
+          {"speed"},
+          [factor](const Scene& base) {
             Scene s = base;
             s.speed *= factor;
             return s;
@@ -40,8 +44,10 @@ StabilityCase speed_case(double factor) {
 StabilityCase dt_case(int steps_per_second) {
   const double dt = 1.0 / steps_per_second;
   const std::string text = "1/" + std::to_string(steps_per_second);
-  return {"dt-" + text, "dt = " + text + " s, frames scaled to keep the base scene's simulated time",
-          {"dt", "frames"}, [dt](const Scene& base) {
+  return {"dt-" + text,
+          "dt = " + text + " s, frames scaled to keep the base scene's simulated time",
+          {"dt", "frames"},
+          [dt](const Scene& base) {
             Scene s = base;
             s.frames = frames_for_dt(base, dt);
             s.dt = dt;
@@ -50,7 +56,9 @@ StabilityCase dt_case(int steps_per_second) {
 }
 
 StabilityCase handles_case(const std::string& preset) {
-  return {"handles-" + preset, "handle preset '" + preset + "' instead of the base scene's", {"handles"},
+  return {"handles-" + preset,
+          "handle preset '" + preset + "' instead of the base scene's",
+          {"handles"},
           [preset](const Scene& base) {
             Scene s = base;
             s.handles = preset;
@@ -63,7 +71,8 @@ StabilityCase grid_case(int n, int frame_divisor) {
   return {"grid-" + std::to_string(n),
           std::to_string(n) + "x" + std::to_string(n) + " grid (same cloth), on the first 1/" +
               std::to_string(frame_divisor) + " of the base scene's frames (its cost)",
-          {"rows", "cols", "frames"}, [n, frame_divisor](const Scene& base) {
+          {"rows", "cols", "frames"},
+          [n, frame_divisor](const Scene& base) {
             Scene s = base;
             s.rows = s.cols = n;
             s.frames = std::max(1, base.frames / frame_divisor);
@@ -85,12 +94,16 @@ double number_or_nan(const std::string& text) {
 const std::vector<StabilityCase>& stability_cases() {
   static const std::vector<StabilityCase> cases = [] {
     std::vector<StabilityCase> c;
-    c.push_back({"baseline", "the base scene itself (default: 32^2, corner handles, xy_v2, default material, dt 1/60)",
-                 {}, [](const Scene& base) { return base; }});
+    c.push_back({"baseline",
+                 "the base scene itself (default: 32^2, corner handles, xy_v2, default material, dt 1/60)",
+                 {},
+                 [](const Scene& base) { return base; }});
     for (double f : {10.0, 100.0, 1000.0})
       c.push_back(material_case("stretch-x" + number_text(f), "stretch stiffness", &Material::stretch, "stretch", f));
-    c.push_back({"soft", "very soft cloth: stretch and shear x0.1 of the base scene's",
-                 {"material.stretch", "material.shear"}, [](const Scene& base) {
+    c.push_back({"soft",
+                 "very soft cloth: stretch and shear x0.1 of the base scene's",
+                 {"material.stretch", "material.shear"},
+                 [](const Scene& base) {
                    Scene s = base;
                    s.material.stretch *= 0.1;
                    s.material.shear *= 0.1;
@@ -159,20 +172,20 @@ StabilityRun run_stability_rollout(const Scene& scene, const StabilityMethod& me
 
 const char* to_string(StabilityOutcome outcome) {
   switch (outcome) {
-    case StabilityOutcome::Finished: return "finished";
-    case StabilityOutcome::Diverged: return "diverged";
-    case StabilityOutcome::Error: return "error";
+    case StabilityOutcome::Finished:
+      return "finished";
+    case StabilityOutcome::Diverged:
+      return "diverged";
+    case StabilityOutcome::Error:
+      return "error";
   }
   return "error";
 }
 
-
-
 int count_unconverged_steps(const RolloutResult& rollout, const InnerSolveOptions& solve, std::string& statuses) {
   std::map<SolveStatus, int> counts;
   for (const StepRecord& s : rollout.steps) {
-    const bool normal = is_converged(s.status) ||
-                        (!solve.to_tolerance() && s.status == SolveStatus::IterationBudget);
+    const bool normal = is_converged(s.status) || (!solve.to_tolerance() && s.status == SolveStatus::IterationBudget);
     if (!normal) ++counts[s.status];
   }
   statuses.clear();
@@ -240,23 +253,30 @@ StabilityRow stability_row(const std::string& case_name, const StabilityMethod& 
         r.grid.cols == reference->rollout.grid.cols) {
       TrajectoryComparisonOptions options;
       options.chamfer_enabled = false;
-      const TrajectoryComparison c =
-          compare_trajectories(frames_of(reference->rollout), frames_of(r), -1.0, options);
+      const TrajectoryComparison c = compare_trajectories(frames_of(reference->rollout), frames_of(r), -1.0, options);
       if (std::isfinite(c.e3d)) row.e3d = c.e3d;
     }
   }
   return row;
 }
 
-
-
 // ---- Results ---------------------------------------------------------------------------------
 
 const std::vector<std::string>& stability_columns() {
-  static const std::vector<std::string> columns = {
-      "case",          "method",         "N",          "outcome",      "frames",           "diverged_step",
-      "max_strain_pct", "energy_growth",  "e_3d_x1e2",  "ms_per_frame", "iterations_per_frame",
-      "unconverged_steps", "unconverged_statuses", "reason"};
+  static const std::vector<std::string> columns = {"case",
+                                                   "method",
+                                                   "N",
+                                                   "outcome",
+                                                   "frames",
+                                                   "diverged_step",
+                                                   "max_strain_pct",
+                                                   "energy_growth",
+                                                   "e_3d_x1e2",
+                                                   "ms_per_frame",
+                                                   "iterations_per_frame",
+                                                   "unconverged_steps",
+                                                   "unconverged_statuses",
+                                                   "reason"};
   return columns;
 }
 
@@ -286,9 +306,9 @@ std::vector<std::string> stability_csv_row(const StabilityRow& r) {
 }
 
 StabilityRow stability_row_from_csv(const std::vector<std::string>& cells) {
-  require(cells.size() == stability_columns().size(), "stability.csv",
-          "a row has " + std::to_string(cells.size()) + " cells, expected " +
-              std::to_string(stability_columns().size()));
+  require(
+      cells.size() == stability_columns().size(), "stability.csv",
+      "a row has " + std::to_string(cells.size()) + " cells, expected " + std::to_string(stability_columns().size()));
   StabilityRow r;
   r.case_name = cells[0];
   r.method = cells[1];
@@ -299,11 +319,12 @@ StabilityRow stability_row_from_csv(const std::vector<std::string>& cells) {
     const auto end = std::min(open == std::string::npos ? cells[2].size() : open - 1, unit);
     (unit == std::string::npos ? r.solve.relative_tolerance : r.solve.acceleration_tolerance) =
         number_or_nan(cells[2].substr(4, end - 4));
-    if (open != std::string::npos) parse_int(cells[2].substr(open + 5, cells[2].size() - open - 6), r.solve.max_iterations);
+    if (open != std::string::npos)
+      parse_int(cells[2].substr(open + 5, cells[2].size() - open - 6), r.solve.max_iterations);
   } else {
     parse_int(cells[2], r.solve.max_iterations);
   }
-  r.outcome = cells[3] == "finished" ? StabilityOutcome::Finished
+  r.outcome = cells[3] == "finished"   ? StabilityOutcome::Finished
               : cells[3] == "diverged" ? StabilityOutcome::Diverged
                                        : StabilityOutcome::Error;
   const auto frames = split(cells[4], '/');
@@ -321,8 +342,8 @@ StabilityRow stability_row_from_csv(const std::vector<std::string>& cells) {
 }
 
 std::string stability_console_table(const std::vector<StabilityRow>& rows) {
-  const std::vector<std::string> header = {"case",     "method", "N",        "outcome",   "frames", "strain %",
-                                           "E growth", "e3D e2", "ms/frame", "unconverged"};
+  const std::vector<std::string> header = {"case",     "method",   "N",      "outcome",  "frames",
+                                           "strain %", "E growth", "e3D e2", "ms/frame", "unconverged"};
   std::vector<std::vector<std::string>> cells;
   for (const StabilityRow& r : rows) {
     std::string outcome = to_string(r.outcome);
@@ -427,8 +448,8 @@ PlotFigure stability_plot(const std::vector<StabilityRow>& rows, const std::vect
   };
   // Strain in percent, as on the console and in report.md.
   const std::vector<Metric> metrics = {
-      {"max edge strain (a rollout stops above 300 %)", "max edge strain [%] (100 (|e|/h - 1))", &StabilityRow::max_strain,
-       100.0},
+      {"max edge strain (a rollout stops above 300 %)", "max edge strain [%] (100 (|e|/h - 1))",
+       &StabilityRow::max_strain, 100.0},
       {"energy growth (1 = the Newton reference)", "energy growth", &StabilityRow::energy_growth, 1.0}};
   for (const Metric& metric : metrics) {
     PlotPanel panel;

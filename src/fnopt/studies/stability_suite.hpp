@@ -28,19 +28,19 @@
 #include <fnopt/io/rollout_file.hpp>
 #include <fnopt/io/svg_plot.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
-#include <fnopt/simulation/rollout.hpp>
 #include <fnopt/scenes/scene.hpp>
+#include <fnopt/simulation/rollout.hpp>
 
 namespace fnopt {
 
 // ---- The cases -------------------------------------------------------------------------------
 
 struct StabilityCase {
-  std::string name;                  // "stretch-x100"
-  std::string description;           // one line for reports
-  std::vector<std::string> fields;   // Scene fields it changes: "material.stretch", "material.shear",
-                                     // "material.bend", "speed", "dt", "handles", "rows", "cols",
-                                     // "frames"; empty for the baseline (the base scene itself)
+  std::string name;                          // "stretch-x100"
+  std::string description;                   // one line for reports
+  std::vector<std::string> fields;           // Scene fields it changes: "material.stretch", "material.shear",
+                                             // "material.bend", "speed", "dt", "handles", "rows", "cols",
+                                             // "frames"; empty for the baseline (the base scene itself)
   std::function<Scene(const Scene&)> apply;  // base scene -> the case's scene
 };
 
@@ -60,9 +60,9 @@ std::vector<StabilityCase> select_stability_cases(const std::string& list);
 using OptimizerFactory = std::function<std::unique_ptr<InnerOptimizer>(const std::string& method)>;
 
 struct StabilityMethod {
-  std::string method;        // the name the factory knows
-  InnerSolveOptions solve;   // budget (and tolerance) per time step
-  bool reference = false;    // the exact solver every case is measured against (Newton)
+  std::string method;       // the name the factory knows
+  InnerSolveOptions solve;  // budget (and tolerance) per time step
+  bool reference = false;   // the exact solver every case is measured against (Newton)
 };
 
 // One rollout of a scene, or the error that stopped it (an exception from the factory, the scene
@@ -83,17 +83,17 @@ const char* to_string(StabilityOutcome outcome);  // "finished", "diverged", "er
 
 struct StabilityRow {
   std::string case_name, method;
-  bool reference = false;        // StabilityMethod::reference (not in the CSV: set by the caller)
+  bool reference = false;  // StabilityMethod::reference (not in the CSV: set by the caller)
   InnerSolveOptions solve;
   StabilityOutcome outcome = StabilityOutcome::Error;
-  int frames_done = 0;           // steps finished before a divergence
+  int frames_done = 0;  // steps finished before a divergence
   int frames_requested = 0;
-  int diverged_step = 0;         // the step that diverged (1-based), 0 if none
-  std::string reason;            // RolloutResult::divergence or the error's message
-  double max_strain = NAN;       // largest edge strain over the finite steps
-  double energy_growth = NAN;    // see the top of this file; NaN without a reference
-  double e3d = NAN;              // e_3D against the case's Newton reference (raw, not x 10^2)
-  double ms_per_frame = NAN;     // ms_per_frame()
+  int diverged_step = 0;       // the step that diverged (1-based), 0 if none
+  std::string reason;          // RolloutResult::divergence or the error's message
+  double max_strain = NAN;     // largest edge strain over the finite steps
+  double energy_growth = NAN;  // see the top of this file; NaN without a reference
+  double e3d = NAN;            // e_3D against the case's Newton reference (raw, not x 10^2)
+  double ms_per_frame = NAN;   // ms_per_frame()
   double iterations_per_frame = NAN;
   int unconverged_steps = 0;         // see count_unconverged_steps
   std::string unconverged_statuses;  // "iteration-budget x2, line-search-failed x1", "" if none
@@ -111,7 +111,6 @@ StabilityRow stability_row(const std::string& case_name, const StabilityMethod& 
 int count_unconverged_steps(const RolloutResult& rollout, const InnerSolveOptions& solve, std::string& statuses);
 // (max E - E_min) / (max E_ref - E_min) as above; NaN if undefined.
 double energy_growth(const StabilityRun& run, const StabilityRun& reference);
-
 
 // ---- Results ---------------------------------------------------------------------------------
 

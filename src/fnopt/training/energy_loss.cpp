@@ -62,7 +62,8 @@ torch::Tensor EnergyLoss::forward(torch::autograd::AutogradContext* ctx, torch::
 
   auto add_gradient = [&](int e, double d_loss_d_value) {
     const Grid& grid = batch->envs[e]->grid();
-    gradient.narrow(0, k * e, k).copy_(to_model_layout(to_coordinate_samples(energy_gradient[e], grid, d_loss_d_value), k));
+    gradient.narrow(0, k * e, k)
+        .copy_(to_model_layout(to_coordinate_samples(energy_gradient[e], grid, d_loss_d_value), k));
   };
   double loss = 0.0;
   const int in_all = batch->environments_in_all > 0 ? batch->environments_in_all : count;

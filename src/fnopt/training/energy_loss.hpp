@@ -35,10 +35,10 @@ enum class LossNormalisation {
 
 struct EnergyLossBatch {
   std::vector<TrainingEnv*> envs;
-  std::vector<double> current_loss;  // L_e(a_e), the iterate before the update
+  std::vector<double> current_loss;    // L_e(a_e), the iterate before the update
   std::vector<VecX> current_gradient;  // masked gradient of L_e at a_e (for after_subspace_step)
-  std::vector<double> ratio;         // r_e, filled by the forward pass
-  int samples_per_environment = 3;   // the model's layout (learned_update.hpp)
+  std::vector<double> ratio;           // r_e, filled by the forward pass
+  int samples_per_environment = 3;     // the model's layout (learned_update.hpp)
   LossNormalisation normalisation = LossNormalisation::PerEnvironment;
   bool after_subspace_step = false;
   // Data-parallel training (meta_trainer.hpp): `envs` are this process's share of a batch of

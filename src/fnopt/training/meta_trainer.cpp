@@ -33,8 +33,8 @@ void TrainOptions::validate() const {
   require(clip_norm > 0.0, "train.clip_norm", "must be positive");
   require(newton_weight >= 0.0, "train.newton_weight", "must not be negative");
   require(average_decay >= 0.0 && average_decay < 1.0, "train.average_decay", "must lie in [0, 1)");
-  require(objective == TrainObjective::Energy || (pool.subspace == 0 && !score_after_subspace_step),
-          "train.objective", "the probe objective takes no subspace step (the pool follows Newton's solution)");
+  require(objective == TrainObjective::Energy || (pool.subspace == 0 && !score_after_subspace_step), "train.objective",
+          "the probe objective takes no subspace step (the pool follows Newton's solution)");
   probe.validate();
   require(objective == TrainObjective::Probe || probe.iterations == 1, "train.probe_iterations",
           "applies to the probe objective only");
@@ -47,9 +47,8 @@ void TrainOptions::validate() const {
 std::string TrainOptions::signature() const {
   std::ostringstream s;
   s << "res=" << pool.resolution << " envs=" << pool.environments << (model.in_channels() == 9 ? " combined" : "")
-    << " width=" << model.width()
-    << " layers=" << model.fourier_layers() << " modes=" << model.modes_x() << "x" << model.modes_y()
-    << " lifting=" << model.lifting_channels() << " projection=" << model.projection_channels()
+    << " width=" << model.width() << " layers=" << model.fourier_layers() << " modes=" << model.modes_x() << "x"
+    << model.modes_y() << " lifting=" << model.lifting_channels() << " projection=" << model.projection_channels()
     << " batch=" << batch << " lr=" << learning_rate << " newton_weight=" << newton_weight << " seed=" << seed;
   if (loss_normalisation == LossNormalisation::Batch) s << " loss=batch";
   if (objective == TrainObjective::Probe) s << " objective=probe";
@@ -73,14 +72,14 @@ MetaTrainer::MetaTrainer(const TrainOptions& options, const std::string& checkpo
                 given.modes_x() == options_.model.modes_x() && given.modes_y() == options_.model.modes_y() &&
                 given.lifting_channels() == options_.model.lifting_channels() &&
                 given.projection_channels() == options_.model.projection_channels(),
-            options_.initial_model, "not the shape of the model to train (width, layers, modes, lifting, projection, layout)");
+            options_.initial_model,
+            "not the shape of the model to train (width, layers, modes, lifting, projection, layout)");
     torch::NoGradGuard no_grad;
     const auto from = initial->named_parameters();
     for (auto& p : model_->named_parameters()) p.value().copy_(from[p.key()]);
   }
   adam_ = std::make_unique<torch::optim::AdamW>(
-      model_->parameters(),
-      torch::optim::AdamWOptions(options_.learning_rate).weight_decay(options_.weight_decay));
+      model_->parameters(), torch::optim::AdamWOptions(options_.learning_rate).weight_decay(options_.weight_decay));
   if (options_.average_decay > 0.0) average_.emplace(model_);
   if (!checkpoint.empty()) {
     restore(checkpoint);
@@ -240,7 +239,8 @@ void MetaTrainer::probe_step(const std::vector<int>& order, TrainStepStats& stat
   for (std::size_t i = 0; i < order.size(); ++i) {
     const ProbeLoss& probe = *losses[i];
     if (!probe.defined()) continue;
-    const torch::Tensor delta = gate_coordinates(to_coordinate_layout(proposal.delta.narrow(0, k * i, k)), gradients[i]);
+    const torch::Tensor delta =
+        gate_coordinates(to_coordinate_layout(proposal.delta.narrow(0, k * i, k)), gradients[i]);
     const torch::Tensor r = probe.remaining(probe.free_dofs(delta));
     const double value = r.item<double>();
     if (!std::isfinite(value)) continue;
@@ -355,8 +355,7 @@ void MetaTrainer::restore(const std::string& path) {
       continue;
     }
     std::vector<torch::Tensor> tensors(TrainingEnv::kStateTensors);
-    for (std::size_t k = 0; k < tensors.size(); ++k)
-      archive.read(environment_key(e, static_cast<int>(k)), tensors[k]);
+    for (std::size_t k = 0; k < tensors.size(); ++k) archive.read(environment_key(e, static_cast<int>(k)), tensors[k]);
     // The kept proposals and their gradient differences, if the run that saved it had any. A
     // fresh tensor for each: try_read overwrites a defined tensor in place.
     for (const int k : {TrainingEnv::kStateTensors, TrainingEnv::kStateTensors + 1}) {

@@ -51,12 +51,12 @@ struct TrainOptions {
   std::string initial_model;
   PoolOptions pool;
   FNO2dOptions model = FNO2dOptions().width(32).lifting_channels(64).projection_channels(32);
-  int steps = 20000;              // training steps in all
-  int batch = 8;                  // environments per step (3 FNO samples each)
-  double learning_rate = 1e-3;    // AdamW
+  int steps = 20000;            // training steps in all
+  int batch = 8;                // environments per step (3 FNO samples each)
+  double learning_rate = 1e-3;  // AdamW
   double weight_decay = 1e-4;
-  int decay_every = 4000;         // the learning rate halves every this many steps
-  double clip_norm = 1.0;         // gradient-norm clipping
+  int decay_every = 4000;  // the learning rate halves every this many steps
+  double clip_norm = 1.0;  // gradient-norm clipping
   // Weight of the auxiliary loss toward the Newton correction: mean over environments of
   // ||delta - delta*||^2 / ||delta*||^2, delta* = a* - a in grid units. The teacher is the
   // energy's own exact minimiser (no data); it gives every vertex a target where the energy
@@ -82,13 +82,13 @@ struct TrainOptions {
 
 struct TrainStepStats {
   double loss = 0.0;
-  double newton_loss = 0.0;      // the auxiliary term, unweighted
-  double mean_ratio = 0.0;       // mean r_e (remaining error fraction after the update; Probe: R)
+  double newton_loss = 0.0;          // the auxiliary term, unweighted
+  double mean_ratio = 0.0;           // mean r_e (remaining error fraction after the update; Probe: R)
   double ratio_without_probe = NAN;  // Probe: mean R0, pqn's iterations without the probe
-  double gradient_norm = 0.0;    // before clipping
+  double gradient_norm = 0.0;        // before clipping
   double learning_rate = 0.0;
-  int renewed = 0;               // environments replaced after a non-finite update
-  bool skipped = false;          // non-finite loss or gradient: no parameter update
+  int renewed = 0;       // environments replaced after a non-finite update
+  bool skipped = false;  // non-finite loss or gradient: no parameter update
 };
 
 class MetaTrainer {

@@ -27,7 +27,8 @@ torch::Tensor to_tensor(const VecX& v) {
 }
 
 struct SymmetricJacobianFunction : torch::autograd::Function<SymmetricJacobianFunction> {
-  static torch::Tensor forward(torch::autograd::AutogradContext* ctx, torch::Tensor x, const SymmetricJacobianMap* map) {
+  static torch::Tensor forward(torch::autograd::AutogradContext* ctx, torch::Tensor x,
+                               const SymmetricJacobianMap* map) {
     ctx->saved_data["map"] = reinterpret_cast<int64_t>(map);
     ctx->save_for_backward({x});
     VecX out;
@@ -91,8 +92,8 @@ ProbeLoss::ProbeLoss(const StepProblem& problem, const VecX& a, const VecX& grad
                 .expanded();
   require(matrix_factor_.factorize_matrix(matrix_), "probe loss", "pqn's matrix is not positive definite");
   maps_->matrix = linear_map([this](VecX& v) { multiply(matrix_, v); });
-  maps_->matrix_inverse = linear_map(
-      [this](VecX& v) { matrix_factor_.solve_in_place(v.data(), static_cast<int>(v.size()), 1); });
+  maps_->matrix_inverse =
+      linear_map([this](VecX& v) { matrix_factor_.solve_in_place(v.data(), static_cast<int>(v.size()), 1); });
 
   if (quadratic) {
     hessian_ = problem_.objective().hessian(a, free_index, /*project=*/true);
@@ -217,8 +218,11 @@ torch::Tensor ProbeLoss::surface_after_pqn(const torch::Tensor& probe) const {
 }
 
 torch::Tensor ProbeLoss::free_dofs(const torch::Tensor& coordinate_samples) const {
-  return coordinate_samples.squeeze(1).permute({1, 2, 0}).reshape({-1}).to(torch::kFloat64).index_select(
-      0, free_dof_index_);
+  return coordinate_samples.squeeze(1)
+      .permute({1, 2, 0})
+      .reshape({-1})
+      .to(torch::kFloat64)
+      .index_select(0, free_dof_index_);
 }
 
 }  // namespace fnopt

@@ -83,10 +83,10 @@ class ProbeLoss {
   ProbeLossOptions options_;
   std::unique_ptr<Maps> maps_;
   VecX a_, gradient_;
-  std::vector<Eigen::Index> free_dofs_;  // free dof k -> its index among the 3 R C dofs
-  Eigen::SparseMatrix<double> hessian_, matrix_;  // H (quadratic model) and A on the free dofs
-  mutable SparseCholesky matrix_factor_;  // A's (A^-1 in the graph)
-  torch::Tensor free_dof_index_;  // free_dofs_ as a tensor
+  std::vector<Eigen::Index> free_dofs_;                            // free dof k -> its index among the 3 R C dofs
+  Eigen::SparseMatrix<double> hessian_, matrix_;                   // H (quadratic model) and A on the free dofs
+  mutable SparseCholesky matrix_factor_;                           // A's (A^-1 in the graph)
+  torch::Tensor free_dof_index_;                                   // free_dofs_ as a tensor
   double start_value_ = 0.0, best_value_ = 0.0, start_gap_ = 0.0;  // f(0), f*, f(0) - f*
   double remaining_without_probe_ = 0.0;
 };

@@ -8,8 +8,8 @@
 #include <filesystem>
 
 #include <fnopt/baselines/newton.hpp>
-#include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/learned/learned_optimizer.hpp>
+#include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/scenes/scene_checks.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/version.hpp>

@@ -11,8 +11,8 @@
 #include <fnopt/fno/fno2d.hpp>
 #include <fnopt/io/rollout_file.hpp>
 #include <fnopt/learned/proposal_rule.hpp>
-#include <fnopt/simulation/rollout.hpp>
 #include <fnopt/scenes/scene.hpp>
+#include <fnopt/simulation/rollout.hpp>
 
 namespace fnopt {
 
@@ -40,7 +40,7 @@ struct ValidationScore {
   double e3d = std::numeric_limits<double>::infinity();
   double max_strain = 0.0;  // over all the rollouts
   bool diverged = false;
-  std::string divergence;   // "<motion>: why and when", empty if none diverged
+  std::string divergence;  // "<motion>: why and when", empty if none diverged
 };
 
 class RolloutValidation {

@@ -42,10 +42,11 @@ NewtonParams reference_newton() {
 }  // namespace
 
 void TrainingRanges::set(const std::string& quantity, double min, double max) {
-  const std::pair<const char*, std::pair<double*, double*>> fields[] = {
-      {"stretch", {&stretch_min, &stretch_max}}, {"shear", {&shear_min, &shear_max}},
-      {"bend", {&bend_min, &bend_max}},          {"gravity", {&gravity_min, &gravity_max}},
-      {"damping", {&damping_min, &damping_max}}};
+  const std::pair<const char*, std::pair<double*, double*>> fields[] = {{"stretch", {&stretch_min, &stretch_max}},
+                                                                        {"shear", {&shear_min, &shear_max}},
+                                                                        {"bend", {&bend_min, &bend_max}},
+                                                                        {"gravity", {&gravity_min, &gravity_max}},
+                                                                        {"damping", {&damping_min, &damping_max}}};
   for (const auto& [name, range] : fields)
     if (quantity == name) {
       *range.first = min;
@@ -98,7 +99,12 @@ TrainingEnv::TrainingEnv(const PoolOptions& options, std::uint64_t seed, int id,
 }
 
 TrainingEnv::TrainingEnv(const PoolOptions& options, std::uint64_t seed, int id, Unbuilt)
-    : options_(options), seed_(seed), id_(id), generation_(0), newton_(reference_newton()), rule_(pool_rule(options.subspace)) {}
+    : options_(options),
+      seed_(seed),
+      id_(id),
+      generation_(0),
+      newton_(reference_newton()),
+      rule_(pool_rule(options.subspace)) {}
 
 std::unique_ptr<TrainingEnv> TrainingEnv::restored(const PoolOptions& options, std::uint64_t seed, int id,
                                                    const std::vector<torch::Tensor>& tensors) {
@@ -124,7 +130,8 @@ void TrainingEnv::generate() {
 
   // A random rigid pose of the flat rest grid.
   const Eigen::Matrix3d R =
-      Eigen::AngleAxisd(std::uniform_real_distribution<double>(0, 2 * M_PI)(rng_), random_unit(rng_)).toRotationMatrix();
+      Eigen::AngleAxisd(std::uniform_real_distribution<double>(0, 2 * M_PI)(rng_), random_unit(rng_))
+          .toRotationMatrix();
   x_ = grid_.rest_positions();
   for (int k = 0; k < grid_.vertex_count(); ++k) vertex(x_, k) = R * vertex(x_, k);
   v_ = VecX::Zero(grid_.dof_count());
@@ -145,7 +152,8 @@ void TrainingEnv::generate() {
   // Smooth motion: a sinusoidal translation (speeds up to ~3 m/s) and a turn about the
   // gravity axis through handle 0; one environment in five keeps its handles still.
   const bool still = std::uniform_real_distribution<double>(0, 1)(rng_) < 0.2;
-  amplitude_ = still ? Vec3(Vec3::Zero()) : Vec3(std::uniform_real_distribution<double>(0.0, 0.5)(rng_) * random_unit(rng_));
+  amplitude_ =
+      still ? Vec3(Vec3::Zero()) : Vec3(std::uniform_real_distribution<double>(0.0, 0.5)(rng_) * random_unit(rng_));
   frequency_ = std::uniform_real_distribution<double>(1.0, 6.0)(rng_);
   phase_ = std::uniform_real_distribution<double>(0, 2 * M_PI)(rng_);
   turn_amplitude_ = still ? 0.0 : std::uniform_real_distribution<double>(0.0, M_PI / 2)(rng_);
@@ -185,7 +193,8 @@ void TrainingEnv::begin_step() {
   // The budget depends on (seed, id, generation, age) only, so a restored environment draws
   // the same budgets as the original.
   std::mt19937_64 draw(seed_ + 1000003ull * static_cast<std::uint64_t>(id_) +
-                       7919ull * static_cast<std::uint64_t>(generation_) + 104729ull * static_cast<std::uint64_t>(age_));
+                       7919ull * static_cast<std::uint64_t>(generation_) +
+                       104729ull * static_cast<std::uint64_t>(age_));
   budget_ = options_.budgets[draw() % options_.budgets.size()];
   used_ = 0;
   previous_gradient = torch::zeros({3, 1, grid_.rows, grid_.cols});
@@ -219,7 +228,9 @@ void TrainingEnv::renew() {
 }
 
 std::vector<torch::Tensor> TrainingEnv::state_tensors() const {
-  auto vec = [](const VecX& v) { return torch::from_blob(const_cast<double*>(v.data()), {v.size()}, torch::kFloat64).clone(); };
+  auto vec = [](const VecX& v) {
+    return torch::from_blob(const_cast<double*>(v.data()), {v.size()}, torch::kFloat64).clone();
+  };
   const auto scalars = torch::tensor({t_, static_cast<double>(age_), static_cast<double>(budget_),
                                       static_cast<double>(used_), static_cast<double>(generation_)},
                                      torch::kFloat64);

@@ -46,8 +46,8 @@ struct TrainingRanges {
 struct PoolOptions {
   int resolution = 32;
   int environments = 64;
-  int max_age = 240;                   // time steps before an environment is renewed
-  double divergence_strain = 1.0;      // renew when an edge stretches beyond 2x its rest length
+  int max_age = 240;               // time steps before an environment is renewed
+  double divergence_strain = 1.0;  // renew when an edge stretches beyond 2x its rest length
   std::vector<int> budgets{1, 3, 10, 30};
   TrainingRanges ranges;
   // How an environment takes the learned proposals (proposal_rule.hpp): 0, as they are (the
@@ -74,9 +74,9 @@ class TrainingEnv {
 
   // Current iterate of this time step, and its loss bookkeeping.
   VecX& acceleration() { return a_; }
-  double reference_loss() const { return reference_loss_; }  // L* (Newton)
+  double reference_loss() const { return reference_loss_; }                       // L* (Newton)
   const VecX& reference_acceleration() const { return reference_acceleration_; }  // a* (Newton)
-  double initial_loss() const { return initial_loss_; }      // L(a_0)
+  double initial_loss() const { return initial_loss_; }                           // L(a_0)
   int budget() const { return budget_; }
   int used() const { return used_; }
 
@@ -104,8 +104,8 @@ class TrainingEnv {
   TrainingEnv(const PoolOptions& options, std::uint64_t seed, int id, Unbuilt);
   void restore(const std::vector<torch::Tensor>& tensors);
 
-  void generate();     // material, pose, handles, motion from (seed, id, generation)
-  void begin_step();   // handle targets, a_0, Newton reference, budget
+  void generate();    // material, pose, handles, motion from (seed, id, generation)
+  void begin_step();  // handle targets, a_0, Newton reference, budget
   Vec3 handle_target(int h, double t) const;
 
   PoolOptions options_;

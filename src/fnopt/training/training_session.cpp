@@ -134,8 +134,8 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
   if (root && options.validation && (!resuming || !std::filesystem::exists(validation_log_path)))
     std::ofstream(validation_log_path) << kValidationHeader << '\n';
   if (root) {
-    std::fprintf(stderr, "fnopt train: %s, %d thread%s%s, writing %s\n", options.train.signature().c_str(), options.threads,
-                 options.threads == 1 ? "" : "s",
+    std::fprintf(stderr, "fnopt train: %s, %d thread%s%s, writing %s\n", options.train.signature().c_str(),
+                 options.threads, options.threads == 1 ? "" : "s",
                  processes.size() > 1 ? (" in each of " + std::to_string(processes.size()) + " processes").c_str() : "",
                  options.out.c_str());
     std::fprintf(stderr, "fnopt train: pool ranges (grid units, damping as c dt): %s\n",
@@ -154,9 +154,9 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
                                  : ("as fnopt-ss does: subspace step over the last " + std::to_string(subspace) +
                                     " proposals, carried across time steps, and the energy safeguard")
                                        .c_str());
-      std::fprintf(stderr, "fnopt train: the loss scores each update %s\n",
-                   options.train.score_after_subspace_step ? "where the rule ends, past the subspace step"
-                                                           : "at the proposal");
+      std::fprintf(
+          stderr, "fnopt train: the loss scores each update %s\n",
+          options.train.score_after_subspace_step ? "where the rule ends, past the subspace step" : "at the proposal");
     }
     if (!options.train.initial_model.empty() && !resuming)
       std::fprintf(stderr, "fnopt train: starting from the weights of %s\n", options.train.initial_model.c_str());
@@ -165,7 +165,8 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
   if (root && options.validation) {
     const ValidationOptions& v = settings;
     std::fprintf(stderr, "fnopt train: validation every %d steps: %s N=%d, %d frames of %s at %dx%d against Newton\n",
-                 options.validate_every, v.optimizer().c_str(), v.iterations, v.frames, validation_key(v)[1].c_str(), v.resolution, v.resolution);
+                 options.validate_every, v.optimizer().c_str(), v.iterations, v.frames, validation_key(v)[1].c_str(),
+                 v.resolution, v.resolution);
     std::optional<ProgressBar> reference_bar;  // only if a reference is solved
     validation = std::make_unique<RolloutValidation>(v, options.out, [&](int done, int total, const StepRecord&) {
       if (!reference_bar) reference_bar.emplace("validation references", total);
@@ -196,7 +197,8 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
     row << step << ',' << seconds_before + elapsed() << ',';
     for (const std::string& field : validation_key(settings)) row << field << ',';
     // e_3D at round-trip precision: a resumed run compares later scores with this text.
-    row << std::setprecision(17) << score.e3d << std::setprecision(6) << ',' << score.max_strain << ',' << (score.diverged ? "yes" : "no") << '\n';
+    row << std::setprecision(17) << score.e3d << std::setprecision(6) << ',' << score.max_strain << ','
+        << (score.diverged ? "yes" : "no") << '\n';
     if (score.e3d < best.e3d) {
       best = {score.e3d, step};
       save_fno(best_model_path, trainer.output_model());
@@ -227,8 +229,8 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
       if (std::isfinite(s.ratio_without_probe)) log << s.ratio_without_probe;
       log << '\n';
       char status[128];
-      int written = std::snprintf(status, sizeof status, "loss %.4f ratio %.4f lr %.1e", running_loss,
-                                  running_ratio, s.learning_rate);
+      int written = std::snprintf(status, sizeof status, "loss %.4f ratio %.4f lr %.1e", running_loss, running_ratio,
+                                  s.learning_rate);
       if (std::isfinite(running_baseline))
         written += std::snprintf(status + written, sizeof status - written, " (pqn alone %.4f)", running_baseline);
       if (best.step >= 0)

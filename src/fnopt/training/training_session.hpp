@@ -16,26 +16,26 @@
 namespace fnopt {
 
 struct TrainingSessionOptions {
-  TrainOptions train;              // validated by the caller (its errors name flags)
-  std::string out;                 // the output folder: model.pt, checkpoint.pt, train_log.csv
-  int checkpoint_every = 100;      // steps between checkpoints
-  double minutes = 0.0;            // stop with a checkpoint after this long; 0: no limit
-  bool resume = false;             // continue OUT/checkpoint.pt
+  TrainOptions train;                           // validated by the caller (its errors name flags)
+  std::string out;                              // the output folder: model.pt, checkpoint.pt, train_log.csv
+  int checkpoint_every = 100;                   // steps between checkpoints
+  double minutes = 0.0;                         // stop with a checkpoint after this long; 0: no limit
+  bool resume = false;                          // continue OUT/checkpoint.pt
   std::optional<ValidationOptions> validation;  // validate every validate_every steps
   int validate_every = 500;
-  bool keep_validated = false;     // also keep every validated model as OUT/validated/model-STEP.pt
-  int threads = 1;                 // in effect, for the banner
+  bool keep_validated = false;  // also keep every validated model as OUT/validated/model-STEP.pt
+  int threads = 1;              // in effect, for the banner
 
   // Throws Error("<field>", ...) naming the flag (minutes, checkpoint-every, validate-every).
   void validate() const;
 };
 
 struct TrainingSessionResult {
-  int steps = 0;              // completed, the resumed ones included
-  double seconds = 0.0;       // training time, the resumed run's included
-  bool out_of_time = false;   // stopped by the time limit (--resume continues)
-  int best_step = -1;         // the best validated step, -1 if none
-  double best_e3d = 0.0;      // its e_3D x 10^2
+  int steps = 0;                   // completed, the resumed ones included
+  double seconds = 0.0;            // training time, the resumed run's included
+  bool out_of_time = false;        // stopped by the time limit (--resume continues)
+  int best_step = -1;              // the best validated step, -1 if none
+  double best_e3d = 0.0;           // its e_3D x 10^2
   std::string validation_motions;  // the validation scenes' motions, "xyz_v3+rot_h0"
   std::string model_path, log_path, best_model_path, validation_log_path;
 };

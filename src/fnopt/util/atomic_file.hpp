@@ -1,11 +1,11 @@
 #pragma once
 // Output files are written under a temporary name and renamed into place, so a crash or a kill
 // never leaves a half-written file under the final name.
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <system_error>
-#include <unistd.h>
 
 #include <fnopt/util/error.hpp>
 

@@ -26,8 +26,7 @@ inline std::string_view trim(std::string_view text) {
 inline std::vector<std::string_view> split(std::string_view text, char separator) {
   std::vector<std::string_view> pieces;
   std::size_t start = 0;
-  for (std::size_t at = text.find(separator); at != std::string_view::npos;
-       at = text.find(separator, start)) {
+  for (std::size_t at = text.find(separator); at != std::string_view::npos; at = text.find(separator, start)) {
     pieces.push_back(text.substr(start, at - start));
     start = at + 1;
   }

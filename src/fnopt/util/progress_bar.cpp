@@ -9,14 +9,20 @@ namespace fnopt {
 std::string format_duration(double seconds) {
   const long s = static_cast<long>(seconds + 0.5);
   char text[32];
-  if (s >= 3600) std::snprintf(text, sizeof text, "%ldh%02ldm", s / 3600, (s % 3600) / 60);
-  else if (s >= 60) std::snprintf(text, sizeof text, "%ldm%02lds", s / 60, s % 60);
-  else std::snprintf(text, sizeof text, "%lds", s);
+  if (s >= 3600)
+    std::snprintf(text, sizeof text, "%ldh%02ldm", s / 3600, (s % 3600) / 60);
+  else if (s >= 60)
+    std::snprintf(text, sizeof text, "%ldm%02lds", s / 60, s % 60);
+  else
+    std::snprintf(text, sizeof text, "%lds", s);
   return text;
 }
 
 ProgressBar::ProgressBar(std::string label, int total, int first)
-    : label_(std::move(label)), total_(total), first_(first), terminal_(::isatty(STDERR_FILENO)),
+    : label_(std::move(label)),
+      total_(total),
+      first_(first),
+      terminal_(::isatty(STDERR_FILENO)),
       start_(std::chrono::steady_clock::now()) {}
 
 void ProgressBar::update(int done, const std::string& status) {

@@ -67,7 +67,8 @@ CompareDirectory read_compare_directory(const std::string& path) {
     const std::string label = row[column("resolution")] + "_" + row[column("motion")];
     const bool numeric_budget =
         !budget.empty() && std::all_of(budget.begin(), budget.end(), [](unsigned char c) { return std::isdigit(c); });
-    const fs::path rollout = directory / ("rollout_" + method + (numeric_budget ? "_" + budget : "") + "_" + label + ".h5");
+    const fs::path rollout =
+        directory / ("rollout_" + method + (numeric_budget ? "_" + budget : "") + "_" + label + ".h5");
     if (fs::is_regular_file(rollout)) {
       run.rollout = rollout.string();
       run.reference = reference_of(directory, label, rollout);
@@ -82,7 +83,8 @@ std::string compare_directory_json(const CompareDirectory& directory) {
     return file.empty() ? std::string("null") : json_string(fs::path(file).filename().string());
   };
   std::string columns = "[";
-  for (std::size_t k = 0; k < directory.columns.size(); ++k) columns += (k ? "," : "") + json_string(directory.columns[k]);
+  for (std::size_t k = 0; k < directory.columns.size(); ++k)
+    columns += (k ? "," : "") + json_string(directory.columns[k]);
   std::string rows = "[";
   for (std::size_t r = 0; r < directory.runs.size(); ++r) {
     const CompareRun& run = directory.runs[r];

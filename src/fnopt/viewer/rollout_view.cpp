@@ -85,7 +85,8 @@ RolloutView load_rollout_view(const std::string& path, const std::string& refere
   // Rest lengths from rest_positions where the file has them (both layouts do), else frame 0.
   std::vector<float> rest;
   if (file.has("rest_positions")) rest = file.read_floats("rest_positions");
-  if (rest.size() != static_cast<std::size_t>(3 * N)) rest.assign(view.positions.begin(), view.positions.begin() + 3 * N);
+  if (rest.size() != static_cast<std::size_t>(3 * N))
+    rest.assign(view.positions.begin(), view.positions.begin() + 3 * N);
   view.strain = vertex_strain(frames, rest);
 
   if (!reference_path.empty()) {

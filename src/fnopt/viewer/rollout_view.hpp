@@ -14,17 +14,17 @@ struct RolloutView {
   std::string optimizer;   // an fnopt rollout's optimizer settings, "" otherwise
   std::string divergence;  // why it diverged, "" if it did not
   int rows = 0, cols = 0;
-  std::vector<double> times;             // [T], s
-  std::vector<float> positions;          // [T, R*C, 3], m
-  std::vector<int> faces;                // [F, 3] vertex indices
+  std::vector<double> times;     // [T], s
+  std::vector<float> positions;  // [T, R*C, 3], m
+  std::vector<int> faces;        // [F, 3] vertex indices
   int handle_count = 0;
-  std::vector<float> handle_positions;   // [T, H, 3] prescribed targets, m
+  std::vector<float> handle_positions;  // [T, H, 3] prescribed targets, m
   // The per-step datasets present (step_max_strain, step_energy, step_iterations, step_wall_ms
   // of fnopt rollouts; none in ARCSim files), each [T-1], step k ending at times[k+1].
   std::vector<std::pair<std::string, std::vector<double>>> series;
-  std::vector<float> strain;             // [T, R*C] (vertex_scalars.hpp)
-  std::string reference_name;            // "" without a reference
-  std::vector<float> distance;           // [T, R*C], m; empty without a reference
+  std::vector<float> strain;    // [T, R*C] (vertex_scalars.hpp)
+  std::string reference_name;   // "" without a reference
+  std::vector<float> distance;  // [T, R*C], m; empty without a reference
 
   int frames() const { return static_cast<int>(times.size()); }
   int vertices() const { return rows * cols; }

@@ -51,8 +51,8 @@ std::vector<float> vertex_distance(const TrajectoryFrames& frames, const Traject
   for (std::size_t t = 0; t < frames.positions.size(); ++t) {
     const double time = frames.times[t];
     if (time < rt.front() - slack || time > rt.back() + slack) continue;
-    const std::size_t after = std::min<std::size_t>(
-        std::lower_bound(rt.begin(), rt.end(), time) - rt.begin(), rt.size() - 1);
+    const std::size_t after =
+        std::min<std::size_t>(std::lower_bound(rt.begin(), rt.end(), time) - rt.begin(), rt.size() - 1);
     const std::size_t before = after > 0 ? after - 1 : 0;
     const double span = rt[after] - rt[before];
     const float w = span > 0 ? static_cast<float>(std::clamp((time - rt[before]) / span, 0.0, 1.0)) : 1.0f;

@@ -156,11 +156,12 @@ int ViewerServer::listen_on(const std::string& host, int port) {
     const int yes = 1;
     setsockopt(socket, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
   });
-  const int bound = port == 0 ? state_->server.bind_to_any_port(host)
-                              : (state_->server.bind_to_port(host, port) ? port : -1);
-  require(bound > 0, "port", "cannot listen on " + host + ":" + std::to_string(port) +
-                                 " (the port is in use, or the host is not an address of this machine); "
-                                 "--port and --host choose others");
+  const int bound =
+      port == 0 ? state_->server.bind_to_any_port(host) : (state_->server.bind_to_port(host, port) ? port : -1);
+  require(bound > 0, "port",
+          "cannot listen on " + host + ":" + std::to_string(port) +
+              " (the port is in use, or the host is not an address of this machine); "
+              "--port and --host choose others");
   return bound;
 }
 

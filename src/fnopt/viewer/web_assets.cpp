@@ -12,7 +12,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // Our page, every file by name: nothing else under the directory is served.
-const char* const kPageFiles[] = {"index.html", "viewer.css", "viewer.js",     "rollout_player.js",
+const char* const kPageFiles[] = {"index.html",       "viewer.css",      "viewer.js",    "rollout_player.js",
                                   "compare_chart.js", "series_plots.js", "colour_map.js"};
 
 // Debian's libjs-three. The URLs keep the package's layout, so that OrbitControls' own import
