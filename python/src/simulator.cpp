@@ -1,5 +1,7 @@
 // fnopt.Simulator: a rollout one step at a time (simulation/simulator.hpp) with NumPy arrays in
 // and out, for closed-loop control and for optimizers written in Python.
+#include <pybind11/stl.h>
+
 #include <fnopt/scenes/scene.hpp>
 #include <fnopt/simulation/simulator.hpp>
 #include <fnopt/util/error.hpp>
@@ -78,9 +80,10 @@ class PySimulator {
     return StepProblemView(problem, start, alive_);
   }
 
-  void set_state(const py::handle& x, const py::handle& v) {
+  void set_state(const py::handle& x, const py::handle& v, std::optional<int> steps) {
     end_problem();
-    simulator_->set_state(grid_vector(x, rows(), cols(), "positions"), grid_vector(v, rows(), cols(), "velocities"));
+    simulator_->set_state(grid_vector(x, rows(), cols(), "positions"), grid_vector(v, rows(), cols(), "velocities"),
+                          steps);
   }
 
   py::array_t<double> positions() const { return grid_array(simulator_->positions(), rows(), cols()); }
@@ -154,7 +157,9 @@ optimizer of one's own instead of the built-in one (its handle entries are ignor
           "hessian",
           [](PySimulator& s, const py::handle& a, bool project) { return s.problem(py::none()).hessian(a, project); },
           py::arg("a"), py::arg("project") = false, "hess L(a) of the next step (SciPy sparse)")
-      .def("set_state", &PySimulator::set_state, py::arg("positions"), py::arg("velocities"))
+      .def("set_state", &PySimulator::set_state, py::arg("positions"), py::arg("velocities"),
+           py::arg("steps") = py::none(),
+           "Sets the state; `steps`: the steps done, so that time = steps * dt (default: unchanged)")
       .def_property_readonly("positions", &PySimulator::positions)
       .def_property_readonly("velocities", &PySimulator::velocities)
       .def_property_readonly("time", [](const PySimulator& s) { return s.simulator().time(); })

@@ -83,6 +83,19 @@ TEST(Simulator, ADivergenceStopsItWithItsReasonAndAFiniteStateRestartsIt) {
   simulator.set_state(before, VecX::Zero(before.size()));
   simulator.step();
   EXPECT_FALSE(simulator.diverged());
+  EXPECT_THROW(simulator.set_state(before, VecX::Zero(before.size()), -1), Error);
+}
+
+TEST(Simulator, AStateSetWithItsStepsContinuesTheRollout) {
+  const ResolvedScene scene = small_scene();
+  PqnOptimizer pqn_a, pqn_b;
+  Simulator whole(scene, pqn_a, pqn_options()), resumed(scene, pqn_b, pqn_options());
+  for (int t = 0; t < 5; ++t) whole.step();
+  resumed.set_state(whole.positions(), whole.velocities(), 5);
+  EXPECT_EQ(resumed.time(), whole.time());
+  whole.step();
+  resumed.step();  // the handles at step 6's targets, as in the whole rollout
+  EXPECT_TRUE((resumed.positions().array() == whole.positions().array()).all());
 }
 
 }  // namespace

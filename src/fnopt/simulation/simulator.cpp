@@ -126,12 +126,17 @@ StepRecord Simulator::finish(const VecX& a, const InnerSolveResult& solve, doubl
   return record;
 }
 
-void Simulator::set_state(const VecX& positions, const VecX& velocities) {
+void Simulator::set_state(const VecX& positions, const VecX& velocities, std::optional<int> steps) {
   require(positions.size() == x_.size() && velocities.size() == v_.size(), "state",
           "expected " + std::to_string(x_.size()) + " positions and velocities (3 per vertex)");
   require(positions.allFinite() && velocities.allFinite(), "state", "positions and velocities must be finite");
+  require(!steps || *steps >= 0, "state", "steps done must be zero or more");
   x_ = positions;
   v_ = velocities;
+  if (steps) {
+    steps_ = *steps;
+    time_ = steps_ * scene_.scene.dt;
+  }
   divergence_.clear();
 }
 

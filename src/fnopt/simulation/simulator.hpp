@@ -4,6 +4,7 @@
 // or, for closed-loop control, positions given per step. run_rollout (rollout.hpp) is this loop
 // over the scene's frames; a Simulator driven by step() reproduces it bit for bit.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,8 +47,10 @@ class Simulator {
 
   const VecX& positions() const { return x_; }
   const VecX& velocities() const { return v_; }
-  // Positions and velocities; throws Error("state", "...") for wrong sizes or non-finite values.
-  void set_state(const VecX& positions, const VecX& velocities);
+  // Positions and velocities, and optionally the steps done (time = steps dt, where the
+  // trajectory's handles are read next); throws Error("state", ...) for wrong sizes, non-finite
+  // values or negative steps.
+  void set_state(const VecX& positions, const VecX& velocities, std::optional<int> steps = std::nullopt);
   double time() const { return time_; }
   int steps_done() const { return steps_; }
   // Whether a step ended non-finite or past the divergence strain (and why); the state is then

@@ -1,0 +1,21 @@
+"""The Python examples (python/examples) run, and what they print holds together."""
+import csv
+import io
+import pathlib
+import subprocess
+import sys
+
+EXAMPLES = pathlib.Path(__file__).resolve().parents[1] / "examples"
+
+
+def test_step_error_spectrum_splits_the_error_into_bands_that_add_up():
+    run = subprocess.run([sys.executable, str(EXAMPLES / "step_error_spectrum.py"), "--res", "12", "--states", "3,5",
+                          "--methods", "pqn,lbfgs", "--iters", "3", "--modes", "2"],
+                         capture_output=True, text=True, check=True)
+    rows = list(csv.DictReader(io.StringIO(run.stdout)))
+    assert len(rows) == 2 * 2 * 3  # methods x states x bands
+    for key in {(r["method"], r["state"]) for r in rows}:
+        bands = [r for r in rows if (r["method"], r["state"]) == key]
+        assert 0.0 < float(bands[0]["step_error"]) < 1.0
+        # The bands split |e|^2 (an orthonormal DCT; the handles' entries are zero before and after).
+        assert abs(sum(float(b["l2_share"]) for b in bands) - 1.0) < 0.02
