@@ -278,6 +278,10 @@ void run_compare_study(const CompareStudy& study, const Communicator& comm) {
   };
   const std::vector<int> reference_rank = schedule_largest_first(costs_of(reference_tasks), comm.size());
   const std::vector<int> run_rank = schedule_largest_first(costs_of(run_tasks), comm.size());
+  // Every rank plans from the same files: none may write a reference (or a row) before all have
+  // looked. A rank started late would otherwise see a reference written meanwhile, plan without
+  // its task, and the ranks would wait for each other forever.
+  comm.barrier();
 
   // Progress in frame-cost units (budget x frames), so that the ETA weighs Adam-500 over L-BFGS-10.
   double total_units = 0.0;

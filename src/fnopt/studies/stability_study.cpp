@@ -212,6 +212,8 @@ void run_stability_study(const StabilityStudy& study, const Communicator& comm) 
     task_costs.push_back(cost + (reference_listed ? 0.0 : s.frames * frame_cost(reference_method, s)));
   }
   const std::vector<int> rank_of = schedule_largest_first(task_costs, comm.size());
+  // Every rank planned from the same stability.csv: none may rewrite it before all have read it.
+  comm.barrier();
 
   // Rank 0's view: the rows finished anywhere, by case and method; stability.csv holds them in
   // the order of a one-process run (rows this run does not redo, then case by case, method by
