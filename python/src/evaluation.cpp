@@ -57,18 +57,15 @@ class CallableOptimizer final : public InnerOptimizer {
 };
 
 // The method of evaluate_optimizer: a callable, or a name with the usual keywords.
-struct Method {
-  std::unique_ptr<InnerOptimizer> optimizer;
-  InnerSolveOptions solve;
-};
-
-Method method_of(const py::object& method, int iters, const py::object& model, const py::object& lr,
-                 bool gd_curvature_scaled) {
+MethodRun method_of(const py::object& method, const Scene& scene, int iters, const py::object& model,
+                    const py::object& lr, bool gd_curvature_scaled) {
   require(iters >= 1, "iters", "must be a positive iteration budget");
-  if (py::isinstance<py::function>(method) || (!py::isinstance<py::str>(method) && PyCallable_Check(method.ptr())))
-    return {std::make_unique<CallableOptimizer>(method, iters), InnerSolveOptions{iters, 0.0}};
-  const OptimizerChoice choice = optimizer_choice(method.cast<std::string>(), iters, model, lr, gd_curvature_scaled);
-  return {choice.make(), choice.solve_options()};
+  if (py::isinstance<py::str>(method) || !PyCallable_Check(method.ptr()))
+    return method_run(scene, method.cast<std::string>(), iters, model, lr, gd_curvature_scaled, false);
+  MethodRun run;
+  run.optimizer = std::make_unique<CallableOptimizer>(method, iters);
+  run.options.solve = {iters, 0.0};
+  return run;
 }
 
 py::dict evaluate_optimizer(const py::object& method, const Scene& scene, int iters, const py::object& reference,
@@ -76,7 +73,7 @@ py::dict evaluate_optimizer(const py::object& method, const Scene& scene, int it
                             const py::object& lr, bool gd_curvature_scaled) {
   require(samples >= 1, "samples", "must be positive");
   require(cd_stride >= 1, "cd_stride", "must be at least 1");
-  Method m = method_of(method, iters, model, lr, gd_curvature_scaled);
+  const MethodRun m = method_of(method, scene, iters, model, lr, gd_curvature_scaled);
   TrajectoryComparisonOptions compare;
   compare.chamfer.samples = chamfer_samples;
   compare.chamfer.validate();
@@ -90,16 +87,14 @@ py::dict evaluate_optimizer(const py::object& method, const Scene& scene, int it
   } else {
     reference_frames = frames_from(reference);
   }
-  RolloutOptions options;
-  options.solve = m.solve;
-  const PyRollout run = run_python_rollout(scene, *m.optimizer, options);
+  const PyRollout run = run_python_rollout(scene, *m.optimizer, m.options);
   TrajectoryComparison c;
   StepErrorSummary steps;
   {
     py::gil_scoped_release release;
     c = compare_trajectories(reference_frames, frames_of(run.result), run.result.grid.spacing, compare);
     StepErrorBench bench(scene, reference_frames, samples);
-    steps = bench.evaluate(*m.optimizer, m.solve);
+    steps = bench.evaluate(*m.optimizer, m.options.solve);
   }
   py::dict row;
   row["optimizer"] = run.settings;

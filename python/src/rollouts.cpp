@@ -127,13 +127,8 @@ void define_rollouts(py::module_& m) {
       "run_rollout",
       [](const Scene& scene, const std::string& optimizer, int iters, const py::object& model, const py::object& lr,
          bool gd_curvature_scaled, bool warm_start) {
-        const OptimizerChoice choice = optimizer_choice(optimizer, iters, model, lr, gd_curvature_scaled);
-        const auto method = choice.make();
-        choice.check_grid(scene.rows, scene.cols);
-        RolloutOptions options;
-        options.solve = choice.solve_options();
-        options.warm_start = warm_start;
-        return run_python_rollout(scene, *method, options);
+        const MethodRun run = method_run(scene, optimizer, iters, model, lr, gd_curvature_scaled, warm_start);
+        return run_python_rollout(scene, *run.optimizer, run.options);
       },
       py::arg("scene"), py::arg("optimizer") = "pqn", py::arg("iters") = 0, py::arg("model") = py::none(),
       py::arg("lr") = py::none(), py::arg("gd_curvature_scaled") = true, py::arg("warm_start") = false,

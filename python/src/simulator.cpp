@@ -32,13 +32,9 @@ class PySimulator {
   PySimulator(const Scene& scene, const std::string& optimizer, int iters, const py::object& model,
               const py::object& lr, bool gd_curvature_scaled, bool warm_start)
       : resolved_(resolve(scene)) {
-    const OptimizerChoice choice = optimizer_choice(optimizer, iters, model, lr, gd_curvature_scaled);
-    optimizer_ = choice.make();
-    choice.check_grid(scene.rows, scene.cols);
-    RolloutOptions options;
-    options.solve = choice.solve_options();
-    options.warm_start = warm_start;
-    simulator_ = std::make_unique<Simulator>(resolved_, *optimizer_, options);
+    MethodRun run = method_run(scene, optimizer, iters, model, lr, gd_curvature_scaled, warm_start);
+    optimizer_ = std::move(run.optimizer);
+    simulator_ = std::make_unique<Simulator>(resolved_, *optimizer_, run.options);
   }
 
   py::array_t<double> step(const py::object& handles, const py::object& acceleration) {

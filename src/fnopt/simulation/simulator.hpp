@@ -58,11 +58,7 @@ class Simulator {
   bool diverged() const { return !divergence_.empty(); }
   const std::string& divergence() const { return divergence_; }
 
-  const ResolvedScene& scene() const { return scene_; }
-  const Grid& grid() const { return scene_.grid; }
   const std::vector<int>& handle_vertices() const { return scene_.handles.vertices; }
-  BackwardEulerObjective& objective() { return objective_; }
-  const RolloutOptions& options() const { return options_; }
 
  private:
   StepRecord finish(const VecX& a, const InnerSolveResult& solve, double wall_ms);
