@@ -77,7 +77,7 @@ void run_train(TrainFlags& flags) {
   with_flag_names({{"train.steps", "steps"},
                    {"train.batch", "batch"},
                    {"train.environments", "envs"},
-                   {"train.resolution", "res"},
+                   {"train.resolutions", "res"},
                    {"train.max_age", "env-lifetime"},
                    {"train.learning_rate", "lr"},
                    {"train.decay_every", "decay-every"},
@@ -155,7 +155,13 @@ const RegisterCommand kRegister([](CLI::App& app) {
                       "--lifting, --projection, --combined), e.g. models/fnopt-32.pt");
   command->add_option("--batch", o.batch, "environments per step")->capture_default_str();
   command->add_option("--envs", o.pool.environments, "environments in the pool")->capture_default_str();
-  command->add_option("--res", o.pool.resolution, "training resolution")->capture_default_str();
+  command
+      ->add_option("--res", o.pool.resolutions,
+                   "training grid(s), N for N x N, comma-separated: environment e lives on the (e mod count)-th; "
+                   "a count that divides --batch puts each grid in every batch alike (energy objective, "
+                   "per-environment loss)")
+      ->delimiter(',')
+      ->capture_default_str();
   command
       ->add_option("--env-lifetime", o.pool.max_age,
                    "time steps an environment lives before a new one (material, pose, handles, motion) "

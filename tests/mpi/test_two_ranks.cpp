@@ -69,7 +69,7 @@ TEST(TwoRanks, RankOneMessagesReachRankZero) {
 
 TrainOptions tiny_training() {
   TrainOptions o;
-  o.pool.resolution = 8;
+  o.pool.resolutions = {8};
   o.pool.environments = 16;
   o.model = FNO2dOptions().width(4).fourier_layers(2).modes_x(4).modes_y(4).lifting_channels(8).projection_channels(4);
   o.batch = 8;

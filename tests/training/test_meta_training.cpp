@@ -19,7 +19,7 @@ namespace {
 
 PoolOptions small_pool() {
   PoolOptions pool;
-  pool.resolution = 8;
+  pool.resolutions = {8};
   pool.environments = 4;
   return pool;
 }
@@ -230,6 +230,57 @@ TEST(MetaTraining, ScoringAfterTheSubspaceStepNeedsThePoolToTakeIt) {
   EXPECT_THROW(options.validate(), Error);
   options.pool.subspace = 8;
   EXPECT_NO_THROW(options.validate());
+}
+
+// A pool of two grids: environment e lives on the (e mod 2)-th, and a batch holding one of each
+// scores the mean of the two environments' own losses, each through the model at its own size.
+TEST(MetaTraining, APoolOfTwoGridsScoresEachEnvironmentAtItsOwnSize) {
+  auto first_loss = [](std::vector<int> resolutions, int environments) {
+    TrainOptions o = tiny_training();
+    o.pool.resolutions = std::move(resolutions);
+    o.pool.environments = o.batch = environments;  // one environment per stratum: the batch is the pool
+    o.newton_weight = 0.0;
+    return MetaTrainer(o).step().loss;
+  };
+  const double mixed = first_loss({8, 12}, 2);
+  const double env0_at_8 = first_loss({8}, 1);
+  // Environment 1 of a 12^2 pool of two, from that pool's mean and its environment 0 alone.
+  const double env1_at_12 = 2.0 * first_loss({12}, 2) - first_loss({12}, 1);
+  EXPECT_NEAR(mixed, 0.5 * (env0_at_8 + env1_at_12), 1e-5 * std::abs(mixed));
+
+  TrainingEnv at8(tiny_training().pool, 1, 0), at12([] {
+    PoolOptions pool = tiny_training().pool;
+    pool.resolutions = {8, 12};
+    return pool;
+  }(), 1, 1);
+  EXPECT_EQ(at8.grid().rows, 8);
+  EXPECT_EQ(at12.grid().rows, 12);
+}
+
+TEST(MetaTraining, APoolOfTwoGridsResumesAndNeedsTheEnergyObjective) {
+  TrainOptions options = tiny_training();
+  options.pool.resolutions = {8, 12};
+  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_resume_two_grids";
+  std::filesystem::create_directories(dir);
+  const std::string checkpoint = (dir / "checkpoint.pt").string();
+  MetaTrainer original(options);
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(std::isfinite(original.step().loss));
+  original.save_checkpoint(checkpoint);
+  std::vector<double> expected;
+  for (int i = 0; i < 4; ++i) expected.push_back(original.step().loss);
+  MetaTrainer resumed(options, checkpoint);
+  for (int i = 0; i < 4; ++i)
+    EXPECT_NEAR(resumed.step().loss, expected[i], 1e-6 * std::abs(expected[i])) << "step " << i;
+  std::filesystem::remove_all(dir);
+
+  TrainOptions probe = options;
+  probe.objective = TrainObjective::Probe;
+  EXPECT_THROW(probe.validate(), Error);
+  TrainOptions batch_ratio = options;
+  batch_ratio.loss_normalisation = LossNormalisation::Batch;
+  EXPECT_THROW(batch_ratio.validate(), Error);
+  options.pool.resolutions = {8, 2};
+  EXPECT_THROW(options.validate(), Error);
 }
 
 TEST(MetaTraining, RejectsACheckpointOfOtherOptions) {

@@ -13,7 +13,7 @@ namespace {
 
 PoolOptions one_iteration_per_step(int lifetime) {
   PoolOptions pool;
-  pool.resolution = 8;
+  pool.resolutions = {8};
   pool.environments = 1;
   pool.max_age = lifetime;
   pool.budgets = {1};

@@ -16,7 +16,7 @@ namespace {
 
 TrainingSessionOptions tiny_session(const std::filesystem::path& out, int steps) {
   TrainingSessionOptions session;
-  session.train.pool.resolution = 8;
+  session.train.pool.resolutions = {8};
   session.train.pool.environments = 4;
   session.train.model =
       FNO2dOptions().width(4).fourier_layers(2).modes_x(4).modes_y(4).lifting_channels(8).projection_channels(4);

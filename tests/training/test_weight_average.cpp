@@ -22,7 +22,7 @@ FNO2d seeded_model(int seed) {
 
 TrainOptions tiny_training(double average_decay) {
   TrainOptions o;
-  o.pool.resolution = 8;
+  o.pool.resolutions = {8};
   o.pool.environments = 4;
   o.model = tiny_options();
   o.batch = 2;

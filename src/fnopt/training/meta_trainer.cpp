@@ -40,13 +40,20 @@ void TrainOptions::validate() const {
           "applies to the probe objective only");
   require(objective == TrainObjective::Probe || probe.surface == ProbeSurface::QuadraticModel, "train.probe_surface",
           "applies to the probe objective only");
+  // Grids of several sizes go through the model in one pass per size (MetaTrainer::step); the
+  // probe step and the batch-wide ratio take the batch in one piece.
+  require(pool.resolutions.size() == 1 ||
+              (objective == TrainObjective::Energy && loss_normalisation == LossNormalisation::PerEnvironment),
+          "train.resolutions", "several resolutions need the energy objective with the per-environment loss");
   require(!score_after_subspace_step || pool.subspace > 0, "train.score_after_subspace_step",
           "needs a pool that takes the subspace step (subspace > 0: fnopt train --subspace K)");
 }
 
 std::string TrainOptions::signature() const {
   std::ostringstream s;
-  s << "res=" << pool.resolution << " envs=" << pool.environments << (model.in_channels() == 9 ? " combined" : "")
+  s << "res=";
+  for (std::size_t i = 0; i < pool.resolutions.size(); ++i) s << (i ? "," : "") << pool.resolutions[i];
+  s << " envs=" << pool.environments << (model.in_channels() == 9 ? " combined" : "")
     << " width=" << model.width() << " layers=" << model.fourier_layers() << " modes=" << model.modes_x() << "x"
     << model.modes_y() << " lifting=" << model.lifting_channels() << " projection=" << model.projection_channels()
     << " batch=" << batch << " lr=" << learning_rate << " newton_weight=" << newton_weight << " seed=" << seed;
@@ -118,31 +125,89 @@ TrainStepStats MetaTrainer::step() {
     const int e = i + batch_size * std::uniform_int_distribution<int>(0, stratum - 1)(rng_);
     if (owns(e)) order.push_back(e);
   }
-  const int local = static_cast<int>(order.size());
   if (options_.objective == TrainObjective::Probe) {
     probe_step(order, stats);
     ++step_;
     return stats;
   }
 
+  // The batch's environments grouped by grid size (one group unless the pool mixes resolutions):
+  // the model runs once per group, and the groups' losses, each its share of the batch mean, add up.
+  std::vector<std::vector<int>> groups;
+  for (const int e : order) {
+    auto same = std::find_if(groups.begin(), groups.end(), [&](const std::vector<int>& group) {
+      return pool_[group.front()]->grid().vertex_count() == pool_[e]->grid().vertex_count();
+    });
+    if (same == groups.end())
+      groups.push_back({e});
+    else
+      same->push_back(e);
+  }
+  std::vector<GroupStep> steps(groups.size());
+  torch::Tensor loss;
+  double newton_loss = 0.0;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    const torch::Tensor group_loss = group_forward(groups[g], steps[g], newton_loss);
+    loss = g == 0 ? group_loss : loss + group_loss;
+  }
+  if (options_.newton_weight > 0.0) stats.newton_loss = processes_.sum(newton_loss);
+
+  take_gradient_step(loss, stats);
+
+  // Each environment takes its update by its proposal rule, as inference would.
+  const int k = samples_per_environment(options_.model);
+  double ratio_sum = 0.0;
+  int finite = 0;
+  for (GroupStep& group : steps)
+    for (std::size_t i = 0; i < group.batch.envs.size(); ++i) {
+      TrainingEnv& env = *group.batch.envs[i];
+      const int j = static_cast<int>(i);
+      const LearnedStep proposal{group.update.delta.narrow(0, k * j, k).detach(),
+                                 group.update.scale.narrow(0, k * j, k).detach()};
+      if (!std::isfinite(group.batch.ratio[i]) || !torch::isfinite(proposal.delta).all().item<bool>()) {
+        env.renew();
+        ++stats.renewed;
+        continue;
+      }
+      ratio_sum += group.batch.ratio[i];
+      ++finite;
+      StepProblem problem(env.objective(), env.dirichlet());
+      double value = group.batch.current_loss[i];
+      const LearnedState next = env.rule().apply(problem, group.gradients[i], proposal, env.acceleration(), value,
+                                                 group.batch.current_gradient[i]);
+      env.previous_gradient = to_coordinate_layout(next.gradient);
+      env.previous_delta = to_coordinate_layout(next.delta);
+      env.scale = next.scale.expand({3, 1, 1, 1}).contiguous();
+      env.finish_iteration();
+    }
+  double counts[3] = {ratio_sum, static_cast<double>(finite), static_cast<double>(stats.renewed)};
+  processes_.sum(counts, 3);
+  stats.mean_ratio = counts[1] > 0 ? counts[0] / counts[1] : NAN;
+  stats.renewed = static_cast<int>(counts[2]);
+  ++step_;
+  return stats;
+}
+
+torch::Tensor MetaTrainer::group_forward(const std::vector<int>& members, GroupStep& group, double& newton_loss) {
   // Environments keep their state per coordinate ([3, 1, R, C], scale [3, 1, 1, 1]); the
   // model sees it in its own layout (k samples per environment).
   const int k = samples_per_environment(options_.model);
   auto scale_to_model = [k](const torch::Tensor& scale) { return k == 3 ? scale : scale.narrow(0, 0, 1); };
-  EnergyLossBatch batch;
+  const int count = static_cast<int>(members.size());
+  EnergyLossBatch& batch = group.batch;
   batch.samples_per_environment = k;
   batch.normalisation = options_.loss_normalisation;
   batch.after_subspace_step = options_.score_after_subspace_step;
-  batch.environments_in_all = batch_size;
+  batch.environments_in_all = options_.batch;
   batch.processes = &processes_;
-  batch.current_gradient.resize(local);
-  std::vector<torch::Tensor> gradients, previous_gradients, previous_deltas, scales, masks, newton_deltas;
-  for (int i = 0; i < local; ++i) {
-    TrainingEnv& env = *pool_[order[i]];
+  batch.current_gradient.resize(count);
+  std::vector<torch::Tensor> previous_gradients, previous_deltas, scales, masks, newton_deltas;
+  for (int i = 0; i < count; ++i) {
+    TrainingEnv& env = *pool_[members[i]];
     VecX& g = batch.current_gradient[i];
     batch.envs.push_back(&env);
     batch.current_loss.push_back(StepProblem(env.objective(), env.dirichlet()).value_gradient(env.acceleration(), g));
-    gradients.push_back(to_model_layout(to_coordinate_samples(g, env.grid()), k));
+    group.gradients.push_back(to_model_layout(to_coordinate_samples(g, env.grid()), k));
     previous_gradients.push_back(to_model_layout(env.previous_gradient, k));
     previous_deltas.push_back(to_model_layout(env.previous_delta, k));
     scales.push_back(scale_to_model(env.scale));
@@ -151,51 +216,21 @@ TrainStepStats MetaTrainer::step() {
     newton_deltas.push_back(to_model_layout(
         to_coordinate_samples(env.reference_acceleration() - env.acceleration(), env.grid(), to_grid_units), k));
   }
-  const torch::Tensor gradient = torch::cat(gradients);
+  const torch::Tensor gradient = torch::cat(group.gradients);
   const LearnedState state{torch::cat(previous_gradients), torch::cat(previous_deltas), torch::cat(scales)};
-  const LearnedStep update = learned_step(model_, gradient, state, torch::cat(masks));
-  torch::Tensor loss = EnergyLoss::apply(update.delta, &batch);
+  group.update = learned_step(model_, gradient, state, torch::cat(masks));
+  torch::Tensor loss = EnergyLoss::apply(group.update.delta, &batch);
   if (options_.newton_weight > 0.0) {
-    const auto target = torch::cat(newton_deltas).view({local, -1});
-    const auto error = (update.delta.view({local, -1}) - target).pow(2).sum(1);
+    const auto target = torch::cat(newton_deltas).view({count, -1});
+    const auto error = (group.update.delta.view({count, -1}) - target).pow(2).sum(1);
     // Corrections below 1e-4 cell widths (an environment at rest) are not worth a target.
     const double floor = 1e-8 * static_cast<double>(target.size(1));
-    // The batch mean: this process's share of the sum over the whole batch.
-    const auto newton_loss = (error / (target.pow(2).sum(1) + floor)).sum() / batch_size;
-    stats.newton_loss = processes_.sum(newton_loss.item<double>());
-    loss = loss + options_.newton_weight * newton_loss;
+    // The batch mean: this group's share of the sum over the whole batch.
+    const auto group_newton_loss = (error / (target.pow(2).sum(1) + floor)).sum() / options_.batch;
+    newton_loss += group_newton_loss.item<double>();
+    loss = loss + options_.newton_weight * group_newton_loss;
   }
-
-  take_gradient_step(loss, stats);
-
-  // Each environment takes its update by its proposal rule, as inference would.
-  double ratio_sum = 0.0;
-  int finite = 0;
-  for (int i = 0; i < local; ++i) {
-    TrainingEnv& env = *batch.envs[i];
-    const LearnedStep proposal{update.delta.narrow(0, k * i, k).detach(), update.scale.narrow(0, k * i, k).detach()};
-    if (!std::isfinite(batch.ratio[i]) || !torch::isfinite(proposal.delta).all().item<bool>()) {
-      env.renew();
-      ++stats.renewed;
-      continue;
-    }
-    ratio_sum += batch.ratio[i];
-    ++finite;
-    StepProblem problem(env.objective(), env.dirichlet());
-    double value = batch.current_loss[i];
-    const LearnedState next =
-        env.rule().apply(problem, gradients[i], proposal, env.acceleration(), value, batch.current_gradient[i]);
-    env.previous_gradient = to_coordinate_layout(next.gradient);
-    env.previous_delta = to_coordinate_layout(next.delta);
-    env.scale = next.scale.expand({3, 1, 1, 1}).contiguous();
-    env.finish_iteration();
-  }
-  double counts[3] = {ratio_sum, static_cast<double>(finite), static_cast<double>(stats.renewed)};
-  processes_.sum(counts, 3);
-  stats.mean_ratio = counts[1] > 0 ? counts[0] / counts[1] : NAN;
-  stats.renewed = static_cast<int>(counts[2]);
-  ++step_;
-  return stats;
+  return loss;
 }
 
 void MetaTrainer::take_gradient_step(torch::Tensor loss, TrainStepStats& stats) {

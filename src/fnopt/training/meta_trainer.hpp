@@ -22,6 +22,7 @@
 #include <string>
 
 #include <fnopt/fno/fno2d.hpp>
+#include <fnopt/learned/learned_update.hpp>
 #include <fnopt/parallel/communicator.hpp>
 #include <fnopt/training/energy_loss.hpp>
 #include <fnopt/training/probe_loss.hpp>
@@ -117,6 +118,16 @@ class MetaTrainer {
   // The environments this process owns, as checkpoint entries.
   void write_environments(torch::serialize::OutputArchive& archive) const;
   void sum_gradients_over_processes();
+  // One grid size's part of an energy step: its environments, the model's update and the
+  // gradients the update saw.
+  struct GroupStep {
+    EnergyLossBatch batch;
+    LearnedStep update;
+    std::vector<torch::Tensor> gradients;
+  };
+  // The model's update and the loss of the environments `members` (of one grid size): their
+  // share of the batch's loss; adds their share of the Newton-teacher term to `newton_loss`.
+  torch::Tensor group_forward(const std::vector<int>& members, GroupStep& group, double& newton_loss);
   // Backward pass of the batch's loss (this process's share), clipping, AdamW and the average.
   void take_gradient_step(torch::Tensor loss, TrainStepStats& stats);
   // The Probe objective's step on this process's environments `order`.

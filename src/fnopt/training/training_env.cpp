@@ -79,7 +79,8 @@ void TrainingRanges::validate() const {
 
 void PoolOptions::validate() const {
   ranges.validate();
-  require(resolution >= 3, "train.resolution", "must be at least 3");
+  require(!resolutions.empty(), "train.resolutions", "must not be empty");
+  for (const int n : resolutions) require(n >= 3, "train.resolutions", "must be at least 3");
   require(environments > 0, "train.environments", "must be positive");
   require(max_age > 0, "train.max_age", "must be positive");
   require(!budgets.empty(), "train.budgets", "must not be empty");
@@ -116,7 +117,7 @@ std::unique_ptr<TrainingEnv> TrainingEnv::restored(const PoolOptions& options, s
 void TrainingEnv::generate() {
   rng_.seed(seed_ ^ (0x9E3779B97F4A7C15ull * (static_cast<std::uint64_t>(id_) + 1)) ^
             (0xBF58476D1CE4E5B9ull * static_cast<std::uint64_t>(generation_ + 1)));
-  const int n = options_.resolution;
+  const int n = options_.resolution_of(id_);
   grid_ = Grid::make(n, n, 1.0);
   const double h = grid_.spacing, h2 = h * h, dt2 = dt_ * dt_;
   const TrainingRanges& r = options_.ranges;

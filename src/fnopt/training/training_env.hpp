@@ -1,5 +1,5 @@
 #pragma once
-// One environment of the meta-training pool (docs/design.md §5): a 32^2 cloth with a random material
+// One environment of the meta-training pool (docs/design.md §5): an N x N cloth (32^2 by default) with a random material
 // (log-uniform over grid-unit ranges), random orientation and gravity direction, the two top
 // corners plus 0-2 random extra handles on a random smooth motion, and an iteration budget per
 // time step drawn from {1, 3, 10, 30}. The learned optimizer iterates on its current time step;
@@ -44,7 +44,10 @@ struct TrainingRanges {
 };
 
 struct PoolOptions {
-  int resolution = 32;
+  // The grids of the pool, N x N each: environment e lives on resolutions[e mod count]. With the
+  // batch's strata (meta_trainer.hpp) a count that divides the batch gives every batch the same
+  // share of each grid; the shipped model trained at 32^2 alone.
+  std::vector<int> resolutions{32};
   int environments = 64;
   int max_age = 240;               // time steps before an environment is renewed
   double divergence_strain = 1.0;  // renew when an edge stretches beyond 2x its rest length
@@ -55,6 +58,9 @@ struct PoolOptions {
   // last K proposals, carried across the environment's time steps, and the energy safeguard.
   int subspace = 0;
 
+  int resolution_of(int environment) const {
+    return resolutions[static_cast<std::size_t>(environment) % resolutions.size()];
+  }
   void validate() const;
 };
 
