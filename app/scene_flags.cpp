@@ -16,6 +16,9 @@ const FlagSpec kFlags[] = {
     {"rows", "grid rows R (non-square grids)"},
     {"cols", "grid columns C (non-square grids)"},
     {"size", "side of the cloth's longer edge [m] (default 1)"},
+    {"grid-units-of",
+     "N0: hold the material's grid-unit stiffness and gravity at this scene's on an N0 x N0 grid, at any "
+     "resolution (the FNOpt paper's protocol; docs/design.md §2); default: one physical cloth"},
     {"material", "material preset ('default') or a material file from fit-material"},
     {"stretch", "stretch stiffness k_s [N/m]"},
     {"shear", "shear stiffness k_sh [N/m]"},

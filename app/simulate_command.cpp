@@ -43,8 +43,8 @@ void run_simulate(const SimulateFlags& flags) {
                scene.trajectory.empty() ? ("motion " + scene.motion).c_str() : scene.trajectory.c_str(), scene.frames,
                optimizer->name().c_str(), threads, threads == 1 ? "" : "s");
   std::fprintf(stderr, "%s\n", optimizer->settings().c_str());
-  const GridUnitStiffness k = grid_unit_stiffness(Grid::make(scene.rows, scene.cols, scene.size), scene.material,
-                                                  scene.dt, scene.gravity.norm());
+  const GridUnitStiffness k =
+      grid_unit_stiffness(resolved.grid, resolved.scene.material, scene.dt, resolved.scene.gravity.norm());
   std::fprintf(stderr, "grid units: stretch %.4g, shear %.4g, bend %.4g, gravity %.4g (docs/design.md §2)\n", k.stretch,
                k.shear, k.bend, k.gravity);
   std::fprintf(stderr, "self-repulsion: %s (repulsion = %s), lambda %.4g N/m, delta %.4g h\n",

@@ -53,7 +53,7 @@ void define_scene(py::module_& m) {
   py::class_<Scene>(m, "Scene", R"(A scene: grid, material, handles and their motion, time step and frames.
 
 Keyword arguments are the flags of `fnopt simulate` with '_' for '-' (res, rows, cols, size,
-material, stretch, shear, bend, density, damping, handles, handle_vertices, motion,
+grid_units_of, material, stretch, shear, bend, density, damping, handles, handle_vertices, motion,
 trajectory, speed, frames, dt, gravity, repulsion, repulsion_stiffness, repulsion_range);
 `scene` is a scene file they apply on top of. Checked as the command line checks them:
 a bad value raises ValueError with the command line's text.)")
@@ -75,6 +75,7 @@ a bad value raises ValueError with the command line's text.)")
       .def_readonly("rows", &Scene::rows)
       .def_readonly("cols", &Scene::cols)
       .def_readonly("size", &Scene::size)
+      .def_readonly("grid_units_of", &Scene::grid_units_of)
       .def_readonly("frames", &Scene::frames)
       .def_readonly("dt", &Scene::dt)
       .def_readonly("speed", &Scene::speed)

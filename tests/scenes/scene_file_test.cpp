@@ -17,6 +17,7 @@ void expect_same_scene(const Scene& a, const Scene& b) {
   EXPECT_EQ(a.rows, b.rows);
   EXPECT_EQ(a.cols, b.cols);
   EXPECT_EQ(a.size, b.size);
+  EXPECT_EQ(a.grid_units_of, b.grid_units_of);
   EXPECT_EQ(a.material_name, b.material_name);
   EXPECT_EQ(a.material.stretch, b.material.stretch);
   EXPECT_EQ(a.material.shear, b.material.shear);
@@ -146,6 +147,7 @@ TEST(SceneFile, RoundTripsThroughToSceneText) {
   scene.rows = 17;
   scene.cols = 9;
   scene.size = 0.1 + 0.2;  // not a short decimal: must survive exactly
+  scene.grid_units_of = 32;
   scene.material.stretch = 1.0 / 3;
   scene.material.shear = 0.0;
   scene.material.bend = 1.2345678901234567e-5;

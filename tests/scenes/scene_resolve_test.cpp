@@ -4,7 +4,9 @@
 #include <cmath>
 #include <map>
 
+#include <fnopt/cloth/grid_units.hpp>
 #include <fnopt/scenes/scene.hpp>
+#include <fnopt/scenes/scene_settings.hpp>
 #include "tests/util/error_message.hpp"
 #include "tests/util/temp_dir.hpp"
 
@@ -30,6 +32,42 @@ TEST(SceneResolve, TheDefaultSceneIsTheBenchmark) {
   const Vec3 half_way = 0.5 * Vec3(1, 1, 0) / std::sqrt(2.0);  // xy_v2 at t = 1.0
   expect_near(setup.trajectory->position(0, 1.0), Vec3(0, 0, 0) + half_way);
   expect_near(setup.trajectory->position(1, 1.0), Vec3(1, 0, 0) + half_way);
+}
+
+// The paper's protocol: a 100^2 scene held in the grid units of 32^2 is, step for step, as stiff
+// in grid units as the 32^2 scene; the resolved scene holds physical values and no key, so
+// resolving it again changes nothing.
+TEST(SceneResolve, GridUnitsOfHoldsTheGridUnitNumbersOfThatGrid) {
+  auto grid_units = [](const ResolvedScene& r) {
+    return grid_unit_stiffness(r.grid, r.scene.material, r.scene.dt, r.scene.gravity.norm());
+  };
+  for (const char* extent : {"100", "64"}) {
+    const ResolvedScene coarse = resolve(apply_scene_settings({}, {{"res", "32"}, {"stretch", "80"}}));
+    const ResolvedScene held =
+        resolve(apply_scene_settings({}, {{"res", extent}, {"stretch", "80"}, {"grid-units-of", "32"}}));
+    const GridUnitStiffness want = grid_units(coarse), got = grid_units(held);
+    EXPECT_NEAR(got.stretch, want.stretch, 1e-12 * want.stretch) << extent;
+    EXPECT_NEAR(got.shear, want.shear, 1e-12 * want.shear) << extent;
+    EXPECT_NEAR(got.bend, want.bend, 1e-12 * want.bend) << extent;
+    EXPECT_NEAR(got.gravity, want.gravity, 1e-12 * want.gravity) << extent;
+    EXPECT_EQ(held.scene.gravity.normalized(), coarse.scene.gravity.normalized());
+    EXPECT_EQ(held.scene.material.density, coarse.scene.material.density);
+    EXPECT_EQ(held.scene.material.damping, coarse.scene.material.damping);
+    EXPECT_EQ(held.scene.grid_units_of, 0);
+    EXPECT_EQ(resolve(held.scene).scene.material.stretch, held.scene.material.stretch);
+  }
+  // Held at its own grid, or not held: the physical scene.
+  const Scene own = apply_scene_settings({}, {{"res", "64"}, {"grid-units-of", "64"}});
+  EXPECT_EQ(resolve(own).scene.material.stretch, Scene().material.stretch);
+  EXPECT_EQ(resolve(own).scene.gravity, Scene().gravity);
+  EXPECT_TRUE(throws_error(
+      [] {
+        apply_scene_settings({}, {{"grid-units-of", "2"}});
+      },
+      "grid-units-of: the grid needs"));
+  Scene negative;
+  negative.grid_units_of = -5;
+  EXPECT_TRUE(throws_error([&] { resolve(negative); }, "grid-units-of: must be 0 (off)"));
 }
 
 TEST(SceneResolve, MotionsStartAtTheHandlesRestPositions) {

@@ -24,7 +24,7 @@ StepErrorBench::StepErrorBench(const Scene& scene, const TrajectoryFrames& refer
     require(std::abs(reference.times[t] - t * dt_) <= 1e-6 * dt_ * std::max(1, t), "step error",
             "the reference must hold a frame every time step (an fnopt rollout of the same scene)");
 
-  objective_ = std::make_unique<BackwardEulerObjective>(grid_, scene.material, scene.dt, scene.gravity);
+  objective_ = std::make_unique<BackwardEulerObjective>(grid_, setup.scene.material, scene.dt, setup.scene.gravity);
   dirichlet_ = DirichletSet(grid_.vertex_count(), setup.handles.vertices);
   problem_ = std::make_unique<StepProblem>(*objective_, dirichlet_);
   const int handle_count = static_cast<int>(setup.handles.vertices.size());

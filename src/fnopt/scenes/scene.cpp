@@ -35,8 +35,10 @@ void Scene::validate() const {
   // field that happens to be unused is still a typo.
   scene_checks::handle_preset_name(handles);
   scene_checks::motion_name(motion);
+  require(grid_units_of == 0 || grid_units_of >= 3, "grid-units-of", "must be 0 (off) or a grid of at least 3");
   const Grid grid = Grid::make(rows, cols, size);
-  scene_checks::grid_units(grid, material, dt, gravity);
+  const Scene applied = with_grid_units_applied(*this);
+  scene_checks::grid_units(grid, applied.material, dt, applied.gravity);
   const HandleSet handle_set = scene_handles(*this, grid);
   // A named motion is cheap to build and checks itself against the handle count (rot_h1 needs
   // two handles); a CSV is only opened by resolve().
@@ -69,9 +71,23 @@ std::string repulsion_mode_name(RepulsionMode mode) {
 
 void resolve_repulsion(Scene& scene) { scene.material.repulsion = repulsion_enabled(scene); }
 
+Scene with_grid_units_applied(const Scene& scene) {
+  if (scene.grid_units_of == 0) return scene;
+  Scene applied = scene;
+  const double ratio = Grid::make(scene.rows, scene.cols, scene.size).spacing /
+                       Grid::make(scene.grid_units_of, scene.grid_units_of, scene.size).spacing;
+  // k~_s = k_s dt^2/(rho h^2), k~_b = k_b dt^2/(rho h^4), g~ = |g| dt^2/h (cloth/grid_units.hpp).
+  applied.material.stretch *= ratio * ratio;
+  applied.material.shear *= ratio * ratio;
+  applied.material.bend *= ratio * ratio * ratio * ratio;
+  applied.gravity *= ratio;
+  applied.grid_units_of = 0;
+  return applied;
+}
+
 ResolvedScene resolve(const Scene& scene) {
   scene.validate();
-  ResolvedScene setup{scene, Grid::make(scene.rows, scene.cols, scene.size), {}, nullptr};
+  ResolvedScene setup{with_grid_units_applied(scene), Grid::make(scene.rows, scene.cols, scene.size), {}, nullptr};
   setup.handles = scene_handles(scene, setup.grid);
   const int handle_count = static_cast<int>(setup.handles.vertices.size());
   setup.trajectory = scene.trajectory.empty()

@@ -32,6 +32,11 @@ struct Scene {
   int frames = 390;
   Vec3 gravity{0.0, 0.0, -9.81};  // [m/s^2]
   RepulsionMode repulsion = RepulsionMode::Auto;
+  // The paper's protocol (docs/design.md §2): N0 > 0 holds the grid-unit material and gravity
+  // (k~_s, k~_sh, k~_b, g~) at the values this scene has on an N0 x N0 grid of the same size, at
+  // every resolution; resolve() rescales stretch and shear by (h/h0)^2, bend by (h/h0)^4 and
+  // gravity by h/h0. 0 (the default): one physical cloth, whose grid-unit stiffness grows with N.
+  int grid_units_of = 0;
 
   // Checks every field; throws Error("<field>: <problem>") for the first bad one (rows < 3,
   // size, dt, frames <= 0, speed <= 0, non-finite gravity, material.*, unknown handle preset or
@@ -42,7 +47,7 @@ struct Scene {
 
 // Scene file: one "key = value" per line, blank lines ignored; '#' at the start of a line or
 // after a blank starts a comment (so "trajectory = motions.csv#xy_v2" keeps its '#'). Keys are
-// the `fnopt simulate` flag names: res (rows = cols = N), rows, cols, size, material, stretch,
+// the `fnopt simulate` flag names: res (rows = cols = N), rows, cols, size, grid-units-of, material, stretch,
 // shear, bend, density, damping, handles, handle-vertices, motion, trajectory, speed,
 // dt (a number or a fraction "1/60"), frames, gravity ("x,y,z"), repulsion (auto, true or
 // false; also 1/0, on/off), repulsion-stiffness (lambda [N/m]), repulsion-range (delta / h).
@@ -85,7 +90,13 @@ struct ResolvedScene {
   HandleSet handles;
   std::shared_ptr<const HandleTrajectory> trajectory;
 };
-// Validates first; an explicit handle-vertices list beats the handles preset, a trajectory CSV
+// The scene with grid_units_of applied: its material and gravity rescaled to those physical
+// values that give this grid the grid-unit numbers of the N0 grid, and grid_units_of = 0. The
+// scene itself when grid_units_of is 0.
+Scene with_grid_units_applied(const Scene& scene);
+
+// Validates first, then applies grid_units_of (the resolved scene holds the physical values the
+// objective uses); an explicit handle-vertices list beats the handles preset, a trajectory CSV
 // beats the motion (whose rest positions are the handle vertices' in grid.rest_positions()).
 // Throws Error("trajectory", "...") for a CSV that cannot be replayed on this scene's handles.
 ResolvedScene resolve(const Scene& scene);

@@ -86,6 +86,11 @@ const std::map<std::string, Setter>& setters() {
          s.cols = int_value(key, value);
          grid_extent(key, s.cols);
        }},
+      {"grid-units-of",
+       [](Scene& s, const std::string& key, const std::string& value) {
+         s.grid_units_of = int_value(key, value);
+         if (s.grid_units_of != 0) grid_extent(key, s.grid_units_of);
+       }},
       {"size",
        [](Scene& s, const std::string& key, const std::string& value) {
          s.size = number_value(key, value);
@@ -257,8 +262,9 @@ std::string to_scene_text(const Scene& scene) {
   out << "# fnopt scene\n"
       << "rows = " << scene.rows << "\n"
       << "cols = " << scene.cols << "\n"
-      << "size = " << exact(scene.size) << "\n"
-      << "material = " << (material_is_file ? absolute(scene.material_name) : scene.material_name) << "\n"
+      << "size = " << exact(scene.size) << "\n";
+  if (scene.grid_units_of != 0) out << "grid-units-of = " << scene.grid_units_of << "\n";
+  out << "material = " << (material_is_file ? absolute(scene.material_name) : scene.material_name) << "\n"
       << "stretch = " << exact(scene.material.stretch) << "\n"
       << "shear = " << exact(scene.material.shear) << "\n"
       << "bend = " << exact(scene.material.bend) << "\n"

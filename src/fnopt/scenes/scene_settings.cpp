@@ -15,6 +15,7 @@ const std::vector<std::string>& setting_order() {
                                                  "rows",
                                                  "cols",
                                                  "size",
+                                                 "grid-units-of",
                                                  "material",
                                                  "stretch",
                                                  "shear",
