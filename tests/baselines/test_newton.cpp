@@ -186,19 +186,48 @@ TEST(NewtonSolver, ABucklingStepFollowsNegativeCurvatureToAMinimum) {
 }
 
 // settings() keys compare's reference cache: changing any parameter must change it.
+// The preconditioner applied in floats changes CG's path by round-off only: the same steps to the
+// tolerance, with as many Newton iterations (within one per step).
+TEST(NewtonSolver, AFloatPreconditionerGivesTheSameSteps) {
+  const Grid grid = Grid::make(16, 16, 1.0);
+  BackwardEulerObjective objective(grid, Material{}, 1.0 / 60.0, Vec3(0, 0, -9.81));
+  const DirichletSet handles(grid.vertex_count(), {0, grid.cols - 1});
+  StepProblem problem(objective, handles);
+  NewtonParams in_doubles;
+  in_doubles.single_precision_preconditioner = false;
+  NewtonOptimizer doubles(in_doubles), floats;
+  InnerSolveOptions options = NewtonOptimizer::reference_solve_options();
+  options.acceleration_tolerance = 1e-7;
+  VecX x = grid.rest_positions(), v = VecX::Zero(grid.dof_count());
+  for (int step = 0; step < 20; ++step) {
+    objective.begin_step(x, v);
+    VecX a_doubles = VecX::Zero(grid.dof_count()), a_floats = a_doubles;
+    const InnerSolveResult reference = solve_step(doubles, problem, a_doubles, options);
+    const InnerSolveResult result = solve_step(floats, problem, a_floats, options);
+    ASSERT_EQ(reference.status, SolveStatus::Converged);
+    ASSERT_EQ(result.status, SolveStatus::Converged);
+    EXPECT_LE(std::abs(result.iterations - reference.iterations), 1) << "step " << step;
+    EXPECT_LT((a_floats - a_doubles).norm(), 1e-7 * a_doubles.norm()) << "step " << step;
+    v += objective.dt() * a_doubles;
+    x += objective.dt() * v;
+  }
+}
+
 TEST(NewtonParams, EveryParameterChangesTheSettingsString) {
   const std::string base = NewtonOptimizer{}.settings();
-  const std::vector<void (*)(NewtonParams&)> changes = {[](NewtonParams& p) { p.initial_radius = 3.0; },
-                                                        [](NewtonParams& p) { p.accept_ratio = 1e-3; },
-                                                        [](NewtonParams& p) { p.shrink_below = 0.2; },
-                                                        [](NewtonParams& p) { p.shrink = 0.3; },
-                                                        [](NewtonParams& p) { p.grow_above = 0.8; },
-                                                        [](NewtonParams& p) { p.max_trials = 30; },
-                                                        [](NewtonParams& p) { p.forcing_cap = 2e-2; },
-                                                        [](NewtonParams& p) { p.acceleration_tolerance = 1e-5; },
-                                                        [](NewtonParams& p) { p.max_cg_iterations = 100; },
-                                                        [](NewtonParams& p) { p.refactor_cg_iterations = 10; },
-                                                        [](NewtonParams& p) { p.reuse_factor_across_steps = false; }};
+  const std::vector<void (*)(NewtonParams&)> changes = {
+      [](NewtonParams& p) { p.initial_radius = 3.0; },
+      [](NewtonParams& p) { p.accept_ratio = 1e-3; },
+      [](NewtonParams& p) { p.shrink_below = 0.2; },
+      [](NewtonParams& p) { p.shrink = 0.3; },
+      [](NewtonParams& p) { p.grow_above = 0.8; },
+      [](NewtonParams& p) { p.max_trials = 30; },
+      [](NewtonParams& p) { p.forcing_cap = 2e-2; },
+      [](NewtonParams& p) { p.acceleration_tolerance = 1e-5; },
+      [](NewtonParams& p) { p.max_cg_iterations = 100; },
+      [](NewtonParams& p) { p.refactor_cg_iterations = 10; },
+      [](NewtonParams& p) { p.reuse_factor_across_steps = false; },
+      [](NewtonParams& p) { p.single_precision_preconditioner = false; }};
   for (std::size_t i = 0; i < changes.size(); ++i) {
     NewtonParams params;
     changes[i](params);

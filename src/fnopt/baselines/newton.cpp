@@ -35,6 +35,7 @@ std::string NewtonOptimizer::settings() const {
       << " max_cg_iterations=" << params_.max_cg_iterations
       << " refactor_cg_iterations=" << params_.refactor_cg_iterations
       << " reuse_factor_across_steps=" << params_.reuse_factor_across_steps;
+  if (params_.single_precision_preconditioner) out << " single_precision_preconditioner=1";
   return out.str();
 }
 
@@ -43,6 +44,7 @@ bool NewtonOptimizer::factorize_preconditioner(StepProblem& problem, const VecX&
   const Eigen::SparseMatrix<double>& projected = objective.hessian(a, problem.dirichlet().free_index(), true);
   ++counters_.factorizations;
   have_factor_ = factor_.factorize_matrix(projected, objective.hessian_pattern_id());
+  if (have_factor_ && params_.single_precision_preconditioner) single_factor_.assign(factor_);
   return have_factor_;
 }
 
@@ -60,7 +62,12 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
   const bool stale =
       !have_factor_ || factor_.rows() != rhs_.size() || last_cg_iterations_ > params_.refactor_cg_iterations;
   if (stale && !factorize_preconditioner(problem, a)) return SolveStatus::FactorizationFailed;
-  auto precondition = [&](VecX& r) { factor_.solve_in_place(r.data(), static_cast<int>(r.size()), 1); };
+  auto precondition = [&](VecX& r) {
+    if (params_.single_precision_preconditioner)
+      single_factor_.solve_in_place(r);
+    else
+      factor_.solve_in_place(r.data(), static_cast<int>(r.size()), 1);
+  };
   if (radius_ == 0.0) {  // the step's first iteration: the metric, the preconditioned gradient step's length
     const BackwardEulerObjective& objective = problem.objective();
     metric_.resize(rhs_.size());

@@ -27,6 +27,10 @@ class LearnedOptimizer final : public InnerOptimizer {
   void begin_step(StepProblem& problem, const VecX& a, double value, const VecX& gradient) override;
   std::optional<SolveStatus> iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) override;
 
+  // The recurrent state after the last iteration: its step scale s is what the scale head has
+  // made of the scene so far (a diagnostic: docs/results.md, the step scale's path).
+  const LearnedState& state() const { return state_; }
+
  private:
   // Whether the objective's step starts where the previous step (started at previous_start_)
   // ends, to round-off.

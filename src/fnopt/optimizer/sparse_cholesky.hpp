@@ -27,6 +27,9 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
   bool factorize_matrix(const Eigen::SparseMatrix<double>& A, long pattern = -1);
   // B <- A^-1 B for the rows x cols column-major block at `data` (rows = A's size).
   void solve_in_place(double* data, int rows, int cols);
+  // CHOLMOD's factor (null before the first factorization), for copies such as
+  // single_precision_factor.hpp's.
+  const cholmod_factor* cholmod_factor_pointer() const { return m_cholmodFactor; }
 
  private:
   long analysed_pattern_ = -1;
