@@ -2,7 +2,6 @@
 // every inner optimizer on the same scenes, error against run time (docs/design.md §8, §10).
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -10,6 +9,7 @@
 #include <fnopt/studies/compare_study.hpp>
 #include <fnopt/util/command_line.hpp>
 #include <fnopt/util/error.hpp>
+#include <fnopt/util/flag_names.hpp>
 #include <fnopt/util/output_path.hpp>
 #include <fnopt/util/parse_text.hpp>
 #include "app/commands.hpp"
@@ -112,40 +112,11 @@ const Preset kSuperres = {"32,32x64,64x32,48,48x80,64,100,128",
                           30,
                           8};
 
-void run_compare(const CompareFlags& flags) {
-  require(!flags.out.empty(), "out", "an output directory is required");
+// The scenes of every resolution and motion; a trajectory file replaces the motion list.
+std::vector<Scene> compare_scenes(const CompareFlags& flags) {
   const std::vector<GridSize> resolutions = resolution_list(flags.resolutions);
   const std::vector<std::string> motions =
       flags.motions == "eval" ? benchmark_motion_names() : name_list("motions", flags.motions);
-  const std::vector<std::string> methods = name_list("optimizers", flags.optimizers);
-  const std::vector<int> default_budgets = int_list("iters", flags.iters);
-  std::map<std::string, std::vector<int>> given_budgets;  // by --iters-for
-  for (const std::string& entry : flags.iters_for) {
-    const auto equals = entry.find('=');
-    require(equals != std::string::npos, "iters-for", "expected METHOD=N,N,..., got '" + entry + "'");
-    const std::string method(trim(entry.substr(0, equals)));
-    require(std::find(methods.begin(), methods.end(), method) != methods.end(), "iters-for",
-            "'" + method + "' is not in --optimizers");
-    given_budgets[method] = int_list("iters-for", entry.substr(equals + 1));
-  }
-  std::vector<double> error_levels = number_list("error-levels", flags.error_levels);
-  for (double& level : error_levels) level *= 1e-3;
-  std::map<std::string, std::vector<double>> lr_candidates = {{"gd", number_list("lr-gd", flags.lr_gd)},
-                                                              {"adam", number_list("lr-adam", flags.lr_adam)}};
-  for (const auto& method : methods) {  // fail on a bad name before any work
-    OptimizerChoice choice = flags.settings;
-    choice.name = method;
-    choice.make();
-  }
-  require(flags.step_samples >= 1, "step-samples", "must be positive");
-  require(flags.cd_stride >= 1, "cd-stride",
-          "must be at least 1 (every matched frame), got " + std::to_string(flags.cd_stride));
-  ChamferOptions chamfer;
-  chamfer.samples = flags.cd_samples;
-  chamfer.validate();
-  require_writable_directory(flags.out, "out");
-  const int threads = set_thread_count(flags.threads);
-
   Scene base = flags.scene.scene();
   if (flags.preset_frames > 0) base.frames = flags.preset_frames;
   std::vector<Scene> scenes;
@@ -159,34 +130,49 @@ void run_compare(const CompareFlags& flags) {
         apply_scene_setting(scene, "cols", std::to_string(res.cols));
       }
       if (base.trajectory.empty()) apply_scene_setting(scene, "motion", motion);
-      scene.validate();
-      for (const auto& method : methods) {
-        OptimizerChoice choice = flags.settings;
-        choice.name = method;
-        choice.check_grid(scene.rows, scene.cols);
-      }
       scenes.push_back(scene);
-      if (!base.trajectory.empty()) break;  // a trajectory file replaces the motion list
+      if (!base.trajectory.empty()) break;
     }
+  return scenes;
+}
+
+void run_compare(const CompareFlags& flags) {
   CompareStudy study;
-  study.scenes = scenes;
-  study.methods = methods;
-  study.runs = compare_runs(methods, default_budgets, given_budgets);
+  study.scenes = compare_scenes(flags);
+  study.methods = name_list("optimizers", flags.optimizers);
+  study.budgets = int_list("iters", flags.iters);
+  for (const std::string& entry : flags.iters_for) {  // later entries win
+    const auto equals = entry.find('=');
+    require(equals != std::string::npos, "iters-for", "expected METHOD=N,N,..., got '" + entry + "'");
+    study.budgets_for[std::string(trim(entry.substr(0, equals)))] = int_list("iters-for", entry.substr(equals + 1));
+  }
   study.settings = flags.settings;
-  study.learning_rates = lr_candidates;
+  study.learning_rates = {{"gd", number_list("lr-gd", flags.lr_gd)}, {"adam", number_list("lr-adam", flags.lr_adam)}};
   study.out = flags.out;
   study.arcsim_dir = flags.arcsim_dir;
   study.preset = flags.preset;
   study.resolutions_text = flags.resolutions;
   study.command_line = process_command_line("fnopt compare");
-  study.error_levels = error_levels;
-  study.chamfer = chamfer;
+  study.error_levels = number_list("error-levels", flags.error_levels);
+  for (double& level : study.error_levels) level *= 1e-3;  // given as e_CD x 10^3
+  study.chamfer.samples = flags.cd_samples;
   study.cd_stride = flags.cd_stride;
   study.step_samples = flags.step_samples;
-  study.threads = threads;
   study.warm_start = flags.warm_start;
   study.keep_rollouts = flags.keep_rollouts;
   study.resume = flags.resume;
+  with_flag_names({{"compare.scenes", "res"},
+                   {"compare.methods", "optimizers"},
+                   {"compare.out", "out"},
+                   {"compare.budgets", "iters"},
+                   {"compare.budgets_for", "iters-for"},
+                   {"compare.learning_rates", "optimizers"},
+                   {"compare.error_levels", "error-levels"},
+                   {"compare.cd_stride", "cd-stride"},
+                   {"compare.step_samples", "step-samples"}},
+                  [&] { study.validate(); });
+  require_writable_directory(flags.out, "out");
+  study.threads = set_thread_count(flags.threads);
   run_compare_study(study);
 }
 

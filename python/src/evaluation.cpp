@@ -12,6 +12,7 @@
 #include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/studies/compare_study.hpp>
 #include <fnopt/util/error.hpp>
+#include <fnopt/util/flag_names.hpp>
 #include <fnopt/util/output_path.hpp>
 
 #include "common.hpp"
@@ -125,22 +126,12 @@ py::list compare(const py::object& scenes, const std::vector<std::string>& optim
   } else {
     for (const py::handle scene : scenes) study.scenes.push_back(scene.cast<Scene>());
   }
-  require(!study.scenes.empty(), "scenes", "give at least one scene");
-  require(!optimizers.empty(), "optimizers", "give at least one optimizer");
   study.methods = optimizers;
+  study.budgets = iters;
   if (!model.is_none()) study.settings.model = py::str(model).cast<std::string>();
-  for (const auto& name : optimizers) {  // fail on a bad name before any work
-    OptimizerChoice choice = study.settings;
-    choice.name = name;
-    choice.make();
-  }
-  study.runs = compare_runs(optimizers, iters);
-  require(step_samples >= 1, "step_samples", "must be positive");
-  require(cd_stride >= 1, "cd_stride", "must be at least 1");
   study.step_samples = step_samples;
   study.cd_stride = cd_stride;
   study.chamfer.samples = chamfer_samples;
-  study.chamfer.validate();
   study.resume = resume;
   study.threads = thread_count();
   if (out.is_none()) {
@@ -149,8 +140,17 @@ py::list compare(const py::object& scenes, const std::vector<std::string>& optim
   } else {
     study.out = py::str(out).cast<std::string>();
   }
-  require_writable_directory(study.out, "out");
   study.command_line = "fnopt.compare (Python)";
+  with_flag_names({{"compare.scenes", "scenes"},
+                   {"compare.methods", "optimizers"},
+                   {"compare.out", "out"},
+                   {"compare.budgets", "iters"},
+                   {"compare.learning_rates", "optimizers"},
+                   {"compare.step_samples", "step_samples"},
+                   {"compare.cd_stride", "cd_stride"},
+                   {"cd-samples", "chamfer_samples"}},
+                  [&] { study.validate(); });
+  require_writable_directory(study.out, "out");
   {
     py::gil_scoped_release release;
     run_compare_study(study);

@@ -117,7 +117,9 @@ TEST(NewtonSolver, AKeptFactorGivesTheSameStepsWithFewerFactorizations) {
     const InnerSolveResult result = solve_step(kept, problem, a_kept, options);
     ASSERT_EQ(result.status, SolveStatus::Converged);
     iterations += result.iterations;
-    EXPECT_LT((a_kept - a_fresh).norm(), 1e-7 * a_fresh.norm()) << "step " << step;
+    // Both stop at a residual acceleration of 1e-7 m/s^2, each at its own point within it (the
+    // float preconditioner's CG path differs by round-off): ~1e-7 of |a| apart.
+    EXPECT_LT((a_kept - a_fresh).norm(), 1e-6 * a_fresh.norm()) << "step " << step;
     v += objective.dt() * a_fresh;
     x += objective.dt() * v;
   }
@@ -207,7 +209,7 @@ TEST(NewtonSolver, AFloatPreconditionerGivesTheSameSteps) {
     ASSERT_EQ(reference.status, SolveStatus::Converged);
     ASSERT_EQ(result.status, SolveStatus::Converged);
     EXPECT_LE(std::abs(result.iterations - reference.iterations), 1) << "step " << step;
-    EXPECT_LT((a_floats - a_doubles).norm(), 1e-7 * a_doubles.norm()) << "step " << step;
+    EXPECT_LT((a_floats - a_doubles).norm(), 1e-6 * a_doubles.norm()) << "step " << step;
     v += objective.dt() * a_doubles;
     x += objective.dt() * v;
   }

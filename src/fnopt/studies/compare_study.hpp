@@ -20,10 +20,12 @@
 namespace fnopt {
 
 struct CompareStudy {
-  std::vector<Scene> scenes;         // resolution x motion, validated
+  std::vector<Scene> scenes;         // resolution x motion
   std::vector<std::string> methods;  // in the order given
-  std::vector<RunSpec> runs;         // every method and budget, run on every scene
-  OptimizerChoice settings;          // --model and the other per-method settings of every run
+  std::vector<int> budgets = {10};   // iteration budgets of every method that takes one
+  // Budgets of single methods, in place of `budgets` (newton=1,2,3: Newton also capped).
+  std::map<std::string, std::vector<int>> budgets_for;
+  OptimizerChoice settings;  // --model and the other per-method settings of every run
   // Learning-rate candidates of the methods that take one; several are swept on the first scene
   // by the mean per-step error, per method and budget.
   std::map<std::string, std::vector<double>> learning_rates = {{"gd", {0.25, 0.5, 1, 1.5, 1.9}},
@@ -35,12 +37,20 @@ struct CompareStudy {
   std::string command_line;                                   // for report.md
   std::vector<double> error_levels = {1e-3, 0.3e-3, 0.1e-3};  // e_CD levels of the "fastest within" lines
   ChamferOptions chamfer;
-  int cd_stride = 2;
-  int step_samples = 16;
-  int threads = 1;  // in effect (set by the caller), printed with every timing
+  int cd_stride = 2;      // e_CD on every k-th matched frame (2: every 1/30 s at dt = 1/60)
+  int step_samples = 16;  // reference states of the per-step error
+  int threads = 1;        // in effect (set by the caller), printed with every timing
   bool warm_start = false;
   bool keep_rollouts = false;
   bool resume = false;
+
+  // Every check a request must pass before any work: the scenes valid, every method known and
+  // fitting every grid, positive budgets, samples, strides, levels and learning rates. Throws
+  // Error("compare.<field>", ...) (Error("optimizer", ...) for a method, the scene's own for a
+  // scene, Error("cd-samples", ...) for the chamfer samples).
+  void validate() const;
+  // Every method at its budgets (compare_runs), in the order run and written.
+  std::vector<RunSpec> runs() const;
 };
 
 // With more than one process (mpirun, srun), the references still missing and then the runs are

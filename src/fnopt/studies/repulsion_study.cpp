@@ -4,74 +4,32 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
-#include <set>
 
 #include <fnopt/io/csv_table.hpp>
-#include <fnopt/io/markdown_report.hpp>
-#include <fnopt/io/svg_plot.hpp>
 #include <fnopt/metrics/self_contact.hpp>
 #include <fnopt/simulation/rollout.hpp>
+#include <fnopt/studies/repulsion_report.hpp>
 #include <fnopt/studies/resumed_rows.hpp>
+#include <fnopt/studies/sweep_rows.hpp>
+#include <fnopt/studies/sweep_runner.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/parse_text.hpp>
-#include <fnopt/util/progress_bar.hpp>
 
 namespace fnopt {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string fixed(double value, int digits) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.*f", digits, value);
-  return text;
-}
+using Rows = std::vector<std::vector<std::string>>;
 
-std::string sci(double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.3g", value);
-  return text;
-}
-
-const std::vector<std::string>& run_columns() {
-  static const std::vector<std::string> columns = {"preset",
-                                                   "repulsion",
-                                                   "optimizer",
-                                                   "res",
-                                                   "frames",
-                                                   "frames_done",
-                                                   "ms_per_frame",
-                                                   "iterations_per_step",
-                                                   "converged_steps",
-                                                   "mean_energy_J",
-                                                   "max_energy_J",
-                                                   "share_above_1e-5J",
-                                                   "share_above_1e-4J",
-                                                   "share_above_1e-3J",
-                                                   "max_pairs_half_delta",
-                                                   "max_pairs_quarter_delta",
-                                                   "share_frames_quarter_delta",
-                                                   "min_distance_over_delta",
-                                                   "max_strain_pct",
-                                                   "diverged"};
-  return columns;
-}
-
-const std::vector<std::string>& energy_columns() {
-  static const std::vector<std::string> columns = {"preset", "repulsion", "optimizer", "time_s", "energy_J"};
-  return columns;
-}
-
-const std::vector<std::string> kKeyColumns = {"preset", "repulsion", "optimizer"};
-
-// One finished run: its row of repulsion.csv and the energy of each of its frames.
-struct RunResult {
+// One finished run: its row of repulsion.csv and its rows of repulsion_energy.csv.
+struct RunRows {
   std::vector<std::string> row;
-  std::vector<std::pair<double, double>> energy;  // (time [s], repulsive energy [J])
+  Rows energy;
 };
 
-RunResult run_one(const Scene& base, const std::string& preset, bool repulsion, const OptimizerChoice& choice,
-                  const StepCallback& on_step) {
+RunRows run_one(const Scene& base, const std::string& preset, bool repulsion, const OptimizerChoice& choice,
+                const StepCallback& on_step) {
   Scene scene = base;
   apply_scene_setting(scene, "handles", preset);
   apply_scene_setting(scene, "repulsion", repulsion ? "true" : "false");
@@ -81,19 +39,21 @@ RunResult run_one(const Scene& base, const std::string& preset, bool repulsion, 
   const bool tolerance = options.solve.to_tolerance();
   const RolloutResult rollout = run_rollout(resolve(scene), *optimizer, options, on_step);
 
-  RunResult result;
+  RunRows result;
+  const std::string on_off = repulsion ? "on" : "off";
   std::vector<SelfContactFrame> frames;
   SpatialHash hash;
   VecX x;
   for (std::size_t t = 0; t < rollout.positions.size(); ++t) {
     x = rollout.positions[t].cast<double>();
     frames.push_back(measure_self_contact(rollout.grid, x, hash));
-    result.energy.emplace_back(rollout.times[t], frames.back().energy);
+    result.energy.push_back({preset, on_off, choice.name, CsvTable::number(rollout.times[t], 8),
+                             CsvTable::number(frames.back().energy, 6)});
   }
   const SelfContactSummary s = summarize_self_contact(frames);
   const int steps = static_cast<int>(rollout.steps.size());
   result.row = {preset,
-                repulsion ? "on" : "off",
+                on_off,
                 choice.name,
                 std::to_string(base.rows),
                 std::to_string(base.frames),
@@ -115,86 +75,168 @@ RunResult run_one(const Scene& base, const std::string& preset, bool repulsion, 
   return result;
 }
 
-// The printed / Markdown table: the columns a reader compares, from a row of repulsion.csv.
-std::vector<std::string> table_header() {
-  return {"preset", "repulsion", "optimizer", "ms/frame",     "it/step", "mean E_rep [J]", "E>1e-5", "E>1e-4",
-          "E>1e-3", "max #<δ/2", "max #<δ/4", "frames #<δ/4", "min d/δ", "strain",         "status"};
-}
+// The study as a sweep (studies/sweep_runner.hpp): one task per preset, repulsion off or on, and
+// optimizer, in that order.
+class RepulsionSweep final : public SweepWork<RunRows> {
+ public:
+  RepulsionSweep(const RepulsionStudy& study, const Communicator& comm);
+  void run_study();
 
-std::vector<std::string> table_row(const std::vector<std::string>& row) {
-  std::map<std::string, std::string> cell;
-  for (std::size_t c = 0; c < run_columns().size(); ++c) cell[run_columns()[c]] = row[c];
-  auto number = [&](const std::string& column) {
-    double value = 0.0;
-    return parse_double(cell[column], value) ? value : NAN;
-  };
-  auto percent = [&](const std::string& column) { return fixed(100.0 * number(column), 0) + "%"; };
-  std::string status = cell["diverged"] == "yes" ? "diverged" : "finite";
-  if (cell["converged_steps"] != "budget") status += ", " + cell["converged_steps"] + " conv";
-  return {cell["preset"],
-          cell["repulsion"],
-          cell["optimizer"],
-          fixed(number("ms_per_frame"), 1),
-          fixed(number("iterations_per_step"), 1),
-          sci(number("mean_energy_J")),
-          percent("share_above_1e-5J"),
-          percent("share_above_1e-4J"),
-          percent("share_above_1e-3J"),
-          cell["max_pairs_half_delta"],
-          cell["max_pairs_quarter_delta"],
-          percent("share_frames_quarter_delta"),
-          fixed(number("min_distance_over_delta"), 2),
-          fixed(number("max_strain_pct"), 0) + "%",
-          status};
-}
+  void run(std::size_t task, SweepTaskRun<RunRows>& run) override;
+  void record(std::size_t task, const RunRows& rows) override;
+  std::string encode(const RunRows& rows) const override;
+  RunRows decode(const std::string& text) const override;
 
-void print_table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
-  std::vector<std::size_t> width(header.size());
-  auto length = [](const std::string& text) {  // code points, so δ counts once
-    std::size_t n = 0;
-    for (unsigned char c : text) n += (c & 0xC0) != 0x80;
-    return n;
+ private:
+  struct Run {
+    std::string preset;
+    bool repulsion = false;
+    std::size_t optimizer = 0;  // into RepulsionStudy::optimizers
   };
-  for (std::size_t c = 0; c < header.size(); ++c) {
-    width[c] = length(header[c]);
-    for (const auto& row : rows) width[c] = std::max(width[c], length(row[c]));
+  double cost(const OptimizerChoice& choice) const;
+  void print_banner() const;
+  // Both files as one process writes them (sweep_rows.hpp): runs and energy rows.
+  std::pair<Rows, Rows> assemble(bool with_unplanned) const;
+
+  const RepulsionStudy& study_;
+  const Communicator& comm_;
+  std::string csv_path_, energy_path_;
+  ResumedRows resumed_;                      // --resume: the earlier repulsion.csv's rows
+  std::map<std::string, Rows> kept_energy_;  // the energy rows of the earlier runs, by run key
+  std::vector<Run> runs_;                    // in plan order, one slot each
+  SweepRows<RunRows> rows_;
+  std::vector<std::size_t> slots_;  // of the tasks
+};
+
+RepulsionSweep::RepulsionSweep(const RepulsionStudy& study, const Communicator& comm)
+    : study_(study),
+      comm_(comm),
+      csv_path_((fs::path(study.out) / "repulsion.csv").string()),
+      energy_path_((fs::path(study.out) / "repulsion_energy.csv").string()),
+      resumed_(csv_path_, repulsion_run_columns(), {"preset", "repulsion", "optimizer"}, study.resume,
+               "repulsion-study"),
+      rows_(resumed_) {
+  // The energy rows of the runs kept, by run key (several rows per run: ResumedRows keeps one).
+  if (resumed_.size() > 0) {
+    require(fs::exists(energy_path_), "resume", energy_path_ + " is missing: cannot redraw the finished runs");
+    const CsvTable earlier = CsvTable::read(energy_path_);
+    require(earlier.columns() == repulsion_energy_columns(), "resume",
+            energy_path_ + ": written by another version of repulsion-study: cannot resume");
+    for (const auto& row : earlier.rows()) kept_energy_[ResumedRows::key({row[0], row[1], row[2]})].push_back(row);
   }
-  auto print_row = [&](const std::vector<std::string>& row) {
-    for (std::size_t c = 0; c < row.size(); ++c)
-      std::printf("%s%s%s", c ? "  " : "", std::string(width[c] - length(row[c]), ' ').c_str(), row[c].c_str());
-    std::printf("\n");
-  };
-  print_row(header);
-  for (const auto& row : rows) print_row(row);
+  for (const std::string& preset : repulsion_presets())
+    for (bool repulsion : {false, true})
+      for (std::size_t i = 0; i < study.optimizers.size(); ++i) {
+        runs_.push_back({preset, repulsion, i});
+        rows_.plan({preset, repulsion ? "on" : "off", study.optimizers[i].name});
+      }
 }
 
-PlotFigure make_plot(const std::vector<std::vector<std::string>>& energy_rows, const RepulsionStudy& study) {
-  PlotFigure figure;
-  figure.title = "Self-contact: repulsive energy per frame (lambda_ref = 1 N/m, delta = h)";
-  figure.notes = {std::to_string(study.base.rows) + "x" + std::to_string(study.base.cols) + " grid, motion " +
-                      study.base.motion + ", " + std::to_string(study.base.frames) +
-                      " frames; repulsion on: lambda = " + sci(study.base.material.repulsion_stiffness) + " N/m",
-                  "frames with zero energy (no pair within delta) cannot be drawn on the log axis"};
-  figure.columns = 3;
-  figure.marked_meaning = "";
-  for (const std::string& preset : repulsion_presets()) {
-    PlotPanel panel;
-    panel.title = preset + (preset == "corner" ? " (control)" : "");
-    panel.x_label = "time [s]";
-    panel.y_label = "repulsive energy [J]";
-    panel.log_x = false;
-    panel.log_y = true;
-    for (const auto& row : energy_rows) {  // rows of one run are consecutive
-      if (row[0] != preset) continue;
-      const std::string name = row[2] + ", repulsion " + row[1];
-      if (panel.series.empty() || panel.series.back().name != name) panel.series.push_back({name, {}});
-      double time = 0.0, energy = 0.0;
-      if (parse_double(row[3], time) && parse_double(row[4], energy))
-        panel.series.back().points.push_back({time, energy, "", false});
+// Frame-cost units (methods/registry.hpp), as compare and stability count them.
+double RepulsionSweep::cost(const OptimizerChoice& choice) const {
+  const InnerSolveOptions solve = choice.solve_options();
+  const Scene& base = study_.base;
+  return base.frames * frame_cost(choice.name, solve.max_iterations, solve.to_tolerance(), base.rows * base.cols);
+}
+
+void RepulsionSweep::run_study() {
+  std::vector<SweepTask> tasks;
+  double resumed_cost = 0.0;
+  for (std::size_t slot = 0; slot < runs_.size(); ++slot) {
+    const Run& run = runs_[slot];
+    const OptimizerChoice& choice = study_.optimizers[run.optimizer];
+    if (rows_.resumed(slot)) {
+      resumed_cost += cost(choice);
+      continue;
     }
-    figure.panels.push_back(panel);
+    tasks.push_back({0, cost(choice), run.preset + " " + (run.repulsion ? "on" : "off") + " " + choice.name});
+    slots_.push_back(slot);
   }
-  return figure;
+  SweepRunner runner("repulsion-study", std::move(tasks), comm_, resumed_cost);
+  if (comm_.is_root()) print_banner();
+  runner.run_phase(0, *this);
+  if (!comm_.is_root()) return;
+  runner.finish();
+  write_repulsion_report(study_, assemble(false).first, assemble(true).second);
+}
+
+void RepulsionSweep::print_banner() const {
+  const Scene& base = study_.base;
+  if (resumed_.size() > 0)
+    std::fprintf(stderr, "resuming: %zu finished runs in %s\n", resumed_.size(), csv_path_.c_str());
+  std::fprintf(stderr,
+               "fnopt repulsion-study: %dx%d grid, motion %s, %d frames, presets corner-center, single-mid-edge, "
+               "corner; repulsion off/on (lambda %.4g N/m, delta = h); %zu optimizer%s; %d thread%s\n",
+               base.rows, base.cols, base.motion.c_str(), base.frames, base.material.repulsion_stiffness,
+               study_.optimizers.size(), study_.optimizers.size() == 1 ? "" : "s", study_.threads,
+               study_.threads == 1 ? "" : "s");
+}
+
+void RepulsionSweep::run(std::size_t task, SweepTaskRun<RunRows>& run) {
+  const Run& r = runs_[slots_[task]];
+  const OptimizerChoice& choice = study_.optimizers[r.optimizer];
+  const std::string label = r.preset + " " + (r.repulsion ? "on" : "off") + " " + choice.name;
+  const double weight = cost(choice) / study_.base.frames;
+  run.emit(run_one(study_.base, r.preset, r.repulsion, choice, [&](int done, int, const StepRecord& s) {
+    char status[128];
+    std::snprintf(status, sizeof status, "%s: %.1f ms/step, %d it", label.c_str(), s.wall_ms, s.iterations);
+    run.progress(done * weight, status);
+  }));
+}
+
+// Rank 0: both files hold every finished run after each one, so that an interrupted study resumes.
+void RepulsionSweep::record(std::size_t task, const RunRows& rows) {
+  rows_.finish(slots_[task], rows);
+  const auto [runs, energy] = assemble(true);
+  CsvTable run_table(repulsion_run_columns()), energy_table(repulsion_energy_columns());
+  for (const auto& row : runs) run_table.add_row(row);
+  for (const auto& row : energy) energy_table.add_row(row);
+  energy_table.write(energy_path_);
+  run_table.write(csv_path_);
+}
+
+std::pair<Rows, Rows> RepulsionSweep::assemble(bool with_unplanned) const {
+  Rows runs, energy;
+  auto add = [&](const std::vector<std::string>& row, const Rows& energy_rows) {
+    runs.push_back(row);
+    energy.insert(energy.end(), energy_rows.begin(), energy_rows.end());
+  };
+  auto kept = [&](const std::vector<std::string>& row) {
+    const auto it = kept_energy_.find(ResumedRows::key({row[0], row[1], row[2]}));
+    return it == kept_energy_.end() ? Rows() : it->second;
+  };
+  if (with_unplanned)
+    for (const auto& row : rows_.unplanned()) add(row, kept(row));
+  rows_.visit([&](std::size_t, const std::vector<std::string>& row) { add(row, kept(row)); },
+              [&](std::size_t, const RunRows& rows) { add(rows.row, rows.energy); });
+  return {runs, energy};
+}
+
+// The run's row, then its energy rows: cells separated by the ASCII unit separator, rows by the
+// record separator.
+std::string RepulsionSweep::encode(const RunRows& rows) const {
+  std::string text;
+  auto add = [&](const std::vector<std::string>& row) {
+    for (std::size_t c = 0; c < row.size(); ++c) text += (c ? "\x1f" : "") + row[c];
+    text += '\x1e';
+  };
+  add(rows.row);
+  for (const auto& row : rows.energy) add(row);
+  return text;
+}
+
+RunRows RepulsionSweep::decode(const std::string& text) const {
+  RunRows rows;
+  for (std::string_view line : split(text, '\x1e')) {
+    if (line.empty()) continue;
+    std::vector<std::string> cells;
+    for (std::string_view cell : split(line, '\x1f')) cells.emplace_back(cell);
+    if (rows.row.empty())
+      rows.row = std::move(cells);
+    else
+      rows.energy.push_back(std::move(cells));
+  }
+  return rows;
 }
 
 }  // namespace
@@ -204,110 +246,8 @@ const std::vector<std::string>& repulsion_presets() {
   return presets;
 }
 
-void run_repulsion_study(const RepulsionStudy& study) {
-  const Scene& base = study.base;
-  const std::string csv_path = (fs::path(study.out) / "repulsion.csv").string();
-  const std::string energy_path = (fs::path(study.out) / "repulsion_energy.csv").string();
-  const ResumedRows resumed(csv_path, run_columns(), kKeyColumns, study.resume, "repulsion-study");
-  // The energy rows of the runs kept, by run key (several rows per run: ResumedRows keeps one).
-  std::map<std::string, std::vector<std::vector<std::string>>> kept_energy;
-  if (resumed.size() > 0) {
-    std::fprintf(stderr, "resuming: %zu finished runs in %s\n", resumed.size(), csv_path.c_str());
-    require(fs::exists(energy_path), "resume", energy_path + " is missing: cannot redraw the finished runs");
-    const CsvTable earlier = CsvTable::read(energy_path);
-    require(earlier.columns() == energy_columns(), "resume",
-            energy_path + ": written by another version of repulsion-study: cannot resume");
-    for (const auto& row : earlier.rows()) kept_energy[ResumedRows::key({row[0], row[1], row[2]})].push_back(row);
-  }
-  std::fprintf(stderr,
-               "fnopt repulsion-study: %dx%d grid, motion %s, %d frames, presets corner-center, single-mid-edge, "
-               "corner; repulsion off/on (lambda %.4g N/m, delta = h); %zu optimizer%s; %d thread%s\n",
-               base.rows, base.cols, base.motion.c_str(), base.frames, base.material.repulsion_stiffness,
-               study.optimizers.size(), study.optimizers.size() == 1 ? "" : "s", study.threads,
-               study.threads == 1 ? "" : "s");
-
-  // Progress in frame-cost units (methods/registry.hpp), as compare and stability count it.
-  auto cost = [&](const OptimizerChoice& choice) {
-    const InnerSolveOptions solve = choice.solve_options();
-    return base.frames * frame_cost(choice.name, solve.max_iterations, solve.to_tolerance(), base.rows * base.cols);
-  };
-  double total_cost = 0.0, done_cost = 0.0;
-  for (const std::string& preset : repulsion_presets())
-    for (const char* repulsion : {"off", "on"})
-      for (const auto& choice : study.optimizers) {
-        total_cost += cost(choice);
-        if (resumed.find(ResumedRows::key({preset, repulsion, choice.name}))) done_cost += cost(choice);
-      }
-  const double unit = std::max(1.0, total_cost / 1e6);  // at most ~1e6 units: fits an int
-  ProgressBar bar("repulsion-study", static_cast<int>(total_cost / unit), static_cast<int>(done_cost / unit));
-
-  CsvTable runs(run_columns()), energy(energy_columns());
-  // Runs of the earlier files that this plan does not name (other optimizers) stay in them, as
-  // in compare and stability: resuming with a subset never drops finished work.
-  std::set<std::string> planned;
-  for (const std::string& preset : repulsion_presets())
-    for (const char* repulsion : {"off", "on"})
-      for (const auto& choice : study.optimizers) planned.insert(ResumedRows::key({preset, repulsion, choice.name}));
-  for (const auto& row : resumed.unplanned(planned)) {
-    runs.add_row(row);
-    for (const auto& energy_row : kept_energy[ResumedRows::key({row[0], row[1], row[2]})]) energy.add_row(energy_row);
-  }
-  std::vector<std::vector<std::string>> table_rows;
-  for (const std::string& preset : repulsion_presets())
-    for (bool repulsion : {false, true})
-      for (const auto& choice : study.optimizers) {
-        const std::string on_off = repulsion ? "on" : "off";
-        const std::string key = ResumedRows::key({preset, on_off, choice.name});
-        if (const auto* earlier = resumed.find(key)) {
-          runs.add_row(*earlier);
-          for (const auto& row : kept_energy[key]) energy.add_row(row);
-          table_rows.push_back(table_row(*earlier));
-          continue;
-        }
-        const std::string label = preset + " " + on_off + " " + choice.name;
-        const double start = done_cost, weight = cost(choice) / base.frames;
-        const RunResult result = run_one(base, preset, repulsion, choice, [&](int done, int, const StepRecord& s) {
-          char status[128];
-          std::snprintf(status, sizeof status, "%s: %.1f ms/step, %d it", label.c_str(), s.wall_ms, s.iterations);
-          bar.update(static_cast<int>((start + done * weight) / unit), status);
-        });
-        done_cost = start + cost(choice);
-        runs.add_row(result.row);
-        for (const auto& [time, value] : result.energy)
-          energy.add_row({preset, on_off, choice.name, CsvTable::number(time, 8), CsvTable::number(value, 6)});
-        table_rows.push_back(table_row(result.row));
-        energy.write(energy_path);  // both files hold every finished run: an interrupted study resumes
-        runs.write(csv_path);
-      }
-  bar.finish();
-
-  const std::string svg_name = "repulsion.svg";
-  write_svg((fs::path(study.out) / svg_name).string(), make_plot(energy.rows(), study));
-
-  MarkdownReport report("Self-repulsion study");
-  report.paragraph(
-      "Handle presets whose cloth folds onto itself (corner-center, single-mid-edge) and the corner "
-      "control, each simulated with self-repulsion off and on (lambda = " +
-      sci(base.material.repulsion_stiffness) + " N/m, delta = h), " + std::to_string(base.rows) + "x" +
-      std::to_string(base.cols) + " grid, motion " + base.motion + ", " + std::to_string(base.frames) +
-      " frames at dt = " + number_text(base.dt) + " s, " + std::to_string(study.threads) + " thread(s).");
-  report.bullets(
-      {"E_rep: the repulsive energy of each frame's configuration under the same barrier with a fixed "
-       "reference lambda_ref = 1 N/m and delta = h (metrics/self_contact.hpp), averaged over frames.",
-       "E>1e-5 / 1e-4 / 1e-3: share of frames whose E_rep exceeds 1e-5 J (the cloth touches itself), "
-       "1e-4 J (pressed contact; one pair at delta/2 is 1.7e-4 J at 32x32), 1e-3 J (deep contact).",
-       "max #<δ/2, #<δ/4: the most non-adjacent vertex pairs closer than delta/2, delta/4 in any "
-       "frame (penetration proxies); frames #<δ/4: share of frames with such a pair; min d/δ: the "
-       "smallest pair distance in any frame."});
-  report.table(table_header(), table_rows);
-  report.image(svg_name, "repulsive energy over time");
-  report.paragraph("Every column of every run: repulsion.csv; the energy of every frame: repulsion_energy.csv.");
-  report.code(study.command_line);
-  report.write((fs::path(study.out) / "report.md").string());
-
-  print_table(table_header(), table_rows);
-  std::printf("wrote %s, %s, %s/%s and %s/report.md (%d thread%s)\n", csv_path.c_str(), energy_path.c_str(),
-              study.out.c_str(), svg_name.c_str(), study.out.c_str(), study.threads, study.threads == 1 ? "" : "s");
+void run_repulsion_study(const RepulsionStudy& study, const Communicator& comm) {
+  RepulsionSweep(study, comm).run_study();
 }
 
 }  // namespace fnopt

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <fnopt/methods/registry.hpp>
+#include <fnopt/parallel/communicator.hpp>
 #include <fnopt/scenes/scene.hpp>
 
 namespace fnopt {
@@ -26,6 +27,9 @@ struct RepulsionStudy {
 // corner-center, single-mid-edge (fold onto themselves), corner (the control).
 const std::vector<std::string>& repulsion_presets();
 
-void run_repulsion_study(const RepulsionStudy& study);
+// With more than one process (mpirun, srun), the runs are spread over the ranks largest first
+// (parallel/sweep_schedule.hpp); rank 0 writes the outputs exactly as one process would. DIR
+// must be one shared folder.
+void run_repulsion_study(const RepulsionStudy& study, const Communicator& comm = Communicator::world());
 
 }  // namespace fnopt

@@ -1,7 +1,8 @@
 #pragma once
-// The rows a study's --resume keeps (compare, stability): the earlier CSV's rows, keyed by the
-// columns that name a run, so that a run already in the file is not run again, and rows that
-// the new plan does not name (other methods, budgets, scenes) stay in the file.
+// The rows a study's --resume keeps (compare, stability, repulsion-study): the earlier CSV's
+// rows, keyed by the columns that name a run, so that a run already in the file is not run
+// again, and rows that the new plan does not name (other methods, budgets, scenes) stay in the
+// file (studies/sweep_rows.hpp puts them in order).
 #include <map>
 #include <set>
 #include <string>

@@ -1,0 +1,44 @@
+#pragma once
+// One run of `fnopt compare` and its measured result (a row of compare.csv), with the helpers
+// every table and plot of the study shares.
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace fnopt {
+
+struct RunSpec {
+  std::string method;
+  int budget = 0;  // 0: a method that runs to its tolerance (newton), run so
+};
+
+struct RunResult {
+  RunSpec spec;
+  std::string resolution, motion;  // "32" (32 x 32) or "32x64" (rows x cols)
+  double lr = 0.0;
+  double ms = NAN, cpu_share = NAN, iterations = NAN, e_cd = NAN, e_3d = NAN, step_mean = NAN, step_median = NAN,
+         strain = NAN;
+  double e_cd_arcsim = NAN;
+  bool diverged = false, failed = false;
+  int frames = 0, frames_requested = 0;
+  std::string lr_source;  // where the learning rate came from (given, swept)
+  bool frontier = false;  // Pareto-optimal in ms/frame and e_CD among its scene's runs
+  std::string note;
+};
+
+// Newton to its reference tolerance (not a budgeted Newton run).
+bool is_converged_run(const RunSpec& spec);
+// "10", or "converged" for a converged run (the CSV's N).
+std::string budget_text(const RunSpec& spec);
+// The run time a plot or report shows: with one thread, wall time x the CPU share the process
+// got (what it would take on an idle core of this shared machine); otherwise wall time.
+double plotted_ms(const RunResult& r, int threads);
+double mean_finite(const std::vector<double>& values);
+// Vertices of a resolution text ("32" -> 1024, "32x64" -> 2048); 0 if it is not one.
+int vertex_count_of(const std::string& resolution);
+// "32^2" or "32x64".
+std::string resolution_title(const std::string& resolution);
+// "pqn N=10", or "newton" for a converged run.
+std::string method_label(const std::string& method, int budget);
+
+}  // namespace fnopt
