@@ -248,11 +248,13 @@ TEST(MetaTraining, APoolOfTwoGridsScoresEachEnvironmentAtItsOwnSize) {
   const double env1_at_12 = 2.0 * first_loss({12}, 2) - first_loss({12}, 1);
   EXPECT_NEAR(mixed, 0.5 * (env0_at_8 + env1_at_12), 1e-5 * std::abs(mixed));
 
-  TrainingEnv at8(tiny_training().pool, 1, 0), at12([] {
-    PoolOptions pool = tiny_training().pool;
-    pool.resolutions = {8, 12};
-    return pool;
-  }(), 1, 1);
+  TrainingEnv at8(tiny_training().pool, 1, 0), at12(
+                                                   [] {
+                                                     PoolOptions pool = tiny_training().pool;
+                                                     pool.resolutions = {8, 12};
+                                                     return pool;
+                                                   }(),
+                                                   1, 1);
   EXPECT_EQ(at8.grid().rows, 8);
   EXPECT_EQ(at12.grid().rows, 12);
 }

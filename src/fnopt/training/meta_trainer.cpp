@@ -53,10 +53,10 @@ std::string TrainOptions::signature() const {
   std::ostringstream s;
   s << "res=";
   for (std::size_t i = 0; i < pool.resolutions.size(); ++i) s << (i ? "," : "") << pool.resolutions[i];
-  s << " envs=" << pool.environments << (model.in_channels() == 9 ? " combined" : "")
-    << " width=" << model.width() << " layers=" << model.fourier_layers() << " modes=" << model.modes_x() << "x"
-    << model.modes_y() << " lifting=" << model.lifting_channels() << " projection=" << model.projection_channels()
-    << " batch=" << batch << " lr=" << learning_rate << " newton_weight=" << newton_weight << " seed=" << seed;
+  s << " envs=" << pool.environments << (model.in_channels() == 9 ? " combined" : "") << " width=" << model.width()
+    << " layers=" << model.fourier_layers() << " modes=" << model.modes_x() << "x" << model.modes_y()
+    << " lifting=" << model.lifting_channels() << " projection=" << model.projection_channels() << " batch=" << batch
+    << " lr=" << learning_rate << " newton_weight=" << newton_weight << " seed=" << seed;
   if (loss_normalisation == LossNormalisation::Batch) s << " loss=batch";
   if (objective == TrainObjective::Probe) s << " objective=probe";
   if (probe.iterations != 1) s << " probe_iterations=" << probe.iterations;

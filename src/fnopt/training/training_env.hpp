@@ -1,10 +1,9 @@
 #pragma once
-// One environment of the meta-training pool (docs/design.md §5): an N x N cloth (32^2 by default) with a random material
-// (log-uniform over grid-unit ranges), random orientation and gravity direction, the two top
-// corners plus 0-2 random extra handles on a random smooth motion, and an iteration budget per
-// time step drawn from {1, 3, 10, 30}. The learned optimizer iterates on its current time step;
-// when the budget is used the environment advances with its own (learned) solution, so the
-// pool visits the states the optimizer itself produces. Each time step is also solved by
+// One environment of the meta-training pool (docs/design.md §5): an N x N cloth (32^2 by default) with a random
+// material (log-uniform over grid-unit ranges), random orientation and gravity direction, the two top corners plus 0-2
+// random extra handles on a random smooth motion, and an iteration budget per time step drawn from {1, 3, 10, 30}. The
+// learned optimizer iterates on its current time step; when the budget is used the environment advances with its own
+// (learned) solution, so the pool visits the states the optimizer itself produces. Each time step is also solved by
 // Newton (L* = the exact minimum), which makes the training loss scale-free.
 // Everything random derives from (seed, id, generation), so an environment is restored from
 // its saved state and generation alone.
