@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <string>
 #include <utility>
 
 #include <fnopt/fno/fno_io.hpp>
@@ -43,6 +44,22 @@ std::pair<double, double> train_on_fixed_batch(torch::optim::Adam& adam, Loss&& 
     adam.step();
   }
   return {initial, loss().template item<double>()};
+}
+
+// Saves `original`'s checkpoint, takes `steps` more steps, and checks that a trainer resumed from
+// the checkpoint takes the same ones (losses to float round-off).
+void expect_resumes_exactly(MetaTrainer& original, const TrainOptions& options, const std::string& name, int steps) {
+  const auto dir = std::filesystem::temp_directory_path() / name;
+  std::filesystem::create_directories(dir);
+  const std::string checkpoint = (dir / "checkpoint.pt").string();
+  original.save_checkpoint(checkpoint);
+  std::vector<double> expected;
+  for (int i = 0; i < steps; ++i) expected.push_back(original.step().loss);
+  MetaTrainer resumed(options, checkpoint);
+  EXPECT_EQ(resumed.completed_steps(), original.completed_steps() - steps);
+  for (int i = 0; i < steps; ++i)
+    EXPECT_NEAR(resumed.step().loss, expected[i], 1e-6 * std::abs(expected[i])) << name << ", step " << i;
+  std::filesystem::remove_all(dir);
 }
 
 TEST(EnergyLoss, GradientMatchesFiniteDifferencesForBothNormalisations) {
@@ -168,20 +185,9 @@ TEST(MetaTraining, TinyModelLowersTheLossOnAFixedBatch) {
 }
 
 TEST(MetaTraining, ResumedCheckpointTakesTheSameNextSteps) {
-  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_resume";
-  std::filesystem::create_directories(dir);
-  const std::string checkpoint = (dir / "checkpoint.pt").string();
   MetaTrainer original(tiny_training());
   for (int i = 0; i < 4; ++i) original.step();
-  original.save_checkpoint(checkpoint);
-  std::vector<double> expected;
-  for (int i = 0; i < 6; ++i) expected.push_back(original.step().loss);
-
-  MetaTrainer resumed(tiny_training(), checkpoint);
-  EXPECT_EQ(resumed.completed_steps(), 4);
-  for (int i = 0; i < 6; ++i)
-    EXPECT_NEAR(resumed.step().loss, expected[i], 1e-6 * std::abs(expected[i])) << "step " << i;
-  std::filesystem::remove_all(dir);
+  expect_resumes_exactly(original, tiny_training(), "fnopt_test_resume", 6);
 }
 
 TEST(MetaTraining, CombinedLayoutTrainsAndResumesToo) {
@@ -202,9 +208,6 @@ TEST(MetaTraining, CombinedLayoutTrainsAndResumesToo) {
 TEST(MetaTraining, SubspaceRuleChangesThePoolAndResumesWithItsKeptProposals) {
   TrainOptions options = tiny_training();
   options.pool.subspace = 8;
-  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_resume_subspace";
-  std::filesystem::create_directories(dir);
-  const std::string checkpoint = (dir / "checkpoint.pt").string();
   MetaTrainer original(options), as_is(tiny_training());
   std::vector<double> losses, losses_as_is;
   for (int i = 0; i < 4; ++i) {
@@ -214,14 +217,7 @@ TEST(MetaTraining, SubspaceRuleChangesThePoolAndResumesWithItsKeptProposals) {
   // The first step sees the same pool; the pool the rule leaves behind differs.
   EXPECT_EQ(losses[0], losses_as_is[0]);
   EXPECT_NE(losses, losses_as_is);
-  original.save_checkpoint(checkpoint);
-  std::vector<double> expected;
-  for (int i = 0; i < 8; ++i) expected.push_back(original.step().loss);
-
-  MetaTrainer resumed(options, checkpoint);
-  for (int i = 0; i < 8; ++i)
-    EXPECT_NEAR(resumed.step().loss, expected[i], 1e-6 * std::abs(expected[i])) << "step " << i;
-  std::filesystem::remove_all(dir);
+  expect_resumes_exactly(original, options, "fnopt_test_resume_subspace", 8);
 }
 
 TEST(MetaTraining, ScoringAfterTheSubspaceStepNeedsThePoolToTakeIt) {
@@ -262,18 +258,9 @@ TEST(MetaTraining, APoolOfTwoGridsScoresEachEnvironmentAtItsOwnSize) {
 TEST(MetaTraining, APoolOfTwoGridsResumesAndNeedsTheEnergyObjective) {
   TrainOptions options = tiny_training();
   options.pool.resolutions = {8, 12};
-  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_resume_two_grids";
-  std::filesystem::create_directories(dir);
-  const std::string checkpoint = (dir / "checkpoint.pt").string();
   MetaTrainer original(options);
   for (int i = 0; i < 3; ++i) EXPECT_TRUE(std::isfinite(original.step().loss));
-  original.save_checkpoint(checkpoint);
-  std::vector<double> expected;
-  for (int i = 0; i < 4; ++i) expected.push_back(original.step().loss);
-  MetaTrainer resumed(options, checkpoint);
-  for (int i = 0; i < 4; ++i)
-    EXPECT_NEAR(resumed.step().loss, expected[i], 1e-6 * std::abs(expected[i])) << "step " << i;
-  std::filesystem::remove_all(dir);
+  expect_resumes_exactly(original, options, "fnopt_test_resume_two_grids", 4);
 
   TrainOptions probe = options;
   probe.objective = TrainObjective::Probe;
