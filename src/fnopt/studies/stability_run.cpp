@@ -76,8 +76,7 @@ double energy_growth(const StabilityRun& run, const StabilityRun& reference) {
       !std::isfinite(reference.initial_energy) || reference.rollout.steps.empty())
     return NAN;
   const auto [ref_hi, ref_lo] = energy_range(reference);
-  const auto [hi, lo] = energy_range(run);
-  (void)lo;
+  const double hi = energy_range(run).first;
   const double span = ref_hi - ref_lo;
   if (!(span > 0.0)) return NAN;
   const double growth = (hi - ref_lo) / span;

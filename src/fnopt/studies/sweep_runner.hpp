@@ -51,7 +51,6 @@ class SweepRunner {
   SweepRunner(const std::string& name, std::vector<SweepTask> tasks, const Communicator& comm,
               double resumed_cost = 0.0);
 
-  const Communicator& comm() const { return comm_; }
   bool is_root() const { return comm_.is_root(); }
   const std::vector<SweepTask>& tasks() const { return tasks_; }
   // The rank that runs each task.
