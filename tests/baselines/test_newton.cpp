@@ -46,9 +46,11 @@ TEST(NewtonSolver, ConvergesQuadraticallyOnAStiffStep) {
   objective.begin_step(grid.rest_positions(), v);
   VecX a = VecX::Zero(grid.dof_count());
   StepProblem problem(objective, handles);
-  NewtonOptimizer newton(fresh_factor_every_iteration());
+  NewtonParams params = fresh_factor_every_iteration();
+  params.acceleration_tolerance = 1e-7;  // far down, to see the quadratic tail (CG's floor follows)
+  NewtonOptimizer newton(params);
   InnerSolveOptions options = NewtonOptimizer::reference_solve_options();
-  options.acceleration_tolerance = 1e-7;  // far down, to see the quadratic tail
+  options.acceleration_tolerance = params.acceleration_tolerance;
   const InnerSolveResult result = solve_step(newton, problem, a, options);
   ASSERT_TRUE(is_converged(result.status)) << to_string(result.status);
   const auto& r = result.gradient_norms;

@@ -15,12 +15,12 @@ Scene small_scene() {
   return scene;
 }
 
-// Three Newton iterations per step reach 1e-9 on some steps of this scene and not on others
-// (23 of 40): converged_steps() counts exactly the steps whose status says so.
+// Four Newton iterations per step reach 1e-9 on some steps of this scene and not on others
+// (24 of 40): converged_steps() counts exactly the steps whose status says so.
 TEST(Rollout, CountsTheConvergedSteps) {
   NewtonOptimizer newton;
   RolloutOptions options;
-  options.solve = {3, 1e-9};
+  options.solve = {4, 1e-9};
   const RolloutResult r = run_rollout(resolve(small_scene()), newton, options);
   int converged = 0;
   for (const auto& s : r.steps) converged += is_converged(s.status);

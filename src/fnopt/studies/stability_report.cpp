@@ -1,5 +1,6 @@
 #include <fnopt/studies/stability_report.hpp>
 
+#include <fnopt/baselines/newton.hpp>
 #include <fnopt/cloth/grid_units.hpp>
 #include <fnopt/io/markdown_report.hpp>
 #include <fnopt/util/parse_text.hpp>
@@ -23,7 +24,9 @@ void write_stability_report(const StabilityStudy& study, const StabilityReportFi
   MarkdownReport report("fnopt stability");
   report.paragraph(std::string(complete ? "" : "**Partial: the study is still running or was stopped.** ") +
                    "Stiff and extreme cases, every inner optimizer on each, against the case's Newton reference "
-                   "(run to a residual acceleration of 1e-4 m/s^2 each step; steps that stop short are counted below). "
+                   "(run to a residual acceleration of " +
+                   number_text(NewtonOptimizer::reference_solve_options().acceleration_tolerance) +
+                   " m/s^2 each step; steps that stop short are counted below). "
                    "fnopt " FNOPT_VERSION ", started " +
                    files.started + ", " + std::to_string(threads) + " thread" + (threads == 1 ? "" : "s") + ".");
   report.code(study.command_line);
