@@ -1,15 +1,21 @@
 #include "app/optimizer_flags.hpp"
 
+#include <fnopt/baselines/newton.hpp>
 #include <fnopt/util/parse_text.hpp>
 
 namespace fnopt::app {
+
+std::string newton_budget_text() {
+  const InnerSolveOptions reference = NewtonOptimizer::reference_solve_options();
+  return "default " + std::to_string(reference.max_iterations) + ", to a residual acceleration of " +
+         number_text(reference.acceleration_tolerance) + " m/s^2";
+}
 
 void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice) {
   command.add_option("--optimizer", choice.name, "inner optimizer: " + optimizer_names())->capture_default_str();
   command
       .add_option("--iters", choice.iterations,
-                  "iterations per time step (default 10; newton: at most this many, default 1000, to a "
-                  "residual acceleration of 1e-4 m/s^2)")
+                  "iterations per time step (default 10; newton: at most this many, " + newton_budget_text() + ")")
       ->check(CLI::Validator(
           [](std::string& text) -> std::string {
             int value = 0;

@@ -106,8 +106,8 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->capture_default_str();
   command->add_option("--iters-for", flags->iters_for,
                       "iterations per time step of one method: METHOD=N (repeatable; defaults fnopt 10, lbfgs and "
-                      "lbfgs-ls 100, adam and gd 500; newton=N caps the reference's iterations, default 1000, to a "
-                      "residual acceleration of 1e-4 m/s^2)");
+                      "lbfgs-ls 100, adam and gd 500; newton=N caps the reference's iterations, " +
+                          newton_budget_text() + ")");
   command->add_option("--model", flags->model, "learned optimizer weights (default: the shipped models/fnopt-32.pt)");
   add_threads_flag(*command, flags->threads);
   command->add_flag("--resume", flags->resume,

@@ -4,7 +4,9 @@
 
 #include <filesystem>
 
+#include <fnopt/baselines/newton.hpp>
 #include <fnopt/io/rollout_file.hpp>
+#include <fnopt/util/parse_text.hpp>
 #include "tests/app/run_fnopt.hpp"
 #include "tests/util/temp_dir.hpp"
 
@@ -137,6 +139,14 @@ TEST(Cli, EverySubcommandHasHelp) {
     const CommandResult r = run_fnopt(std::string(command) + " --help");
     EXPECT_EQ(r.status, 0) << command;
     EXPECT_NE(r.output.find("Usage"), std::string::npos) << command;
+  }
+  // Where help states the reference's stop, it is the one the reference uses.
+  for (const char* command : {"simulate", "stability"}) {
+    const CommandResult r = run_fnopt(std::string(command) + " --help");
+    EXPECT_NE(r.output.find("residual acceleration of " +
+                            number_text(NewtonOptimizer::reference_solve_options().acceleration_tolerance) + " m/s^2"),
+              std::string::npos)
+        << r.output;
   }
 }
 

@@ -16,6 +16,9 @@
 #include <string>
 #include <vector>
 
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/util/parse_text.hpp>
+
 namespace {
 
 std::vector<std::string> split_csv(const std::string& line) {
@@ -117,6 +120,10 @@ TEST(CompareCli, ADivergedRunLeavesItsErrorsEmptyAndIsOffTheFrontier) {
   EXPECT_NE(report.find("The error-time frontier"), std::string::npos) << report;
   EXPECT_NE(report.find("6 frames at dt"), std::string::npos) << report;
   EXPECT_NE(report.find("per-step error on 2 reference states"), std::string::npos) << report;
+  EXPECT_NE(report.find("residual acceleration <= " +
+                        number_text(NewtonOptimizer::reference_solve_options().acceleration_tolerance) + " m/s^2"),
+            std::string::npos)
+      << report;  // the reference's stop, as it ran
   EXPECT_NE(r.output.find("fastest at 8^2"), std::string::npos) << r.output;
 }
 

@@ -122,14 +122,16 @@ TEST(LearnedOptimizer, SubspaceStepLeavesLessErrorThanTheSecantStepAlongANewtonT
   // subspace ends below Newton's L*, in another local minimum of the buckling cloth: counted
   // as no error, not as negative error.
   const std::string path = std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt";
-  LearnedParams secant, carried, cleared;
+  LearnedParams secant, carried, cleared, with_pqn;
   secant.line_search = true;
-  carried.subspace = cleared.subspace = 8;
+  carried.subspace = cleared.subspace = with_pqn.subspace = 8;
   cleared.carry_subspace = false;
-  LearnedOptimizer ls(path, secant), ss(path, carried), ss_cleared(path, cleared);
+  with_pqn.pqn_direction = true;
+  LearnedOptimizer ls(path, secant), ss(path, carried), ss_cleared(path, cleared), ss_pqn(path, with_pqn);
   EXPECT_EQ(ss.name(), "fnopt-ss");
+  EXPECT_EQ(ss_pqn.name(), "fnopt-ss-pqn");
   NewtonOptimizer newton;
-  Shadows shadows(newton, {&ls, &ss, &ss_cleared}, {10, 0.0});
+  Shadows shadows(newton, {&ls, &ss, &ss_cleared, &ss_pqn}, {10, 0.0});
   Scene scene;
   scene.rows = scene.cols = 32;
   scene.frames = 40;
@@ -137,18 +139,47 @@ TEST(LearnedOptimizer, SubspaceStepLeavesLessErrorThanTheSecantStepAlongANewtonT
   options.solve = NewtonOptimizer::reference_solve_options();
   const RolloutResult r = run_rollout(resolve(scene), shadows, options);
   ASSERT_EQ(r.steps.size(), 40u);
-  double mean[3] = {0.0, 0.0, 0.0};
+  double mean[4] = {0.0, 0.0, 0.0, 0.0};
   for (std::size_t t = 0; t < r.steps.size(); ++t) {
     const double gap = r.steps[t].initial_loss - r.steps[t].loss;
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < 4; ++k) {
       ASSERT_LE(shadows.values[k][t], r.steps[t].initial_loss) << "step " << t << ": the safeguard lets no step rise";
       mean[k] += std::max(0.0, (shadows.values[k][t] - r.steps[t].loss) / gap) / r.steps.size();
     }
   }
-  std::printf("mean remaining error over %zu steps: fnopt-ls %.4f, fnopt-ss %.4f, fnopt-ss without carrying %.4f\n",
-              r.steps.size(), mean[0], mean[1], mean[2]);
+  std::printf(
+      "mean remaining error over %zu steps: fnopt-ls %.4f, fnopt-ss %.4f, fnopt-ss without carrying %.4f, "
+      "fnopt-ss-pqn %.4f\n",
+      r.steps.size(), mean[0], mean[1], mean[2], mean[3]);
   EXPECT_LT(mean[1], mean[0]);
   EXPECT_LT(mean[1], mean[2]);
+  // pqn's direction in the subspace: the FNO's directions and A's together do better than the
+  // FNO's alone.
+  EXPECT_LT(mean[3], mean[1]);
+}
+
+TEST(LearnedOptimizer, PqnDirectionNeedsTheSubspaceStepAndNeverMovesHandles) {
+  LearnedParams params;
+  params.pqn_direction = true;
+  try {
+    LearnedOptimizer optimizer(tiny_model(), "tiny", params);
+    FAIL() << "pqn_direction without the subspace step was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "fnopt.pqn_direction");
+  }
+  // On two grids in turn (A's factor is rebuilt for the second): L never rises, handles stay.
+  params.subspace = 4;
+  LearnedOptimizer optimizer(tiny_model(), "tiny", params);
+  EXPECT_NE(optimizer.settings().find("pqn_direction=isotropic"), std::string::npos) << optimizer.settings();
+  for (auto [rows, cols] : {std::pair{17, 23}, std::pair{24, 24}}) {
+    Step step(rows, cols);
+    const VecX before = step.a;
+    EnergyLog log(optimizer);
+    solve_step(log, step.problem, step.a, {10, 0.0});
+    for (std::size_t k = 1; k < log.values.size(); ++k) EXPECT_LE(log.values[k], log.values[k - 1]);
+    EXPECT_LT(log.values.back(), log.values.front());
+    for (int k : step.handles.fixed_vertices()) EXPECT_EQ(step.a.segment<3>(3 * k), before.segment<3>(3 * k));
+  }
 }
 
 TEST(LearnedOptimizer, CarriedSubspaceIsClearedWhenTheGridChanges) {

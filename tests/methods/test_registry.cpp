@@ -60,7 +60,7 @@ Error thrown_error(Call&& call) {
 TEST(Registry, TableHoldsEveryMethodOnceAndTheHelpTextNamesTheInterpolation) {
   const std::vector<std::string> names = table_names();
   EXPECT_EQ(names, (std::vector<std::string>{"pqn", "newton", "implicit-euler", "fnopt", "fnopt-ls", "fnopt-ss",
-                                             "fnopt-pqn", "gd", "adam", "lbfgs", "lbfgs-ls"}));
+                                             "fnopt-ss-pqn", "fnopt-pqn", "gd", "adam", "lbfgs", "lbfgs-ls"}));
   EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
   EXPECT_NE(optimizer_names().find("METHOD-interpK"), std::string::npos);
   EXPECT_EQ(OptimizerChoice{}.name, "pqn");  // the default method is in the table
@@ -83,7 +83,7 @@ TEST(Registry, LearnedMethodsDefaultToTheShippedModel) {
   ASSERT_TRUE(std::filesystem::exists(shipped)) << shipped;
   EXPECT_EQ(shipped.filename(), "fnopt-32.pt");
   EXPECT_EQ(std::filesystem::file_size(shipped), std::filesystem::file_size(shipped_model()));
-  for (const std::string name : {"fnopt", "fnopt-ss", "fnopt-pqn"}) {
+  for (const std::string name : {"fnopt", "fnopt-ss", "fnopt-ss-pqn", "fnopt-pqn"}) {
     OptimizerChoice c;
     c.name = name;  // no model: the shipped one
     EXPECT_EQ(c.make()->name(), name);

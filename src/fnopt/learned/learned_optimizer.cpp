@@ -1,5 +1,7 @@
 #include <fnopt/learned/learned_optimizer.hpp>
 
+#include <cmath>
+
 #include <fnopt/learned/grid_tensor.hpp>
 
 namespace fnopt {
@@ -15,7 +17,7 @@ LearnedOptimizer::LearnedOptimizer(FNO2d model, std::string model_name, LearnedP
 
 std::string LearnedOptimizer::name() const {
   const LearnedParams& p = rule_.params();
-  if (p.subspace > 0) return "fnopt-ss";
+  if (p.subspace > 0) return p.pqn_direction ? "fnopt-ss-pqn" : "fnopt-ss";
   return p.line_search ? "fnopt-ls" : "fnopt";
 }
 
@@ -26,7 +28,9 @@ std::string LearnedOptimizer::settings() const {
          " layers=" + std::to_string(o.fourier_layers()) + " modes=" + std::to_string(o.modes_x()) + "x" +
          std::to_string(o.modes_y()) + (o.in_channels() == 9 ? " combined" : "") +
          " safeguard=" + (p.safeguard ? "on" : "off") + " line_search=" + (p.line_search ? "on" : "off") +
-         (p.subspace > 0 ? " subspace=" + std::to_string(p.subspace) + (p.carry_subspace ? " carried" : "") : "");
+         (p.subspace > 0 ? " subspace=" + std::to_string(p.subspace) + (p.carry_subspace ? " carried" : "") +
+                                   (p.pqn_direction ? " pqn_direction=isotropic" : "")
+                             : "");
 }
 
 void LearnedOptimizer::begin_step(StepProblem& problem, const VecX&, double, const VecX&) {
@@ -56,11 +60,22 @@ bool LearnedOptimizer::continues_previous_step(const BackwardEulerObjective& obj
 
 std::optional<SolveStatus> LearnedOptimizer::iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
   torch::NoGradGuard no_grad;
+  if (rule_.params().pqn_direction) add_pqn_direction(problem, a, gradient);
   const torch::Tensor g =
       to_model_layout(to_coordinate_samples(gradient, problem.grid()), samples_per_environment(model_->options));
   const LearnedStep proposal = learned_step(model_, g, state_, mask_);
   state_ = rule_.apply(problem, g, proposal, a, value, gradient);
   return std::nullopt;
+}
+
+void LearnedOptimizer::add_pqn_direction(StepProblem& problem, const VecX& a, const VecX& gradient) {
+  PqnFactor& factor = pqn_factor_.prepare(problem);
+  pqn_step_ = -gradient;
+  factor.solve_in_place(pqn_step_);
+  pqn_trial_ = a + pqn_step_;
+  if (!std::isfinite(problem.value_gradient(pqn_trial_, pqn_gradient_change_))) return;
+  pqn_gradient_change_ -= gradient;
+  rule_.pairs().push(pqn_step_, pqn_gradient_change_);
 }
 
 }  // namespace fnopt

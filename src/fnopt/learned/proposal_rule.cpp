@@ -14,6 +14,7 @@ void LearnedParams::validate() const {
   require(min_rescale >= 0.0, "fnopt.min_rescale", "must not be negative");
   require(max_rescale >= 1.0, "fnopt.max_rescale", "must be at least 1");
   require_subspace_size(subspace, "fnopt.subspace");
+  require(!pqn_direction || subspace > 0, "fnopt.pqn_direction", "needs the subspace step (subspace > 0)");
 }
 
 void require_subspace_size(int subspace, const std::string& field) {

@@ -46,6 +46,14 @@ struct LearnedParams {
   // (its start is x_t + dt v_{t+1}); any other state, such as the next sample of the per-step
   // error bench or a new grid, starts empty.
   bool carry_subspace = true;
+  // Also put pqn's preconditioned gradient in the subspace ("fnopt-ss-pqn"; needs `subspace`):
+  // before each proposal, the pair (d, g(a + d) - g(a)) with d = -A^-1 g(a), A pqn's isotropic
+  // matrix (baselines/pqn_matrix.hpp), joins the kept pairs without moving a, so the subspace
+  // step minimises over the FNO's directions and A's. A holds the grid's stiffness, which the
+  // FNO's normalised inputs do not: without it the learned step's error grows with the grid
+  // (docs/design.md §4). Inference only (learned_optimizer.hpp): one more gradient and one
+  // solve with A's factor per iteration.
+  bool pqn_direction = false;
 
   void validate() const;  // Error("fnopt.<field>: ...") for values out of range
 };

@@ -37,11 +37,13 @@ constexpr MethodTraits kBudgeted{BudgetKind::Iterations, false, false, 1.0, 100}
 constexpr MethodTraits kLearned{BudgetKind::Iterations, false, false, 10.0, 10};
 
 // The learned optimizer on --model (default: the shipped model): plain, with the secant step
-// along its updates, or with the subspace step.
-std::unique_ptr<InnerOptimizer> make_learned(const OptimizerChoice& c, bool line_search, int subspace = 0) {
+// along its updates, or with the subspace step (and pqn's direction in it).
+std::unique_ptr<InnerOptimizer> make_learned(const OptimizerChoice& c, bool line_search, int subspace = 0,
+                                             bool pqn_direction = false) {
   LearnedParams params;
   params.line_search = line_search;
   params.subspace = subspace;
+  params.pqn_direction = pqn_direction;
   return std::make_unique<LearnedOptimizer>(c.model.empty() ? shipped_model_path() : c.model, params);
 }
 
@@ -72,6 +74,10 @@ const std::vector<OptimizerEntry>& optimizer_table() {
       {"fnopt-ls", kLearned, [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/true); }},
       {"fnopt-ss", kLearned,
        [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false, kFnoptSubspace); }},
+      {"fnopt-ss-pqn", kLearned,
+       [](const OptimizerChoice& c) {
+         return make_learned(c, /*line_search=*/false, kFnoptSubspace, /*pqn_direction=*/true);
+       }},
       {"fnopt-pqn",
        {BudgetKind::Iterations, false, false, 2.0, 10},
        [](const OptimizerChoice& c) {

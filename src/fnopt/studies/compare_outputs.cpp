@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include <fnopt/baselines/newton.hpp>
 #include <fnopt/io/csv_table.hpp>
 #include <fnopt/io/svg_plot.hpp>
 #include <fnopt/studies/compare_rows.hpp>
@@ -62,8 +63,8 @@ void CompareSweep::write_outputs(const std::vector<RunResult>& results, const st
   std::vector<std::string> notes = {
       joined(frame_texts, " or ") + " frames" + (frames.size() > 1 ? " (see each row)" : "") +
           " at dt = " + dt_text(base.dt) +
-          " s; N = iterations per time step; errors vs the converged Newton rollout (residual acceleration <= 1e-4 "
-          "m/s^2); " +
+          " s; N = iterations per time step; errors vs the converged Newton rollout (residual acceleration <= " +
+          number_text(NewtonOptimizer::reference_solve_options().acceleration_tolerance) + " m/s^2); " +
           "per-step error on " +
           (state_texts.empty() ? std::to_string(study_.step_samples) : joined(state_texts, " or ")) +
           " reference states; e_CD with " + std::to_string(study_.chamfer.samples) + " points per mesh",
