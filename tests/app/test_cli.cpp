@@ -143,9 +143,11 @@ TEST(Cli, EverySubcommandHasHelp) {
   // Where help states the reference's stop, it is the one the reference uses.
   for (const char* command : {"simulate", "stability"}) {
     const CommandResult r = run_fnopt(std::string(command) + " --help");
-    EXPECT_NE(r.output.find("residual acceleration of " +
-                            number_text(NewtonOptimizer::reference_solve_options().acceleration_tolerance) + " m/s^2"),
-              std::string::npos)
+    EXPECT_NE(
+        r.output.find("residual acceleration of " +
+                      fnopt::number_text(fnopt::NewtonOptimizer::reference_solve_options().acceleration_tolerance) +
+                      " m/s^2"),
+        std::string::npos)
         << r.output;
   }
 }

@@ -121,7 +121,8 @@ TEST(CompareCli, ADivergedRunLeavesItsErrorsEmptyAndIsOffTheFrontier) {
   EXPECT_NE(report.find("6 frames at dt"), std::string::npos) << report;
   EXPECT_NE(report.find("per-step error on 2 reference states"), std::string::npos) << report;
   EXPECT_NE(report.find("residual acceleration <= " +
-                        number_text(NewtonOptimizer::reference_solve_options().acceleration_tolerance) + " m/s^2"),
+                        fnopt::number_text(fnopt::NewtonOptimizer::reference_solve_options().acceleration_tolerance) +
+                        " m/s^2"),
             std::string::npos)
       << report;  // the reference's stop, as it ran
   EXPECT_NE(r.output.find("fastest at 8^2"), std::string::npos) << r.output;

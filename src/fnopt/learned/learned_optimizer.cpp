@@ -29,8 +29,8 @@ std::string LearnedOptimizer::settings() const {
          std::to_string(o.modes_y()) + (o.in_channels() == 9 ? " combined" : "") +
          " safeguard=" + (p.safeguard ? "on" : "off") + " line_search=" + (p.line_search ? "on" : "off") +
          (p.subspace > 0 ? " subspace=" + std::to_string(p.subspace) + (p.carry_subspace ? " carried" : "") +
-                                   (p.pqn_direction ? " pqn_direction=isotropic" : "")
-                             : "");
+                               (p.pqn_direction ? " pqn_direction=isotropic" : "")
+                         : "");
 }
 
 void LearnedOptimizer::begin_step(StepProblem& problem, const VecX&, double, const VecX&) {
