@@ -86,7 +86,7 @@ TEST(CompareCli, ADivergedRunLeavesItsErrorsEmptyAndIsOffTheFrontier) {
   const fnopt::testing::TempDir tmp;
   const auto dir = tmp.path() / "c";
   const CommandResult r = run_fnopt(
-      "compare --res 8 --frames 6 --optimizers adam,pqn,newton --iters 5 --lr-adam 1000 "
+      "compare --res 16 --frames 6 --optimizers adam,pqn,newton --iters 1 --lr-adam 1000 "
       "--threads 1 --step-samples 2 --cd-samples 200 --out " +
       dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
@@ -111,7 +111,7 @@ TEST(CompareCli, ADivergedRunLeavesItsErrorsEmptyAndIsOffTheFrontier) {
       EXPECT_EQ(cell(row, "frontier"), "no") << line;
       EXPECT_GT(std::stod(cell(row, "max_strain_pct")), 300.0) << line;
     }
-    if (row[0] == "pqn") {
+    if (row[0] == "pqn") {  // one pqn iteration costs a tenth of a 16^2 Newton step: a margin for a loaded machine
       EXPECT_EQ(cell(row, "frontier"), "yes") << line;
     }
   }
@@ -125,7 +125,7 @@ TEST(CompareCli, ADivergedRunLeavesItsErrorsEmptyAndIsOffTheFrontier) {
                         " m/s^2"),
             std::string::npos)
       << report;  // the reference's stop, as it ran
-  EXPECT_NE(r.output.find("fastest at 8^2"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("fastest at 16^2"), std::string::npos) << r.output;
 }
 
 TEST(CompareCli, AMalformedResolutionIsOneClearErrorLine) {
