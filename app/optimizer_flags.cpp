@@ -6,9 +6,8 @@
 namespace fnopt::app {
 
 std::string newton_budget_text() {
-  const InnerSolveOptions reference = NewtonOptimizer::reference_solve_options();
-  return "default " + std::to_string(reference.max_iterations) + ", to a residual acceleration of " +
-         number_text(reference.acceleration_tolerance) + " m/s^2";
+  return "default " + std::to_string(NewtonOptimizer::reference_solve_options().max_iterations) +
+         ", to a residual acceleration of " + NewtonOptimizer::reference_stop_text();
 }
 
 void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice) {

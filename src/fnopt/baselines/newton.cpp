@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include <fnopt/util/error.hpp>
+#include <fnopt/util/parse_text.hpp>
 #include <fnopt/util/serial_openmp_scope.hpp>
 
 namespace fnopt {
@@ -23,6 +24,10 @@ void NewtonParams::validate() const {
 }
 
 NewtonOptimizer::NewtonOptimizer(NewtonParams params) : params_(params) { params_.validate(); }
+
+std::string NewtonOptimizer::reference_stop_text() {
+  return number_text(reference_solve_options().acceleration_tolerance) + " m/s^2";
+}
 
 std::string NewtonOptimizer::settings() const {
   // Every parameter that can change the solution: the string is part of the key of compare's

@@ -74,6 +74,8 @@ class NewtonOptimizer final : public InnerOptimizer {
   // generous: the stability suite's stiffest cloth needs more than 200 iterations on some steps
   // (docs/results.md, "The Newton reference: a trust region").
   static InnerSolveOptions reference_solve_options() { return {1000, 0.0, NewtonParams{}.acceleration_tolerance}; }
+  // The reference's stop as help texts and reports state it: "0.001 m/s^2".
+  static std::string reference_stop_text();
 
   std::string name() const override { return "newton"; }
   std::string settings() const override;

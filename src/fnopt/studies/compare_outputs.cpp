@@ -64,8 +64,7 @@ void CompareSweep::write_outputs(const std::vector<RunResult>& results, const st
       joined(frame_texts, " or ") + " frames" + (frames.size() > 1 ? " (see each row)" : "") +
           " at dt = " + dt_text(base.dt) +
           " s; N = iterations per time step; errors vs the converged Newton rollout (residual acceleration <= " +
-          number_text(NewtonOptimizer::reference_solve_options().acceleration_tolerance) + " m/s^2); " +
-          "per-step error on " +
+          NewtonOptimizer::reference_stop_text() + "); " + "per-step error on " +
           (state_texts.empty() ? std::to_string(study_.step_samples) : joined(state_texts, " or ")) +
           " reference states; e_CD with " + std::to_string(study_.chamfer.samples) + " points per mesh",
       "motions: " + joined(motions_)};

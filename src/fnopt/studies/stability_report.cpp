@@ -25,8 +25,8 @@ void write_stability_report(const StabilityStudy& study, const StabilityReportFi
   report.paragraph(std::string(complete ? "" : "**Partial: the study is still running or was stopped.** ") +
                    "Stiff and extreme cases, every inner optimizer on each, against the case's Newton reference "
                    "(run to a residual acceleration of " +
-                   number_text(NewtonOptimizer::reference_solve_options().acceleration_tolerance) +
-                   " m/s^2 each step; steps that stop short are counted below). "
+                   NewtonOptimizer::reference_stop_text() +
+                   " each step; steps that stop short are counted below). "
                    "fnopt " FNOPT_VERSION ", started " +
                    files.started + ", " + std::to_string(threads) + " thread" + (threads == 1 ? "" : "s") + ".");
   report.code(study.command_line);
