@@ -40,9 +40,10 @@ struct NewtonParams {
   // CG per subproblem to the relative residual min(forcing_cap, ||g|| / ||g_0||) (inexact Newton,
   // Eisenstat & Walker 1996: the forcing term shrinking like ||g|| keeps convergence quadratic).
   double forcing_cap = 1e-2;
-  // The reference's stop, residual acceleration in m/s^2 (1e-4 g: 1e-4 gives the same 390-frame
-  // rollouts to e_CD x 10^3 <= 0.004, docs/results.md "The stop, at 1e-3"). Also the floor of the
-  // forcing term: CG is not asked to reduce the residual below a tenth of what the stop needs.
+  // The reference's stop, residual acceleration in m/s^2 (1e-4 g; the earlier stop, 1e-4 m/s^2, gives
+  // the same 390-frame rollouts to e_CD x 10^3 <= 0.004, docs/results.md "The stop, at 1e-3"). Also
+  // the floor of the forcing term: CG is not asked to reduce the residual below a tenth of what the
+  // stop needs.
   double acceleration_tolerance = 1e-3;
   int max_cg_iterations = 200;
   // P is refactorized at the current iterate when the last subproblem needed more products
