@@ -46,6 +46,8 @@ void run_train(TrainFlags& flags) {
   require(flags.modes >= 2 && flags.modes % 2 == 0, "modes", "must be a positive even number");
   require(flags.lifting >= 1, "lifting", "must be positive");
   require(flags.projection >= 1, "projection", "must be positive");
+  // fnopt-ss-pqn's rule in the pool and in the validation alike: a model trained for it is judged by it.
+  flags.validation.pqn_direction = flags.options.pool.pqn_direction;
   flags.options.model.width(flags.width)
       .fourier_layers(flags.layers)
       .modes_x(flags.modes)
@@ -86,6 +88,7 @@ void run_train(TrainFlags& flags) {
                    {"train.average_decay", "average-decay"},
                    {"train.score_after_subspace_step", "score"},
                    {"train.subspace", "subspace"},
+                   {"train.pqn_direction", "pqn-direction"},
                    {"train.ranges.undamped_share", "undamped-share"},
                    {"train.range", "range"},
                    {"train.ranges.stretch", "range"},
@@ -202,6 +205,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
                    "--subspace K), so a proposal is judged by what it adds to the directions kept")
       ->transform(CLI::CheckedTransformer(std::map<std::string, bool>{{"proposal", false}, {"subspace-step", true}}))
       ->option_text("{proposal,subspace-step}=proposal");
+  command->add_flag("--pqn-direction", o.pool.pqn_direction,
+                    "with --subspace K: the pool also puts pqn's preconditioned gradient -A^-1 g in the subspace "
+                    "before each proposal, as fnopt-ss-pqn does, and the validation runs fnopt-ss-pqn: the model "
+                    "trains for the directions that complement pqn's");
   command->add_option("--undamped-share", o.pool.ranges.undamped_share, "share of the environments without damping")
       ->capture_default_str();
   command->add_option("--width", flags->width, "FNO width")->capture_default_str();

@@ -131,6 +131,26 @@ TEST(TrainCli, TheSubspaceRuleTrainsAndValidatesAsChosen) {
   EXPECT_EQ(rows[1].rfind("10,12,xy_v2+rot_h0,12,fnopt-ls,10,", 0), 0u) << rows[1];
 }
 
+TEST(TrainCli, ThePqnDirectionTrainsAndValidatesWithFnoptSsPqn) {
+  const fnopt::testing::TempDir tmp;
+  const auto dir = tmp.path() / "out";
+  const CommandResult alone = run_fnopt("train --out " + dir.string() + " --steps 10 --pqn-direction" + kTinyRun);
+  EXPECT_NE(alone.status, 0);
+  EXPECT_NE(alone.output.find("error: pqn-direction: needs a pool that takes the subspace step"), std::string::npos)
+      << alone.output;
+  const CommandResult r = run_fnopt("train --out " + dir.string() +
+                                    " --steps 10 --subspace 4 --score subspace-step --pqn-direction" + kTinyRun);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("the pool takes each proposal as fnopt-ss-pqn does: pqn's direction -A^-1 g, then the "
+                          "subspace step over the last 4 directions"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("validation every 10 steps: fnopt-ss-pqn N=10"), std::string::npos) << r.output;
+  const auto rows = validation_rows(dir);
+  ASSERT_EQ(rows.size(), 2u) << read_text(dir / "validation.csv");
+  EXPECT_EQ(rows[1].rfind("10,12,xy_v2+rot_h0,12,fnopt-ss-pqn,10,", 0), 0u) << rows[1];
+}
+
 TEST(TrainCli, TheProbeObjectiveStartsFromAModelAndLogsPqnAlone) {
   const fnopt::testing::TempDir tmp;
   const auto first = tmp.path() / "first", probe = tmp.path() / "probe";

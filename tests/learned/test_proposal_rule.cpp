@@ -1,9 +1,10 @@
 // The proposal rule: a proposal taken as it is lands exactly at a + p; the safeguard undoes one
 // that raises L; the subspace step over the proposals made so far accelerates a poor
-// proposer (scaled gradients) as conjugate directions do.
+// proposer (scaled gradients) as conjugate directions do; fnopt-ss-pqn's pair is pqn's step.
 #include <gtest/gtest.h>
 
 #include <fnopt/baselines/newton.hpp>
+#include <fnopt/baselines/pqn_matrix.hpp>
 #include <fnopt/learned/grid_tensor.hpp>
 #include <fnopt/learned/proposal_rule.hpp>
 #include <fnopt/simulation/rollout.hpp>
@@ -87,12 +88,43 @@ TEST(ProposalRule, SubspaceStepAcceleratesScaledGradientProposals) {
   EXPECT_LT(accelerated, 0.5 * plain);
 }
 
+// fnopt-ss-pqn's pair: d = -A^-1 g (A pqn's isotropic matrix) with the gradient change along it,
+// kept without moving a, and only when the rule asks for it.
+TEST(ProposalRule, PqnDirectionKeepsPqnsPairWithoutMovingTheIterate) {
+  Step step;
+  LearnedParams params;
+  params.subspace = 8;
+  ProposalRule fnopt_ss(params);
+  fnopt_ss.add_pqn_direction(step.problem, step.a, step.gradient);
+  EXPECT_EQ(fnopt_ss.pairs().size(), 0);
+
+  params.pqn_direction = true;
+  ProposalRule rule(params);
+  const VecX start = step.a;
+  rule.add_pqn_direction(step.problem, step.a, step.gradient);
+  EXPECT_EQ(step.a, start);
+  ASSERT_EQ(rule.pairs().size(), 1);
+  PqnFactorCache cache(PqnMatrixKind::Isotropic);
+  VecX d = -step.gradient;
+  cache.prepare(step.problem).solve_in_place(d);
+  EXPECT_LT((rule.pairs().s(0) - d).norm(), 1e-12 * d.norm());
+  VecX gradient_there;
+  step.problem.value_gradient(start + d, gradient_there);
+  EXPECT_LT((rule.pairs().y(0) - (gradient_there - step.gradient)).norm(), 1e-12 * gradient_there.norm());
+  // pqn's direction goes downhill and L curves upward along it.
+  EXPECT_LT(d.dot(step.gradient), 0.0);
+  EXPECT_GT(rule.pairs().s(0).dot(rule.pairs().y(0)), 0.0);
+}
+
 TEST(ProposalRule, RejectsParametersOutOfRange) {
   LearnedParams p;
   p.subspace = SecantSubspace::kMaxCapacity + 1;
   EXPECT_THROW(static_cast<void>(ProposalRule{p}), Error);
   p = LearnedParams{};
   p.max_rescale = 0.5;
+  EXPECT_THROW(static_cast<void>(ProposalRule{p}), Error);
+  p = LearnedParams{};
+  p.pqn_direction = true;  // without the subspace step there is nowhere to keep its pair
   EXPECT_THROW(static_cast<void>(ProposalRule{p}), Error);
 }
 

@@ -220,6 +220,25 @@ TEST(MetaTraining, SubspaceRuleChangesThePoolAndResumesWithItsKeptProposals) {
   expect_resumes_exactly(original, options, "fnopt_test_resume_subspace", 8);
 }
 
+// fnopt-ss-pqn's rule in the pool: pqn's pair joins the kept ones before each proposal, so a loss
+// scored past the subspace step differs from fnopt-ss's from the first step on; a checkpoint
+// resumes it exactly; it needs the subspace step.
+TEST(MetaTraining, PqnDirectionJoinsTheSubspaceBeforeEachProposalAndResumes) {
+  TrainOptions options = tiny_training(), without = tiny_training();
+  options.pool.subspace = without.pool.subspace = 8;
+  options.score_after_subspace_step = without.score_after_subspace_step = true;
+  options.pool.pqn_direction = true;
+  MetaTrainer original(options), fnopt_ss(without);
+  const double first = original.step().loss, first_without = fnopt_ss.step().loss;
+  EXPECT_TRUE(std::isfinite(first));
+  EXPECT_NE(first, first_without);
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(std::isfinite(original.step().loss));
+  expect_resumes_exactly(original, options, "fnopt_test_resume_pqn_direction", 4);
+  options.pool.subspace = 0;
+  options.score_after_subspace_step = false;
+  EXPECT_THROW(options.validate(), Error);
+}
+
 TEST(MetaTraining, ScoringAfterTheSubspaceStepNeedsThePoolToTakeIt) {
   TrainOptions options = tiny_training();
   options.score_after_subspace_step = true;

@@ -116,6 +116,23 @@ TEST(RolloutValidation, RejectsBadOptionsNamingTheField) {
   v = small_validation();
   v.resolution = 2;
   EXPECT_THROW(v.validate(), Error);
+  v = small_validation();
+  v.subspace = 0;
+  v.pqn_direction = true;
+  EXPECT_THROW(v.validate(), Error);
+}
+
+TEST(RolloutValidation, NamesTheOptimizerItValidatesWith) {
+  ValidationOptions v;
+  EXPECT_EQ(v.optimizer(), "fnopt-ss");
+  v.pqn_direction = true;
+  EXPECT_EQ(v.optimizer(), "fnopt-ss-pqn");
+  v.subspace = 4;
+  EXPECT_EQ(v.optimizer(), "fnopt-ss-k4-pqn");
+  v.pqn_direction = false;
+  EXPECT_EQ(v.optimizer(), "fnopt-ss-k4");
+  v.subspace = 0;
+  EXPECT_EQ(v.optimizer(), "fnopt-ls");
 }
 
 }  // namespace

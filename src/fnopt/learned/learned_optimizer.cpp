@@ -1,7 +1,5 @@
 #include <fnopt/learned/learned_optimizer.hpp>
 
-#include <cmath>
-
 #include <fnopt/learned/grid_tensor.hpp>
 
 namespace fnopt {
@@ -60,22 +58,12 @@ bool LearnedOptimizer::continues_previous_step(const BackwardEulerObjective& obj
 
 std::optional<SolveStatus> LearnedOptimizer::iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
   torch::NoGradGuard no_grad;
-  if (rule_.params().pqn_direction) add_pqn_direction(problem, a, gradient);
+  rule_.add_pqn_direction(problem, a, gradient);
   const torch::Tensor g =
       to_model_layout(to_coordinate_samples(gradient, problem.grid()), samples_per_environment(model_->options));
   const LearnedStep proposal = learned_step(model_, g, state_, mask_);
   state_ = rule_.apply(problem, g, proposal, a, value, gradient);
   return std::nullopt;
-}
-
-void LearnedOptimizer::add_pqn_direction(StepProblem& problem, const VecX& a, const VecX& gradient) {
-  PqnFactor& factor = pqn_factor_.prepare(problem);
-  pqn_step_ = -gradient;
-  factor.solve_in_place(pqn_step_);
-  pqn_trial_ = a + pqn_step_;
-  if (!std::isfinite(problem.value_gradient(pqn_trial_, pqn_gradient_change_))) return;
-  pqn_gradient_change_ -= gradient;
-  rule_.pairs().push(pqn_step_, pqn_gradient_change_);
 }
 
 }  // namespace fnopt

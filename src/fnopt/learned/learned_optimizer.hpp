@@ -7,12 +7,11 @@
 // What happens to each proposal (the energy safeguard, the optional secant or subspace step) is
 // the proposal rule (proposal_rule.hpp), shared with meta-training. The rule's proposals are
 // carried into the next time step only when that step continues the previous one. With
-// LearnedParams::pqn_direction ("fnopt-ss-pqn") each iteration first adds pqn's preconditioned
-// gradient to the rule's subspace.
+// LearnedParams::pqn_direction ("fnopt-ss-pqn") the rule first adds pqn's preconditioned gradient
+// to its subspace at each iteration.
 #include <memory>
 #include <string>
 
-#include <fnopt/baselines/pqn_matrix.hpp>
 #include <fnopt/fno/fno2d.hpp>
 #include <fnopt/learned/proposal_rule.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
@@ -39,9 +38,6 @@ class LearnedOptimizer final : public InnerOptimizer {
   // ends, to round-off.
   bool continues_previous_step(const BackwardEulerObjective& objective) const;
   static constexpr double kContinuationTolerance = 1e-12;
-  // Adds the pair of d = -A^-1 g at a (value and masked gradient there) to the rule's subspace;
-  // a stays where it is (LearnedParams::pqn_direction).
-  void add_pqn_direction(StepProblem& problem, const VecX& a, const VecX& gradient);
 
   FNO2d model_;
   std::string model_name_;
@@ -50,8 +46,6 @@ class LearnedOptimizer final : public InnerOptimizer {
   VecX previous_start_;  // x_t of the previous step (subspace only)
   torch::Tensor mask_;
   const DirichletSet* mask_owner_ = nullptr;
-  PqnFactorCache pqn_factor_{PqnMatrixKind::Isotropic};
-  VecX pqn_step_, pqn_trial_, pqn_gradient_change_;
 };
 
 }  // namespace fnopt

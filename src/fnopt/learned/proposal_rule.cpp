@@ -54,6 +54,17 @@ LearnedState ProposalRule::apply(StepProblem& problem, const torch::Tensor& grad
   return next;
 }
 
+void ProposalRule::add_pqn_direction(StepProblem& problem, const VecX& a, const VecX& gradient) {
+  if (!params_.pqn_direction) return;
+  PqnFactor& factor = pqn_factor_.prepare(problem);
+  direction_ = -gradient;
+  factor.solve_in_place(direction_);
+  trial_ = a + direction_;
+  if (!std::isfinite(problem.value_gradient(trial_, gradient_change_))) return;
+  gradient_change_ -= gradient;
+  subspace_.push(direction_, gradient_change_);
+}
+
 bool ProposalRule::take_trial_if_lower(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
   const double trial_value = problem.value_gradient(trial_, trial_gradient_);
   if (!(trial_value < value)) return false;

@@ -16,6 +16,7 @@
 // length that worked.
 #include <string>
 
+#include <fnopt/baselines/pqn_matrix.hpp>
 #include <fnopt/learned/learned_update.hpp>
 #include <fnopt/optimizer/secant_subspace.hpp>
 #include <fnopt/optimizer/step_problem.hpp>
@@ -51,8 +52,8 @@ struct LearnedParams {
   // matrix (baselines/pqn_matrix.hpp), joins the kept pairs without moving a, so the subspace
   // step minimises over the FNO's directions and A's. A holds the grid's stiffness, which the
   // FNO's normalised inputs do not: without it the learned step's error grows with the grid
-  // (docs/design.md §4). Inference only (learned_optimizer.hpp): one more gradient and one
-  // solve with A's factor per iteration.
+  // (docs/design.md §4). One more gradient and one solve with A's factor per iteration; the
+  // training pool takes it too when `fnopt train --pqn-direction` asks (training_env.hpp).
   bool pqn_direction = false;
 
   void validate() const;  // Error("fnopt.<field>: ...") for values out of range
@@ -70,6 +71,11 @@ class ProposalRule {
   // The proposals kept for the subspace step (checkpoints save and restore them).
   SecantSubspace& pairs() { return subspace_; }
   const SecantSubspace& pairs() const { return subspace_; }
+
+  // With LearnedParams::pqn_direction, adds the pair of d = -A^-1 g at a (g: the masked gradient
+  // there) to the kept pairs, a staying where it is; called before each proposal is made.
+  // Nothing otherwise.
+  void add_pqn_direction(StepProblem& problem, const VecX& a, const VecX& gradient);
 
   // Applies `proposal` (grid units, the model's layout) made from the masked gradient samples
   // `gradient_samples` at a. On entry value and gradient are L and its masked gradient at a; on
@@ -92,6 +98,7 @@ class ProposalRule {
   SecantSubspace subspace_;
   // Where the proposal started, and scratch reused from one proposal to the next.
   VecX start_, start_gradient_, direction_, trial_, trial_gradient_, gradient_change_;
+  PqnFactorCache pqn_factor_{PqnMatrixKind::Isotropic};
 };
 
 }  // namespace fnopt

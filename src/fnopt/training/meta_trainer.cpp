@@ -206,7 +206,11 @@ torch::Tensor MetaTrainer::group_forward(const std::vector<int>& members, GroupS
     TrainingEnv& env = *pool_[members[i]];
     VecX& g = batch.current_gradient[i];
     batch.envs.push_back(&env);
-    batch.current_loss.push_back(StepProblem(env.objective(), env.dirichlet()).value_gradient(env.acceleration(), g));
+    StepProblem problem(env.objective(), env.dirichlet());
+    batch.current_loss.push_back(problem.value_gradient(env.acceleration(), g));
+    // fnopt-ss-pqn's pair joins the kept ones before the proposal, so the loss past the subspace
+    // step scores the proposal with it.
+    env.rule().add_pqn_direction(problem, env.acceleration(), g);
     group.gradients.push_back(to_model_layout(to_coordinate_samples(g, env.grid()), k));
     previous_gradients.push_back(to_model_layout(env.previous_gradient, k));
     previous_deltas.push_back(to_model_layout(env.previous_delta, k));

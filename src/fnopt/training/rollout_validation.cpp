@@ -22,6 +22,7 @@ void ValidationOptions::validate() const {
   require(iterations > 0, "validate.iterations", "must be positive");
   require(!motions.empty(), "validate.motions", "must name at least one motion");
   require_subspace_size(subspace, "validate.subspace");
+  require(!pqn_direction || subspace > 0, "validate.pqn_direction", "needs the subspace step (subspace > 0)");
   try {
     for (const std::string& motion : motions) scene_checks::motion_name(motion);
   } catch (const Error& e) {
@@ -106,13 +107,15 @@ RolloutValidation::RolloutValidation(const ValidationOptions& options, const std
 
 std::string ValidationOptions::optimizer() const {
   if (subspace == 0) return "fnopt-ls";
-  return subspace == kFnoptSubspace ? "fnopt-ss" : "fnopt-ss-k" + std::to_string(subspace);
+  const std::string rule = subspace == kFnoptSubspace ? "fnopt-ss" : "fnopt-ss-k" + std::to_string(subspace);
+  return pqn_direction ? rule + "-pqn" : rule;
 }
 
 ValidationScore RolloutValidation::score(const FNO2d& model) const {
   LearnedParams params;
   params.line_search = options_.subspace == 0;
   params.subspace = options_.subspace;
+  params.pqn_direction = options_.pqn_direction;
   RolloutOptions rollout_options;
   rollout_options.solve.max_iterations = options_.iterations;
   TrajectoryComparisonOptions comparison;

@@ -29,9 +29,11 @@ struct ValidationOptions {
   // proposals (the shipped learned optimizer), or 0 for fnopt-ls, which the validations in
   // docs/history/training-experiments.md before fnopt-ss used.
   int subspace = kFnoptSubspace;
+  bool pqn_direction = false;  // fnopt-ss-pqn's rule (LearnedParams::pqn_direction; needs subspace)
 
   void validate() const;  // Error("validate.<field>: ...") for a bad value
-  // "fnopt-ss" (K = kFnoptSubspace), "fnopt-ss-kK" (another K) or "fnopt-ls".
+  // "fnopt-ss" (K = kFnoptSubspace), "fnopt-ss-kK" (another K), either with "-pqn" for
+  // pqn_direction, or "fnopt-ls".
   std::string optimizer() const;
 };
 

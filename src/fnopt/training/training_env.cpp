@@ -25,11 +25,13 @@ Vec3 random_unit(std::mt19937_64& rng) {
   return u.normalized();
 }
 
-// The rule the pool takes proposals with: as they are, or fnopt-ss's (safeguard and subspace step).
-LearnedParams pool_rule(int subspace) {
+// The rule the pool takes proposals with: as they are, or fnopt-ss's (safeguard and subspace
+// step), or fnopt-ss-pqn's (the same with pqn's direction in the subspace).
+LearnedParams pool_rule(const PoolOptions& options) {
   LearnedParams p;
-  p.safeguard = subspace > 0;
-  p.subspace = subspace;
+  p.safeguard = options.subspace > 0;
+  p.subspace = options.subspace;
+  p.pqn_direction = options.pqn_direction;
   return p;
 }
 
@@ -86,6 +88,8 @@ void PoolOptions::validate() const {
   require(!budgets.empty(), "train.budgets", "must not be empty");
   for (int b : budgets) require(b > 0, "train.budgets", "must be positive");
   require_subspace_size(subspace, "train.subspace");
+  require(!pqn_direction || subspace > 0, "train.pqn_direction",
+          "needs a pool that takes the subspace step (subspace > 0)");
 }
 
 TrainingEnv::TrainingEnv(const PoolOptions& options, std::uint64_t seed, int id, long generation)
@@ -94,18 +98,13 @@ TrainingEnv::TrainingEnv(const PoolOptions& options, std::uint64_t seed, int id,
       id_(id),
       generation_(generation),
       newton_(reference_newton()),
-      rule_(pool_rule(options.subspace)) {
+      rule_(pool_rule(options)) {
   generate();
   begin_step();
 }
 
 TrainingEnv::TrainingEnv(const PoolOptions& options, std::uint64_t seed, int id, Unbuilt)
-    : options_(options),
-      seed_(seed),
-      id_(id),
-      generation_(0),
-      newton_(reference_newton()),
-      rule_(pool_rule(options.subspace)) {}
+    : options_(options), seed_(seed), id_(id), generation_(0), newton_(reference_newton()), rule_(pool_rule(options)) {}
 
 std::unique_ptr<TrainingEnv> TrainingEnv::restored(const PoolOptions& options, std::uint64_t seed, int id,
                                                    const std::vector<torch::Tensor>& tensors) {

@@ -56,6 +56,10 @@ struct PoolOptions {
   // shipped model's training); K > 0, as fnopt-ss does at inference: the subspace step over the
   // last K proposals, carried across the environment's time steps, and the energy safeguard.
   int subspace = 0;
+  // Also put pqn's preconditioned gradient in the subspace before each proposal, as fnopt-ss-pqn
+  // does (LearnedParams::pqn_direction; needs `subspace`), so the model trains for the directions
+  // that complement A^-1 g.
+  bool pqn_direction = false;
 
   int resolution_of(int environment) const {
     return resolutions[static_cast<std::size_t>(environment) % resolutions.size()];

@@ -149,11 +149,14 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
                    probe.iterations, probe.iterations == 1 ? "" : "s",
                    probe.surface == ProbeSurface::Energy ? "energy" : "quadratic model");
     } else {
-      std::fprintf(stderr, "fnopt train: the pool takes each proposal %s\n",
-                   subspace == 0 ? "as it is"
-                                 : ("as fnopt-ss does: subspace step over the last " + std::to_string(subspace) +
-                                    " proposals, carried across time steps, and the energy safeguard")
-                                       .c_str());
+      const std::string kept = " over the last " + std::to_string(subspace) +
+                               (options.train.pool.pqn_direction ? " directions" : " proposals") +
+                               ", carried across time steps, and the energy safeguard";
+      const std::string rule = subspace == 0 ? "as it is"
+                               : options.train.pool.pqn_direction
+                                   ? "as fnopt-ss-pqn does: pqn's direction -A^-1 g, then the subspace step" + kept
+                                   : "as fnopt-ss does: subspace step" + kept;
+      std::fprintf(stderr, "fnopt train: the pool takes each proposal %s\n", rule.c_str());
       std::fprintf(
           stderr, "fnopt train: the loss scores each update %s\n",
           options.train.score_after_subspace_step ? "where the rule ends, past the subspace step" : "at the proposal");
