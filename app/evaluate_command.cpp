@@ -1,6 +1,7 @@
 // fnopt evaluate: a rollout against a reference trajectory (an fnopt rollout or an ARCSim file),
 // at matching times: e_CD x 10^3, e_3D x 10^2, the rollout's max edge strain, and optionally the
 // per-step optimisation error of an inner optimizer on the reference's states (docs/design.md §8).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -70,12 +71,13 @@ void write_per_frame_table(const std::string& path, const TrajectoryComparison& 
 // method's, the per-step error and the method's status. Shows which states a mean is made of,
 // e.g. a negative error where the method ends in a lower minimum than Newton's.
 void write_per_step_table(const std::string& path, const StepErrorSummary& summary) {
-  CsvTable table({"step", "initial_value", "newton_value", "method_value", "step_error", "status"});
+  CsvTable table(
+      {"step", "initial_value", "newton_value", "method_value", "step_error", "status", "newton_negative_eigenvalues"});
   // L at round-trip precision: the error is a ratio of small differences of these values.
   auto value = [](double v) { return CsvTable::number(v, 17); };
   for (const StepErrorSample& s : summary.samples)
     table.add_row({std::to_string(s.step), value(s.initial_value), value(s.newton_value), value(s.method_value),
-                   CsvTable::number(s.error), to_string(s.status)});
+                   CsvTable::number(s.error), to_string(s.status), std::to_string(s.newton_negative_eigenvalues)});
   table.write(path);
 }
 
@@ -130,6 +132,12 @@ void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
         "   ((L(a_N) - L*)/(L(a_0) - L*), L* by the Newton reference; %d thread%s)\n",
         method->name().c_str(), method->settings().c_str(), flags.optimizer.solve_options().max_iterations,
         summary.samples.size(), summary.mean, summary.median, threads, threads == 1 ? "" : "s");
+    const int below = static_cast<int>(std::count_if(summary.samples.begin(), summary.samples.end(),
+                                                     [](const StepErrorSample& s) { return s.error < 0.0; }));
+    std::printf(
+        "Newton's step ends at a saddle of L (negative eigenvalues of the exact Hessian) on %d of the %zu states; "
+        "the method ends below it (negative error) on %d\n",
+        summary.newton_saddles(), summary.samples.size(), below);
     if (!flags.per_step.empty()) {
       write_per_step_table(flags.per_step, summary);
       std::printf("per-step errors: %s\n", flags.per_step.c_str());

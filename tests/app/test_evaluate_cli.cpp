@@ -42,23 +42,28 @@ TEST(EvaluateCli, WritesThePerFrameAndPerStepTablesBehindItsMeans) {
   EXPECT_EQ(frames.size(), 13u);
 
   const auto steps = csv_rows(per_step, header);
-  EXPECT_EQ(header, "step,initial_value,newton_value,method_value,step_error,status");
+  EXPECT_EQ(header, "step,initial_value,newton_value,method_value,step_error,status,newton_negative_eigenvalues");
   ASSERT_EQ(steps.size(), 4u);
   double sum = 0.0;
   for (const auto& row : steps) {
-    ASSERT_EQ(row.size(), 6u);
+    ASSERT_EQ(row.size(), 7u);
     const double initial = std::stod(row[1]), newton = std::stod(row[2]), method = std::stod(row[3]);
     const double error = std::stod(row[4]);
     // The error is the remaining fraction of the start's distance to Newton's minimum.
     EXPECT_NEAR(error, (method - newton) / (initial - newton), 1e-5 * std::abs(error) + 1e-9) << row[0];
     EXPECT_GT(error, 0.0) << "three gradient steps do not reach the minimum, step " << row[0];
     EXPECT_EQ(row[5], "iteration-budget");
+    EXPECT_EQ(row[6], "0") << "the hanging cloth's step ends at a minimum, step " << row[0];
     sum += error;
   }
   char mean[32];
   std::snprintf(mean, sizeof mean, "mean %.4g", sum / 4.0);
   EXPECT_NE(r.output.find(mean), std::string::npos) << mean << "\n" << r.output;
   EXPECT_NE(r.output.find("per-step errors: " + per_step.string()), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Newton's step ends at a saddle of L (negative eigenvalues of the exact Hessian) on 0 of "
+                          "the 4 states; the method ends below it (negative error) on 0"),
+            std::string::npos)
+      << r.output;
 }
 
 TEST(EvaluateCli, PerStepNeedsAnOptimizer) {

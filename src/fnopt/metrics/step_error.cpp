@@ -5,9 +5,15 @@
 #include <limits>
 
 #include <fnopt/baselines/newton.hpp>
+#include <fnopt/optimizer/matrix_inertia.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
+
+int StepErrorSummary::newton_saddles() const {
+  return static_cast<int>(std::count_if(samples.begin(), samples.end(),
+                                        [](const StepErrorSample& s) { return s.newton_negative_eigenvalues > 0; }));
+}
 
 StepErrorBench::~StepErrorBench() = default;
 
@@ -45,6 +51,8 @@ StepErrorBench::StepErrorBench(const Scene& scene, const TrajectoryFrames& refer
     VecX a = VecX::Zero(grid_.dof_count());
     dirichlet_.prescribe(a, state.x, state.v, state.targets, dt_);
     state.newton_value = solve_step(newton, *problem_, a, NewtonOptimizer::reference_solve_options()).value;
+    state.newton_negative_eigenvalues =
+        negative_eigenvalue_count(objective_->hessian(a, dirichlet_.free_index(), false));
     steps_.push_back(t);
     states_.push_back(std::move(state));
   }
@@ -63,6 +71,7 @@ StepErrorSummary StepErrorBench::evaluate(InnerOptimizer& method, const InnerSol
     sample.step = steps_[k];
     sample.initial_value = result.initial_value;
     sample.newton_value = state.newton_value;
+    sample.newton_negative_eigenvalues = state.newton_negative_eigenvalues;
     sample.method_value = result.value;
     sample.status = result.status;
     const double gap = result.initial_value - state.newton_value;

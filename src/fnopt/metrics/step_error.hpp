@@ -12,7 +12,9 @@
 // method is measured on the same, realistic states): `samples` steps spread evenly over the
 // rollout; the state of frame t is x_t and v_t = (x_t - x_{t-1})/dt (v_0 = 0), exactly the
 // backward-Euler velocity up to the file's float rounding. The Newton solves are done once, in
-// the constructor; evaluate() then costs one method solve per sample.
+// the constructor, each with the inertia of the exact Hessian where it ends (an LDL^T
+// factorisation: whether Newton's step is a minimum or a saddle of L); evaluate() then costs one
+// method solve per sample.
 #include <memory>
 #include <vector>
 
@@ -31,12 +33,17 @@ struct StepErrorSample {
   double method_value = 0.0;   // L(a_N)
   double error = 0.0;          // as above; +inf if the method went non-finite
   SolveStatus status = SolveStatus::IterationBudget;
+  // Negative eigenvalues of the exact Hessian of L at a* (free dofs): 0 where Newton's step ends
+  // at a local minimum, > 0 at a saddle, where a method can end lower (a negative error); -1 if
+  // the inertia could not be read (a zero pivot).
+  int newton_negative_eigenvalues = 0;
 };
 
 struct StepErrorSummary {
   std::vector<StepErrorSample> samples;
   double mean = 0.0;  // arithmetic mean of the errors
   double median = 0.0;
+  int newton_saddles() const;  // samples where Newton's step ends at a saddle of L
 };
 
 class StepErrorBench {
@@ -58,6 +65,7 @@ class StepErrorBench {
     VecX x, v;
     std::vector<Vec3> targets;
     double newton_value = 0.0;
+    int newton_negative_eigenvalues = 0;
   };
   Grid grid_;
   std::unique_ptr<BackwardEulerObjective> objective_;
