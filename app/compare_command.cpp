@@ -104,8 +104,10 @@ struct Preset {
   int step_samples;
 };
 
+// The learned optimizer's variants that hold at fine grids (fnopt-ss, fnopt-ss-pqn), each against
+// its own interpolation from 32 vertices, and the exact coarse step interpolated.
 const Preset kSuperres = {"32,32x64,64x32,48,48x80,64,100,128",
-                          "fnopt,fnopt-interp32,newton-interp32",
+                          "fnopt-ss,fnopt-ss-pqn,fnopt-ss-interp32,fnopt-ss-pqn-interp32,newton-interp32",
                           "10",
                           "newton-interp32=300",
                           "xy_v2",
@@ -207,8 +209,9 @@ const RegisterCommand kRegister([](CLI::App& app) {
               " s of the motion at dt = 1/60, the handles' first swing; the fine-grid Newton references dominate the "
               "cost, ~1 s of CPU per frame at 100^2; for more frames give --frames and a new --out: --resume keeps "
               "rows by method, N, resolution and motion only); the "
-              "fine grid runs fnopt (the shipped 32^2 model) against fnopt-interp32 (solve at 32 "
-              "vertices along the longer edge, interpolate) and newton-interp32 (exact coarse step, interpolate); "
+              "fine grid runs fnopt-ss and fnopt-ss-pqn (the --model, by default the shipped 32^2 one) against "
+              "METHOD-interp32 (solve at 32 vertices along the longer edge, interpolate) and newton-interp32 (exact "
+              "coarse step, interpolate); "
               "also writes superres.svg and a super-resolution table in report.md")
       ->check(CLI::IsMember({"superres"}));
   command

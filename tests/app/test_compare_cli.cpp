@@ -154,6 +154,30 @@ TEST(CompareCli, ThePresetKeepsItsBudgetsForMethodsThatFlagsDoNotName) {
   std::filesystem::remove_all(dir);
 }
 
+// Each learned method gets its own super-resolution table against the interpolation methods.
+TEST(CompareCli, TheSuperResolutionTablesCoverEveryLearnedMethod) {
+  const fnopt::testing::TempDir tmp;
+  const auto dir = tmp.path() / "out";
+  const CommandResult r = run_fnopt(
+      "compare --res 12,16 --frames 2 --optimizers fnopt-ss,fnopt-ss-pqn,fnopt-ss-pqn-interp8,pqn --iters 2 "
+      "--threads 1 --step-samples 1 --cd-samples 100 --out " +
+      dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string report = read_text(dir / "report.md");
+  EXPECT_NE(report.find("## Zero-shot super-resolution"), std::string::npos) << report;
+  for (const std::string learned : {"fnopt-ss", "fnopt-ss-pqn"}) {
+    EXPECT_NE(report.find("### " + learned + " at N = 2"), std::string::npos) << learned << "\n" << report;
+    EXPECT_NE(report.find("Super-evaluation (" + learned +
+                          " N=2) has a lower e_CD than each interpolation method run "
+                          "at the same N at "),
+              std::string::npos)
+        << learned << "\n"
+        << report;
+  }
+  EXPECT_EQ(report.find("### pqn at N"), std::string::npos) << report;
+  EXPECT_TRUE(std::filesystem::exists(dir / "superres.svg"));
+}
+
 TEST(CompareCli, AnUnknownPresetIsRejected) {
   const CommandResult r = run_fnopt("compare --preset nope --out /tmp/fnopt_never_written");
   EXPECT_NE(r.status, 0);

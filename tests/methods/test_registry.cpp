@@ -102,6 +102,14 @@ TEST(Registry, NewtonIsTheOnlyReference) {
   EXPECT_EQ(method_traits("newton-interp32").budget, BudgetKind::Iterations);
 }
 
+// The methods that run a trained model: the super-resolution study's subjects, and not their
+// interpolation ablations.
+TEST(Registry, TheLearnedMethodsAreThoseThatRunAModel) {
+  for (const std::string& name : table_names())
+    EXPECT_EQ(method_traits(name).learned, name.rfind("fnopt", 0) == 0) << name;
+  EXPECT_FALSE(method_traits("fnopt-ss-pqn-interp32").learned);
+}
+
 TEST(Registry, TraitsOfLearningRatesAndBudgetKinds) {
   for (const std::string& name : table_names()) {
     const MethodTraits traits = method_traits(name);

@@ -34,7 +34,7 @@ struct OptimizerEntry {
 // one-solve implicit Euler step ~10-40 (a sparse factorization).
 // The last field: the stability suite's budget per step (0: to tolerance).
 constexpr MethodTraits kBudgeted{BudgetKind::Iterations, false, false, 1.0, 100};
-constexpr MethodTraits kLearned{BudgetKind::Iterations, false, false, 10.0, 10};
+constexpr MethodTraits kLearned{BudgetKind::Iterations, false, false, 10.0, 10, true};
 
 // The learned optimizer on --model (default: the shipped model): plain, with the secant step
 // along its updates, or with the subspace step (and pqn's direction in it).
@@ -79,7 +79,7 @@ const std::vector<OptimizerEntry>& optimizer_table() {
          return make_learned(c, /*line_search=*/false, kFnoptSubspace, /*pqn_direction=*/true);
        }},
       {"fnopt-pqn",
-       {BudgetKind::Iterations, false, false, 2.0, 10},
+       {BudgetKind::Iterations, false, false, 2.0, 10, true},
        [](const OptimizerChoice& c) {
          LearnedPqnParams params;
          params.pqn = pqn_params(c);
@@ -165,6 +165,7 @@ MethodTraits method_traits(const std::string& name) {
     MethodTraits traits = method_traits(name.substr(0, name.find(kInterpTag)));
     traits.budget = BudgetKind::Iterations;
     traits.reference = false;
+    traits.learned = false;  // an ablation of super-evaluation, not its subject
     traits.iteration_cost *= 0.25;
     return traits;
   }

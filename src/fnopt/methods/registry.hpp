@@ -25,6 +25,7 @@ struct MethodTraits {
   bool learning_rate = false;   // takes --lr (compare sweeps it)
   double iteration_cost = 1.0;  // relative cost of one iteration, for progress ETAs only
   int suite_budget = 100;       // iterations per step in the stability suite (0: to tolerance)
+  bool learned = false;         // runs a trained model (--model): the super-resolution study's subject
 };
 
 // Throws Error("optimizer", "...") for an unknown name.

@@ -45,8 +45,9 @@ CompareReport CompareSweep::make_report() const {
   report.preset = study_.preset;
   report.error_levels = study_.error_levels;
   report.superres =
-      study_.preset == "superres" || (std::count(methods.begin(), methods.end(), "fnopt") > 0 &&
-                                      std::any_of(methods.begin(), methods.end(), is_interpolated_method));
+      study_.preset == "superres" ||
+      (std::any_of(methods.begin(), methods.end(), [](const std::string& m) { return method_traits(m).learned; }) &&
+       std::any_of(methods.begin(), methods.end(), is_interpolated_method));
   return report;
 }
 

@@ -13,31 +13,34 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The super-resolution comparison: "fnopt" at each budget against every interpolation method,
-// at the same (coarse) budget where it ran that one, else at its first budget (newton-interp32
-// runs to its tolerance, N = 1000 at most).
+// The super-resolution comparison: each learned method (fnopt, fnopt-ss, fnopt-ss-pqn, ...) at
+// each budget against every interpolation method, at the same (coarse) budget where it ran that
+// one, else at its first budget (newton-interp32 runs to its tolerance, N = 1000 at most).
 struct SuperresColumns {
-  std::vector<std::string> methods;  // fnopt first, then the interpolation methods
+  std::vector<std::string> methods;  // the learned method first, then the interpolation methods
   std::vector<int> budgets;          // one per method
-  int budget = 0;                    // fnopt's
+  int budget = 0;                    // the learned method's
 };
 
 std::vector<SuperresColumns> superres_columns(const std::vector<RunResult>& results,
                                               const std::vector<std::string>& methods) {
   std::vector<SuperresColumns> columns;
-  for (int budget : budgets_of(results, "fnopt")) {
-    SuperresColumns c;
-    c.budget = budget;
-    c.methods.push_back("fnopt");
-    c.budgets.push_back(budget);
-    for (const auto& method : methods)
-      if (is_interpolated_method(method)) {
-        const auto b = budgets_of(results, method);
-        if (b.empty()) continue;
-        c.methods.push_back(method);
-        c.budgets.push_back(std::find(b.begin(), b.end(), budget) != b.end() ? budget : b.front());
-      }
-    if (c.methods.size() > 1) columns.push_back(c);
+  for (const auto& learned : methods) {
+    if (!method_traits(learned).learned) continue;
+    for (int budget : budgets_of(results, learned)) {
+      SuperresColumns c;
+      c.budget = budget;
+      c.methods.push_back(learned);
+      c.budgets.push_back(budget);
+      for (const auto& method : methods)
+        if (is_interpolated_method(method)) {
+          const auto b = budgets_of(results, method);
+          if (b.empty()) continue;
+          c.methods.push_back(method);
+          c.budgets.push_back(std::find(b.begin(), b.end(), budget) != b.end() ? budget : b.front());
+        }
+      if (c.methods.size() > 1) columns.push_back(c);
+    }
   }
   return columns;
 }
@@ -46,7 +49,7 @@ PlotFigure superres_figure(const std::vector<RunResult>& results, const std::vec
                            const std::vector<SuperresColumns>& columns, const CompareReport& report) {
   PlotFigure figure;
   figure.title =
-      "fnopt compare: zero-shot super-resolution (32^2-trained model on each grid vs solve coarse + "
+      "fnopt compare: zero-shot super-resolution (the learned methods' model on each grid vs solve coarse + "
       "interpolate)";
   figure.notes = report.notes;
   figure.notes.push_back("x: vertices of the fine grid (log); labels: the resolution (RxC = rows x columns)");
@@ -96,7 +99,8 @@ void write_superres_section(MarkdownReport& md, const CompareReport& report, con
   if (!columns.empty()) {
     md.heading("Zero-shot super-resolution");
     md.paragraph(
-        "The learned optimizer is trained at 32x32 only. Super-evaluation (`fnopt`) runs it unchanged on each grid. "
+        "The learned optimizer's model is trained on coarse grids (the shipped one at 32x32 only). Super-evaluation "
+        "(each learned method: `fnopt`, `fnopt-ss`, `fnopt-ss-pqn`, ...) runs it unchanged on each grid. "
         "The ablation (`METHOD-interpK`) instead restricts the state (x_t, v_t) bilinearly to the grid with K "
         "vertices along the longer edge, solves the step there with METHOD (same budget N), and prolongs the "
         "acceleration bilinearly; handles keep their prescribed motion. Both are measured against the Newton "
@@ -114,7 +118,7 @@ void write_superres_section(MarkdownReport& md, const CompareReport& report, con
       std::stable_sort(order.begin(), order.end(), [](const std::string& a, const std::string& b) {
         return vertex_count_of(a) < vertex_count_of(b);
       });
-      int fnopt_wins = 0, compared = 0;
+      int learned_wins = 0, compared = 0;
       for (const auto& res : order) {
         std::vector<Aggregate> a;
         for (std::size_t m = 0; m < c.methods.size(); ++m)
@@ -138,16 +142,16 @@ void write_superres_section(MarkdownReport& md, const CompareReport& report, con
             if (c.budgets[k] == c.budget && a[k].runs && std::isfinite(a[k].e_cd) && a[k].e_cd < a[0].e_cd)
               wins = false;
           ++compared;
-          fnopt_wins += wins;
+          learned_wins += wins;
         }
         rows.push_back(row);
       }
-      md.heading("fnopt at N = " + std::to_string(c.budget), 3);
+      md.heading(c.methods.front() + " at N = " + std::to_string(c.budget), 3);
       md.table(head, rows);
       if (compared)
-        md.paragraph("Super-evaluation (fnopt N=" + std::to_string(c.budget) +
-                     ") has a lower e_CD than interpolating the same solver at the same N at " +
-                     std::to_string(fnopt_wins) + " of " + std::to_string(compared) + " resolutions.");
+        md.paragraph("Super-evaluation (" + method_label(c.methods.front(), c.budget) +
+                     ") has a lower e_CD than each interpolation method run at the same N at " +
+                     std::to_string(learned_wins) + " of " + std::to_string(compared) + " resolutions.");
     }
     write_svg(superres_svg, superres_figure(results, report.resolutions, columns, report));
     md.image("superres.svg", "error and ms/frame against the vertex count: super-evaluation vs interpolation");
