@@ -1,7 +1,8 @@
 // The Newton reference: quadratic convergence on a stiff step, the residual-acceleration stop it
 // promises, the same step with a factor kept across iterations and steps as with a fresh one,
 // handles never moved, and a buckling step where the Hessian is indefinite (negative curvature
-// followed to a minimum). The symmetric saddle is tested on the subproblem (test_steihaug_cg.cpp).
+// followed to a minimum). The symmetric saddle is tested on the subproblem (test_steihaug_cg.cpp),
+// and newton-min leaving it here.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,6 +16,7 @@
 #include <fnopt/cloth/backward_euler.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
 #include <fnopt/optimizer/sparse_cholesky.hpp>
+#include <fnopt/simulation/rollout.hpp>
 
 namespace fnopt {
 namespace {
@@ -189,6 +191,57 @@ TEST(NewtonSolver, ABucklingStepFollowsNegativeCurvatureToAMinimum) {
   EXPECT_LE(result.iterations, 60);
 }
 
+// A step of 12^2 xz_v2 after the handles have squeezed the cloth in its plane (frame 45): the
+// gradient keeps the plane's symmetry, so the reference converges onto the unbuckled saddle
+// (docs/design.md §6); newton-min leaves it along the negative pivots' direction and ends at a
+// minimum, lower.
+TEST(NewtonSolver, NewtonMinLeavesTheSaddleTheReferenceEndsAt) {
+  Scene scene;
+  scene.rows = scene.cols = 12;
+  scene.frames = 45;
+  scene.motion = "xz_v2";
+  const ResolvedScene resolved = resolve(scene);
+  NewtonOptimizer reference;
+  RolloutOptions options;
+  options.solve = NewtonOptimizer::reference_solve_options();
+  const RolloutResult rollout = run_rollout(resolved, reference, options);
+  ASSERT_FALSE(rollout.diverged);
+  // The state of the last frame and the step from it, as the rollout would take it next.
+  const VecX x = rollout.positions.back().cast<double>();
+  const VecX v = (x - rollout.positions[rollout.positions.size() - 2].cast<double>()) / scene.dt;
+  BackwardEulerObjective objective(resolved.grid, resolved.scene.material, scene.dt, resolved.scene.gravity);
+  const DirichletSet handles(resolved.grid.vertex_count(), resolved.handles.vertices);
+  StepProblem problem(objective, handles);
+  std::vector<Vec3> targets;
+  for (std::size_t h = 0; h < resolved.handles.vertices.size(); ++h)
+    targets.push_back(resolved.trajectory->position(static_cast<int>(h), (scene.frames + 1) * scene.dt));
+  auto solve = [&](NewtonParams params, VecX& a, NewtonCounters& counters) {
+    objective.begin_step(x, v);
+    a = VecX::Zero(resolved.grid.dof_count());
+    handles.prescribe(a, x, v, targets, scene.dt);
+    NewtonOptimizer newton(params);
+    const InnerSolveResult result = solve_step(newton, problem, a, NewtonOptimizer::reference_solve_options());
+    counters = newton.counters();
+    return result;
+  };
+  VecX at_saddle, at_minimum;
+  NewtonCounters reference_counters, min_counters;
+  const InnerSolveResult saddle = solve(NewtonParams{}, at_saddle, reference_counters);
+  NewtonParams seek_minimum;
+  seek_minimum.escape_saddles = true;
+  const InnerSolveResult minimum = solve(seek_minimum, at_minimum, min_counters);
+  std::printf("squeezed step: reference L %.10g in %d iterations, newton-min L %.10g in %d (%ld escapes)\n",
+              saddle.value, saddle.iterations, minimum.value, minimum.iterations, min_counters.saddle_escapes);
+  ASSERT_EQ(saddle.status, SolveStatus::Converged);
+  ASSERT_EQ(minimum.status, SolveStatus::Converged);
+  EXPECT_EQ(reference_counters.saddle_escapes, 0);
+  EXPECT_FALSE(hessian_is_definite(objective, handles, at_saddle));
+  EXPECT_GT(min_counters.saddle_escapes, 0);
+  EXPECT_TRUE(hessian_is_definite(objective, handles, at_minimum));
+  EXPECT_LT(minimum.value, saddle.value);
+  EXPECT_EQ(NewtonOptimizer(seek_minimum).name(), "newton-min");
+}
+
 // settings() keys compare's reference cache: changing any parameter must change it.
 // The preconditioner applied in floats changes CG's path by round-off only: the same steps to the
 // tolerance, with as many Newton iterations (within one per step).
@@ -231,7 +284,8 @@ TEST(NewtonParams, EveryParameterChangesTheSettingsString) {
       [](NewtonParams& p) { p.max_cg_iterations = 100; },
       [](NewtonParams& p) { p.refactor_cg_iterations = 10; },
       [](NewtonParams& p) { p.reuse_factor_across_steps = false; },
-      [](NewtonParams& p) { p.single_precision_preconditioner = false; }};
+      [](NewtonParams& p) { p.single_precision_preconditioner = false; },
+      [](NewtonParams& p) { p.escape_saddles = true; }};
   for (std::size_t i = 0; i < changes.size(); ++i) {
     NewtonParams params;
     changes[i](params);
@@ -250,7 +304,8 @@ TEST(NewtonParams, RejectsInvalidValues) {
       {[](NewtonParams& p) { p.forcing_cap = 1.0; }, "newton.forcing_cap"},
       {[](NewtonParams& p) { p.acceleration_tolerance = 0.0; }, "newton.acceleration_tolerance"},
       {[](NewtonParams& p) { p.max_cg_iterations = 0; }, "newton.max_cg_iterations"},
-      {[](NewtonParams& p) { p.refactor_cg_iterations = -1; }, "newton.refactor_cg_iterations"}};
+      {[](NewtonParams& p) { p.refactor_cg_iterations = -1; }, "newton.refactor_cg_iterations"},
+      {[](NewtonParams& p) { p.max_saddle_escapes = -1; }, "newton.max_saddle_escapes"}};
   for (const auto& [change, field] : bad) {
     NewtonParams p;
     change(p);

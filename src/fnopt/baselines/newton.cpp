@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include <Eigen/SparseCholesky>
+
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/parse_text.hpp>
 #include <fnopt/util/serial_openmp_scope.hpp>
@@ -21,6 +23,7 @@ void NewtonParams::validate() const {
   require(max_cg_iterations > 0, "newton.max_cg_iterations", "must be positive");
   require(acceleration_tolerance > 0.0, "newton.acceleration_tolerance", "must be positive");
   require(refactor_cg_iterations >= 0, "newton.refactor_cg_iterations", "must not be negative");
+  require(max_saddle_escapes >= 0, "newton.max_saddle_escapes", "must not be negative");
 }
 
 NewtonOptimizer::NewtonOptimizer(NewtonParams params) : params_(params) { params_.validate(); }
@@ -41,6 +44,7 @@ std::string NewtonOptimizer::settings() const {
       << " refactor_cg_iterations=" << params_.refactor_cg_iterations
       << " reuse_factor_across_steps=" << params_.reuse_factor_across_steps;
   if (params_.single_precision_preconditioner) out << " single_precision_preconditioner=1";
+  if (params_.escape_saddles) out << " escape_saddles=1 max_saddle_escapes=" << params_.max_saddle_escapes;
   return out.str();
 }
 
@@ -57,7 +61,52 @@ void NewtonOptimizer::begin_step(StepProblem&, const VecX&, double value, const 
   start_value_ = value;
   initial_gradient_norm_ = gradient.norm();
   radius_ = 0.0;
+  escapes_ = 0;
   if (!params_.reuse_factor_across_steps) have_factor_ = false;
+}
+
+void NewtonOptimizer::set_metric(const StepProblem& problem) {
+  const DirichletSet& dirichlet = problem.dirichlet();
+  metric_.resize(3 * static_cast<Eigen::Index>(dirichlet.free_count()));
+  for (int v = 0; v < dirichlet.vertex_count(); ++v)
+    if (const int f = dirichlet.free_index()[v]; f >= 0)
+      metric_.segment<3>(3 * f).setConstant(problem.objective().inertia_weight(v));
+}
+
+bool NewtonOptimizer::leave_stationary_point(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
+  if (!params_.escape_saddles || escapes_ >= params_.max_saddle_escapes) return false;
+  const DirichletSet& dirichlet = problem.dirichlet();
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(
+      problem.objective().hessian(a, dirichlet.free_index(), false));
+  if (ldlt.info() != Eigen::Success) return false;
+  const VecX d = ldlt.vectorD();
+  VecX s = (d.array() < 0.0).cast<double>().matrix();
+  if (s.sum() == 0.0) return false;  // a local minimum
+  ldlt.matrixU().solveInPlace(s);
+  rhs_ = ldlt.permutationPinv() * s;        // z, on the free dofs
+  if (radius_ == 0.0) set_metric(problem);  // converged at the step's start: no iteration set it
+  dirichlet.gather_free(gradient, trial_gradient_);
+  const double slope = trial_gradient_.dot(rhs_);
+  const double z_norm = std::sqrt((rhs_.array().square() * metric_.array()).sum());
+  if (!(z_norm > 0.0)) return false;
+  // Downhill along z (either way where g is orthogonal to it), starting at the trust radius.
+  double t = (slope > 0.0 ? -1.0 : 1.0) * std::max(radius_, 1e-8) / z_norm;
+  const double rounding = 1e-12 * std::abs(value);
+  for (int trial = 0; trial < params_.max_trials; ++trial, t *= params_.shrink) {
+    dirichlet.scatter_free(t * rhs_, full_step_);
+    trial_ = a + full_step_;
+    const double trial_value = problem.value_gradient(trial_, trial_gradient_);
+    if (std::isfinite(trial_value) && trial_value < value - rounding) {
+      a.swap(trial_);
+      gradient.swap(trial_gradient_);
+      value = trial_value;
+      radius_ = std::abs(t) * z_norm;
+      ++escapes_;
+      ++counters_.saddle_escapes;
+      return true;
+    }
+  }
+  return false;
 }
 
 std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
@@ -74,11 +123,7 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
       factor_.solve_in_place(r.data(), static_cast<int>(r.size()), 1);
   };
   if (radius_ == 0.0) {  // the step's first iteration: the metric, the preconditioned gradient step's length
-    const BackwardEulerObjective& objective = problem.objective();
-    metric_.resize(rhs_.size());
-    for (int v = 0; v < dirichlet.vertex_count(); ++v)
-      if (const int f = dirichlet.free_index()[v]; f >= 0)
-        metric_.segment<3>(3 * f).setConstant(objective.inertia_weight(v));
+    set_metric(problem);
     step_ = rhs_;
     precondition(step_);
     radius_ = params_.initial_radius * std::sqrt((step_.array().square() * metric_.array()).sum());

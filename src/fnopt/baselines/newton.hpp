@@ -55,6 +55,13 @@ struct NewtonParams {
   // Apply P^-1 with a float copy of its factor (optimizer/single_precision_factor.hpp): half the
   // memory traffic of the solves that dominate an iteration at 100^2, the same convergence.
   bool single_precision_preconditioner = true;
+  // Seek a local minimum of the step's energy instead of any stationary point ("newton-min"):
+  // where the stop is met but the exact Hessian has negative eigenvalues (a saddle: its LDL^T
+  // factorisation has negative pivots), step along the direction of negative curvature those
+  // pivots give and go on (leave_stationary_point). Off for the reference (docs/design.md §6,
+  // "What the reference converges to"); at most max_saddle_escapes per time step.
+  bool escape_saddles = false;
+  int max_saddle_escapes = 50;
 
   void validate() const;  // throws Error naming the parameter
 };
@@ -65,6 +72,7 @@ struct NewtonCounters {
   long cg_iterations = 0;       // products with H
   long negative_curvature = 0;  // subproblems that followed a negative-curvature direction
   long rejected_trials = 0;     // trial steps the trust region turned down
+  long saddle_escapes = 0;      // steps off a saddle (escape_saddles)
 };
 
 class NewtonOptimizer final : public InnerOptimizer {
@@ -78,14 +86,22 @@ class NewtonOptimizer final : public InnerOptimizer {
   // The reference's stop as help texts and reports state it: "0.001 m/s^2".
   static std::string reference_stop_text();
 
-  std::string name() const override { return "newton"; }
+  std::string name() const override { return params_.escape_saddles ? "newton-min" : "newton"; }
   std::string settings() const override;
   void begin_step(StepProblem& problem, const VecX& a, double value, const VecX& gradient) override;
   std::optional<SolveStatus> iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) override;
+  // With escape_saddles, at a stationary point where the exact Hessian H has negative pivots D_k
+  // in its LDL^T factorisation (P H P^T = L D L^T): the direction z = P^T L^-T s, s the indicator
+  // of those pivots, has z.Hz = sum of them < 0 (Moré & Sorensen 1979, "On the use of directions
+  // of negative curvature in a modified Newton method"). a moves along -sign(g.z) z, to the trust
+  // radius in the mass metric, shortened until L falls. False (a not moved) at a minimum.
+  bool leave_stationary_point(StepProblem& problem, VecX& a, double& value, VecX& gradient) override;
 
   const NewtonCounters& counters() const { return counters_; }
 
  private:
+  // The trust region's metric on the free dofs, the inertia weights dt^2 m (1 + c dt).
+  void set_metric(const StepProblem& problem);
   // Factorizes P at a; false if CHOLMOD fails (P is positive definite by construction).
   bool factorize_preconditioner(StepProblem& problem, const VecX& a);
 
@@ -98,6 +114,7 @@ class NewtonOptimizer final : public InnerOptimizer {
   double initial_gradient_norm_ = 0.0;
   double start_value_ = 0.0;
   double radius_ = 0.0;  // 0: set at the step's first iteration
+  int escapes_ = 0;      // saddle escapes in this time step
   SteihaugScratch cg_;
   VecX metric_;  // the trust region's: the inertia weights dt^2 m (1 + c dt) of the free dofs
   VecX rhs_, step_, full_step_, trial_, trial_gradient_;

@@ -67,6 +67,13 @@ const std::vector<OptimizerEntry>& optimizer_table() {
       {"newton",
        {BudgetKind::ToTolerance, true, false, 8.0, 0},
        [](const OptimizerChoice&) { return std::make_unique<NewtonOptimizer>(); }},
+      {"newton-min",
+       {BudgetKind::ToTolerance, false, false, 8.0, 0},
+       [](const OptimizerChoice&) {
+         NewtonParams params;
+         params.escape_saddles = true;
+         return std::make_unique<NewtonOptimizer>(params);
+       }},
       {"implicit-euler",
        {BudgetKind::OneSolve, false, false, 30.0, 1},
        [](const OptimizerChoice&) { return std::make_unique<ImplicitEulerOptimizer>(); }},

@@ -25,6 +25,12 @@ InnerSolveResult solve_step(InnerOptimizer& optimizer, StepProblem& problem, Vec
     if ((options.relative_tolerance > 0.0 && gradient_norm <= tolerance) ||
         (options.acceleration_tolerance > 0.0 &&
          problem.objective().residual_acceleration(gradient) <= options.acceleration_tolerance)) {
+      if (result.iterations < options.max_iterations && optimizer.leave_stationary_point(problem, a, value, gradient)) {
+        ++result.iterations;
+        gradient_norm = gradient.norm();
+        result.gradient_norms.push_back(gradient_norm);
+        continue;
+      }
       result.status = SolveStatus::Converged;
       return result;
     }

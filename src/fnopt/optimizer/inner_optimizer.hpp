@@ -24,6 +24,10 @@ class InnerOptimizer {
   // One iteration: moves a (free dofs only) and leaves value and gradient at the new iterate.
   // Returns a status to stop early (e.g. LineSearchFailed), or nothing to go on.
   virtual std::optional<SolveStatus> iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) = 0;
+  // Called where the solve's tolerance is met: a method that seeks a local minimum rather than any
+  // stationary point may move a off a saddle there (and return true: the solve goes on). Default:
+  // a stationary point is where the solve ends.
+  virtual bool leave_stationary_point(StepProblem&, VecX&, double&, VecX&) { return false; }
 };
 
 struct InnerSolveOptions {
