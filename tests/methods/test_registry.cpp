@@ -59,8 +59,9 @@ Error thrown_error(Call&& call) {
 
 TEST(Registry, TableHoldsEveryMethodOnceAndTheHelpTextNamesTheInterpolation) {
   const std::vector<std::string> names = table_names();
-  EXPECT_EQ(names, (std::vector<std::string>{"pqn", "newton", "implicit-euler", "fnopt", "fnopt-ls", "fnopt-ss",
-                                             "fnopt-ss-pqn", "fnopt-pqn", "gd", "adam", "lbfgs", "lbfgs-ls"}));
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"pqn", "newton", "newton-min", "implicit-euler", "fnopt", "fnopt-ls", "fnopt-ss",
+                                      "fnopt-ss-pqn", "fnopt-pqn", "gd", "adam", "lbfgs", "lbfgs-ls"}));
   EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
   EXPECT_NE(optimizer_names().find("METHOD-interpK"), std::string::npos);
   EXPECT_EQ(OptimizerChoice{}.name, "pqn");  // the default method is in the table
