@@ -10,18 +10,25 @@
 namespace fnopt {
 namespace {
 
-TEST(StepError, IsZeroForNewtonAndBetweenZeroAndOneForAFewGdIterations) {
-  Scene scene;
-  scene.rows = scene.cols = 8;
-  scene.frames = 12;
+// The Newton reference rollout of a square scene, as the bench reads it.
+TrajectoryFrames newton_reference(const Scene& scene) {
   NewtonOptimizer newton;
   RolloutOptions options;
   options.solve = NewtonOptimizer::reference_solve_options();
   const RolloutResult rollout = run_rollout(resolve(scene), newton, options);
   TrajectoryFrames reference;
-  reference.rows = reference.cols = 8;
+  reference.rows = scene.rows;
+  reference.cols = scene.cols;
   reference.times = rollout.times;
   reference.positions = rollout.positions;
+  return reference;
+}
+
+TEST(StepError, IsZeroForNewtonAndBetweenZeroAndOneForAFewGdIterations) {
+  Scene scene;
+  scene.rows = scene.cols = 8;
+  scene.frames = 12;
+  const TrajectoryFrames reference = newton_reference(scene);
   StepErrorBench bench(scene, reference, 4);
   EXPECT_EQ(bench.steps().size(), 4u);
 
@@ -48,15 +55,7 @@ TEST(StepError, SaysWhereNewtonsStepEndsAtASaddle) {
     scene.rows = scene.cols = 12;
     scene.frames = frames;
     scene.motion = motion;
-    NewtonOptimizer newton;
-    RolloutOptions options;
-    options.solve = NewtonOptimizer::reference_solve_options();
-    const RolloutResult rollout = run_rollout(resolve(scene), newton, options);
-    TrajectoryFrames reference;
-    reference.rows = reference.cols = 12;
-    reference.times = rollout.times;
-    reference.positions = rollout.positions;
-    StepErrorBench bench(scene, reference, 6);
+    StepErrorBench bench(scene, newton_reference(scene), 6);
     NewtonOptimizer again;
     const StepErrorSummary summary = bench.evaluate(again, NewtonOptimizer::reference_solve_options());
     return summary.newton_saddles();
