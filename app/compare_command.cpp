@@ -105,8 +105,9 @@ struct Preset {
 };
 
 // The learned optimizer's variants that hold at fine grids (fnopt-ss, fnopt-ss-pqn), each against
-// its own interpolation from 32 vertices, and the exact coarse step interpolated.
-const Preset kSuperres = {"32,32x64,64x32,48,48x80,64,100,128",
+// its own interpolation from 32 vertices, and the exact coarse step interpolated. Every grid is
+// finer than 32 along its longer edge: an interpolation from 32 is refused on the 32 x 32 grid.
+const Preset kSuperres = {"32x64,64x32,48,48x80,64,100,128",
                           "fnopt-ss,fnopt-ss-pqn,fnopt-ss-interp32,fnopt-ss-pqn-interp32,newton-interp32",
                           "10",
                           "newton-interp32=300",
