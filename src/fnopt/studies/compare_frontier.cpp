@@ -61,7 +61,7 @@ std::vector<LevelWinner> fastest_within(const std::vector<RunResult>& results, c
     LevelWinner w;
     w.level = level;
     for (const MeanRun& m : means)
-      if (!is_converged_run(m.spec) && m.e_cd <= level && !(m.ms >= w.ms))
+      if (!is_reference_run(m.spec) && m.e_cd <= level && !(m.ms >= w.ms))
         w.method = m.spec.method, w.budget = m.spec.budget, w.ms = m.ms, w.e_cd = m.e_cd;
     winners.push_back(w);
   }

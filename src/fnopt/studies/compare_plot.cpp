@@ -53,7 +53,7 @@ PlotFigure make_compare_plot(const std::vector<RunResult>& results, const std::v
             value.push_back(metric.scale * (r->*metric.value));
             diverged = diverged || r->diverged || r->failed;
           }
-          if (is_converged_run({method, budget}) && metric.newton_is_reference) {
+          if (is_reference_run({method, budget}) && metric.newton_is_reference) {
             panel.vertical_lines.push_back({mean_finite(ms), method + " (the reference)"});
             continue;
           }
@@ -66,7 +66,7 @@ PlotFigure make_compare_plot(const std::vector<RunResult>& results, const std::v
       if (&metric == &metrics.front()) {  // the error-time frontier of the means over the motions
         std::vector<MeanRun> means = finished_means(results, res, threads);
         means.erase(
-            std::remove_if(means.begin(), means.end(), [](const MeanRun& m) { return is_converged_run(m.spec); }),
+            std::remove_if(means.begin(), means.end(), [](const MeanRun& m) { return is_reference_run(m.spec); }),
             means.end());
         std::vector<std::pair<double, double>> points;
         for (const MeanRun& m : means) points.push_back({m.ms, m.e_cd});

@@ -11,6 +11,8 @@ bool is_converged_run(const RunSpec& spec) {
   return spec.budget == 0 && method_traits(spec.method).budget == BudgetKind::ToTolerance;
 }
 
+bool is_reference_run(const RunSpec& spec) { return is_converged_run(spec) && method_traits(spec.method).reference; }
+
 std::string budget_text(const RunSpec& spec) {
   return is_converged_run(spec) ? "converged" : std::to_string(spec.budget);
 }

@@ -26,8 +26,11 @@ struct RunResult {
   std::string note;
 };
 
-// Newton to its reference tolerance (not a budgeted Newton run).
+// A method run to its tolerance (newton, newton-min; not a budgeted Newton run).
 bool is_converged_run(const RunSpec& spec);
+// The converged run of the reference method (newton): the error's zero, measured on the
+// reference rollout itself. Another method run to its tolerance (newton-min) is an ordinary run.
+bool is_reference_run(const RunSpec& spec);
 // "10", or "converged" for a converged run (the CSV's N).
 std::string budget_text(const RunSpec& spec);
 // The run time a plot or report shows: with one thread, wall time x the CPU share the process

@@ -87,7 +87,7 @@ std::vector<SweepTask> CompareSweep::plan() {
     for (int i = 0; i < static_cast<int>(runs_.size()); ++i) {
       const RunSpec& run = runs_[i];
       if (rows_.resumed(slot(s, i))) continue;
-      if (is_converged_run(run) && fresh_references.count(s) && !study_.warm_start) continue;
+      if (is_reference_run(run) && fresh_references.count(s) && !study_.warm_start) continue;
       const double cost = scene.frames * frame_cost(run.method, run.budget, is_converged_run(run), vertices);
       runs.push_back({1, cost, run_label(run, scene)});
       run_tasks.push_back({s, i});
@@ -155,7 +155,7 @@ void CompareSweep::run_reference(std::size_t task, SweepTaskRun<CompareTaskResul
   if (reference.rollout.diverged)
     SweepRunner::print_line("warning: the Newton reference of %s/%s %s\n", resolution_text(scene).c_str(),
                             motion_text(scene).c_str(), reference.rollout.divergence.c_str());
-  const auto converged = std::find_if(runs_.begin(), runs_.end(), is_converged_run);
+  const auto converged = std::find_if(runs_.begin(), runs_.end(), is_reference_run);
   const bool newton_row =
       converged != runs_.end() && !rows_.resumed(slot(s, converged - runs_.begin())) && !study_.warm_start;
   const bool later = later_scenes_.count(s) > 0;
@@ -228,7 +228,7 @@ void CompareSweep::record(std::size_t task, const CompareTaskResult& result) {
   if (!result.row) return;
   const Task& t = tasks_[task];
   const int run =
-      t.run >= 0 ? t.run : static_cast<int>(std::find_if(runs_.begin(), runs_.end(), is_converged_run) - runs_.begin());
+      t.run >= 0 ? t.run : static_cast<int>(std::find_if(runs_.begin(), runs_.end(), is_reference_run) - runs_.begin());
   rows_.finish(slot(t.scene, run), *result.row);
   const std::vector<RunResult> results = all_results();
   write_table(results);
