@@ -55,7 +55,7 @@ TEST(StepError, SaysWhereNewtonsStepEndsAtASaddle) {
     scene.rows = scene.cols = 12;
     scene.frames = frames;
     scene.motion = motion;
-    StepErrorBench bench(scene, newton_reference(scene), 6);
+    StepErrorBench bench(scene, newton_reference(scene), 6, /*count_negative_eigenvalues=*/true);
     NewtonOptimizer again;
     const StepErrorSummary summary = bench.evaluate(again, NewtonOptimizer::reference_solve_options());
     return summary.newton_saddles();

@@ -17,7 +17,8 @@ int StepErrorSummary::newton_saddles() const {
 
 StepErrorBench::~StepErrorBench() = default;
 
-StepErrorBench::StepErrorBench(const Scene& scene, const TrajectoryFrames& reference, int samples) {
+StepErrorBench::StepErrorBench(const Scene& scene, const TrajectoryFrames& reference, int samples,
+                               bool count_negative_eigenvalues) {
   require(samples >= 1, "step-error samples", "must be positive");
   const ResolvedScene setup = resolve(scene);
   grid_ = setup.grid;
@@ -51,8 +52,9 @@ StepErrorBench::StepErrorBench(const Scene& scene, const TrajectoryFrames& refer
     VecX a = VecX::Zero(grid_.dof_count());
     dirichlet_.prescribe(a, state.x, state.v, state.targets, dt_);
     state.newton_value = solve_step(newton, *problem_, a, NewtonOptimizer::reference_solve_options()).value;
-    state.newton_negative_eigenvalues =
-        negative_eigenvalue_count(objective_->hessian(a, dirichlet_.free_index(), false));
+    if (count_negative_eigenvalues)
+      state.newton_negative_eigenvalues =
+          negative_eigenvalue_count(objective_->hessian(a, dirichlet_.free_index(), false));
     steps_.push_back(t);
     states_.push_back(std::move(state));
   }

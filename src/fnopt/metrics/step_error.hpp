@@ -12,7 +12,7 @@
 // method is measured on the same, realistic states): `samples` steps spread evenly over the
 // rollout; the state of frame t is x_t and v_t = (x_t - x_{t-1})/dt (v_0 = 0), exactly the
 // backward-Euler velocity up to the file's float rounding. The Newton solves are done once, in
-// the constructor, each with the inertia of the exact Hessian where it ends (an LDL^T
+// the constructor, optionally each with the inertia of the exact Hessian where it ends (an LDL^T
 // factorisation: whether Newton's step is a minimum or a saddle of L); evaluate() then costs one
 // method solve per sample.
 #include <memory>
@@ -35,8 +35,8 @@ struct StepErrorSample {
   SolveStatus status = SolveStatus::IterationBudget;
   // Negative eigenvalues of the exact Hessian of L at a* (free dofs): 0 where Newton's step ends
   // at a local minimum, > 0 at a saddle, where a method can end lower (a negative error); -1 if
-  // the inertia could not be read (a zero pivot).
-  int newton_negative_eigenvalues = 0;
+  // not counted (the bench was not asked to) or not readable (a zero pivot).
+  int newton_negative_eigenvalues = -1;
 };
 
 struct StepErrorSummary {
@@ -49,8 +49,11 @@ struct StepErrorSummary {
 class StepErrorBench {
  public:
   // `reference` must hold a frame every scene.dt from t = 0 (an fnopt rollout of `scene`);
-  // throws Error otherwise. Uses the scene's material, handles and trajectory.
-  StepErrorBench(const Scene& scene, const TrajectoryFrames& reference, int samples);
+  // throws Error otherwise. Uses the scene's material, handles and trajectory. With
+  // count_negative_eigenvalues, also the inertia of the exact Hessian where each Newton step ends:
+  // one simplicial LDL^T per sample, seconds each at 100^2, so only where it is asked for.
+  StepErrorBench(const Scene& scene, const TrajectoryFrames& reference, int samples,
+                 bool count_negative_eigenvalues = false);
   ~StepErrorBench();
   StepErrorBench(const StepErrorBench&) = delete;  // its StepProblem points into it
   StepErrorBench& operator=(const StepErrorBench&) = delete;
@@ -65,7 +68,7 @@ class StepErrorBench {
     VecX x, v;
     std::vector<Vec3> targets;
     double newton_value = 0.0;
-    int newton_negative_eigenvalues = 0;
+    int newton_negative_eigenvalues = -1;
   };
   Grid grid_;
   std::unique_ptr<BackwardEulerObjective> objective_;
