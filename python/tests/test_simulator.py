@@ -134,3 +134,9 @@ def test_the_learned_optimizer_with_pqns_direction_runs_by_name_on_the_shipped_m
     assert rollout.positions.shape == (5, 16, 16, 3) and np.isfinite(rollout.positions).all()
     with pytest.raises(fnopt.Error, match="fnopt-ss-pqm"):
         fnopt.run_rollout(fnopt.Scene(res=8, frames=2), optimizer="fnopt-ss-pqm")
+
+
+def test_newton_min_runs_by_name_and_says_it_leaves_saddles():
+    rollout = fnopt.run_rollout(fnopt.Scene(res=8, frames=3), optimizer="newton-min")
+    assert "escape_saddles=1" in rollout.optimizer_settings
+    assert rollout.positions.shape == (4, 8, 8, 3) and np.isfinite(rollout.positions).all()
