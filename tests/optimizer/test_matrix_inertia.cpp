@@ -1,6 +1,6 @@
 // The inertia read off an LDL^T factorisation agrees with a dense eigen-decomposition: on random
 // sparse symmetric matrices with a chosen number of negative eigenvalues, and on the exact
-// Hessian of a compressed cloth's step.
+// Hessian of a compressed cloth's step; its direction of negative curvature curves downward.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -30,6 +30,14 @@ TEST(MatrixInertia, CountsTheNegativeEigenvaluesOfRandomSparseMatrices) {
     const Eigen::SparseMatrix<double> a = dense.sparseView();
     EXPECT_EQ(dense_negative_count(a), negative);
     EXPECT_EQ(negative_eigenvalue_count(a), negative) << negative << " negative eigenvalues";
+    // The direction from the same factorisation has negative curvature exactly where some
+    // eigenvalue is negative.
+    Eigen::VectorXd z = Eigen::VectorXd::Zero(n);
+    EXPECT_EQ(negative_curvature_direction(a, z), negative);
+    if (negative > 0)
+      EXPECT_LT(z.dot(a * z), 0.0) << negative << " negative eigenvalues";
+    else
+      EXPECT_EQ(z.norm(), 0.0) << "no direction at a positive definite matrix";
   }
   EXPECT_EQ(negative_eigenvalue_count(Eigen::SparseMatrix<double>(Eigen::MatrixXd::Zero(3, 3).sparseView())), -1);
 }

@@ -4,8 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include <Eigen/SparseCholesky>
-
+#include <fnopt/optimizer/matrix_inertia.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/parse_text.hpp>
 #include <fnopt/util/serial_openmp_scope.hpp>
@@ -76,14 +75,9 @@ void NewtonOptimizer::set_metric(const StepProblem& problem) {
 bool NewtonOptimizer::leave_stationary_point(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
   if (!params_.escape_saddles || escapes_ >= params_.max_saddle_escapes) return false;
   const DirichletSet& dirichlet = problem.dirichlet();
-  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(
-      problem.objective().hessian(a, dirichlet.free_index(), false));
-  if (ldlt.info() != Eigen::Success) return false;
-  const VecX d = ldlt.vectorD();
-  VecX s = (d.array() < 0.0).cast<double>().matrix();
-  if (s.sum() == 0.0) return false;  // a local minimum
-  ldlt.matrixU().solveInPlace(s);
-  rhs_ = ldlt.permutationPinv() * s;        // z, on the free dofs
+  // z (in rhs_, on the free dofs); none at a local minimum (or where the inertia is unreadable).
+  if (negative_curvature_direction(problem.objective().hessian(a, dirichlet.free_index(), false), rhs_) <= 0)
+    return false;
   if (radius_ == 0.0) set_metric(problem);  // converged at the step's start: no iteration set it
   dirichlet.gather_free(gradient, trial_gradient_);
   const double slope = trial_gradient_.dot(rhs_);

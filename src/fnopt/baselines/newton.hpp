@@ -90,11 +90,10 @@ class NewtonOptimizer final : public InnerOptimizer {
   std::string settings() const override;
   void begin_step(StepProblem& problem, const VecX& a, double value, const VecX& gradient) override;
   std::optional<SolveStatus> iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) override;
-  // With escape_saddles, at a stationary point where the exact Hessian H has negative pivots D_k
-  // in its LDL^T factorisation (P H P^T = L D L^T): the direction z = P^T L^-T s, s the indicator
-  // of those pivots, has z.Hz = sum of them < 0 (Moré & Sorensen 1979, "On the use of directions
-  // of negative curvature in a modified Newton method"). a moves along -sign(g.z) z, to the trust
-  // radius in the mass metric, shortened until L falls. False (a not moved) at a minimum.
+  // With escape_saddles, at a stationary point where the exact Hessian H has negative pivots in its
+  // LDL^T factorisation: a moves along -sign(g.z) z, z the direction of negative curvature they
+  // give (optimizer/matrix_inertia.hpp, Moré & Sorensen 1979), from the trust radius in the mass
+  // metric down until L falls. False (a not moved) at a minimum.
   bool leave_stationary_point(StepProblem& problem, VecX& a, double& value, VecX& gradient) override;
 
   const NewtonCounters& counters() const { return counters_; }
