@@ -31,6 +31,7 @@ struct TrainFlags {
   bool resume = false;
   int64_t width = 32, layers = 4, modes = 8, lifting = 64, projection = 32;
   bool combined = false;
+  bool pqn_input = false;  // the model reads pqn's direction (learned_update.hpp)
   ValidationOptions validation;
   bool validate = false;  // --validate-res given
   int validate_every = 500;
@@ -54,11 +55,13 @@ void run_train(TrainFlags& flags) {
       .modes_y(flags.modes)
       .lifting_channels(flags.lifting)
       .projection_channels(flags.projection)
-      .in_channels(flags.combined ? 9 : 3)
+      .in_channels((flags.combined ? 9 : 3) + (flags.pqn_input ? (flags.combined ? 3 : 1) : 0))
       .out_channels(flags.combined ? 3 : 1);
-  if (!flags.options.initial_model.empty()) {  // the shape is the file's
-    const FNO2dOptions given = load_fno_options(flags.options.initial_model);
+  if (!flags.options.initial_model.empty()) {  // the shape is the file's, widened by --pqn-input
+    FNO2dOptions given = load_fno_options(flags.options.initial_model);
     check_learned_model(given, flags.options.initial_model);
+    if (flags.pqn_input && !takes_pqn_direction(given))
+      given.in_channels(given.in_channels() + (samples_per_environment(given) == 1 ? 3 : 1));
     flags.options.model.width(given.width())
         .fourier_layers(given.fourier_layers())
         .modes_x(given.modes_x())
@@ -155,7 +158,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->option_text("{model,energy}=model");
   command->add_option("--init", o.initial_model,
                       "start a fresh run from this model's weights (its shape replaces --width, --layers, --modes, "
-                      "--lifting, --projection, --combined), e.g. models/fnopt-32.pt");
+                      "--lifting, --projection, --combined; --pqn-input widens it), e.g. models/fnopt-32.pt");
   command->add_option("--batch", o.batch, "environments per step")->capture_default_str();
   command->add_option("--envs", o.pool.environments, "environments in the pool")->capture_default_str();
   command
@@ -209,6 +212,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
                     "with --subspace K: the pool also puts pqn's preconditioned gradient -A^-1 g in the subspace "
                     "before each proposal, as fnopt-ss-pqn does, and the validation runs fnopt-ss-pqn: the model "
                     "trains for the directions that complement pqn's");
+  command->add_flag("--pqn-input", flags->pqn_input,
+                    "the model also reads pqn's direction -A^-1 g as an input field (4 inputs, or 12 with "
+                    "--combined), which holds the grid's stiffness; with --init, the file's model is widened with "
+                    "zero weights for it, so training starts from what that model proposes");
   command->add_option("--undamped-share", o.pool.ranges.undamped_share, "share of the environments without damping")
       ->capture_default_str();
   command->add_option("--width", flags->width, "FNO width")->capture_default_str();

@@ -232,6 +232,60 @@ TEST(LearnedOptimizer, CarriedSubspaceReachesOnlyTheStepThatContinuesTheLastOne)
   EXPECT_NE(a_next[0], a_next[1]) << "the continuing step did not use the carried pairs";
 }
 
+// The shipped model widened to read pqn's direction proposes what it did (the new input's weights
+// are zero), so fnopt-ss with either solves a 32^2 step alike; once those weights move, the
+// proposals follow the new input, the safeguard still holds L down and the handles stay.
+TEST(LearnedOptimizer, AModelThatReadsPqnsDirectionStartsAsTheModelItWidens) {
+  const FNO2d shipped = load_learned_model(std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt");
+  FNO2d widened = with_pqn_direction_input(shipped);
+  EXPECT_TRUE(takes_pqn_direction(widened->options));
+  EXPECT_EQ(widened->options.in_channels(), 4);
+  EXPECT_THROW(with_pqn_direction_input(widened), Error);
+  LearnedParams params;
+  params.subspace = kFnoptSubspace;
+  auto solve = [&](const FNO2d& model, std::string* settings = nullptr) {
+    Step step(32, 32);
+    LearnedOptimizer optimizer(model, "model", params);
+    if (settings) *settings = optimizer.settings();
+    EnergyLog log(optimizer);
+    const VecX before = step.a;
+    solve_step(log, step.problem, step.a, {10, 0.0});
+    for (std::size_t k = 1; k < log.values.size(); ++k) EXPECT_LE(log.values[k], log.values[k - 1]);
+    for (int k : step.handles.fixed_vertices()) EXPECT_EQ(step.a.segment<3>(3 * k), before.segment<3>(3 * k));
+    return std::pair{step.a, log.values.back()};
+  };
+  std::string settings;
+  const auto [a_shipped, value_shipped] = solve(shipped);
+  const auto [a_widened, value_widened] = solve(widened, &settings);
+  EXPECT_NE(settings.find(" pqn_input"), std::string::npos) << settings;
+  EXPECT_LT((a_widened - a_shipped).norm(), 1e-5 * a_shipped.norm());
+  EXPECT_NEAR(value_widened, value_shipped, 1e-6 * std::abs(value_shipped));
+  {
+    torch::NoGradGuard no_grad;
+    torch::manual_seed(5);
+    for (auto& p : widened->named_parameters())
+      if (p.key() == "lift_in.weight") p.value().narrow(1, 3, 1).normal_(0.0, 1.0);
+  }
+  const auto [a_moved, value_moved] = solve(widened);
+  EXPECT_GT((a_moved - a_shipped).norm(), 1e-3 * a_shipped.norm()) << "the new input is not read";
+  EXPECT_TRUE(std::isfinite(value_moved));
+}
+
+TEST(LearnedOptimizer, ALearnedStepNeedsPqnsDirectionExactlyWhenTheModelReadsIt) {
+  const torch::Tensor g = torch::randn({3, 1, 9, 9}), mask = torch::ones({1, 1, 9, 9});
+  FNO2d plain = tiny_model(), widened = with_pqn_direction_input(tiny_model());
+  EXPECT_NO_THROW(learned_step(plain, g, LearnedState{}, mask));
+  EXPECT_THROW(learned_step(plain, g, LearnedState{}, mask, g), Error);
+  EXPECT_THROW(learned_step(widened, g, LearnedState{}, mask), Error);
+  EXPECT_NO_THROW(learned_step(widened, g, LearnedState{}, mask, g));
+  EXPECT_EQ(learned_inputs(g, LearnedState{}, g).size(1), 4);
+  FNO2d combined = with_pqn_direction_input(tiny_model(true));
+  EXPECT_EQ(combined->options.in_channels(), 12);
+  EXPECT_EQ(samples_per_environment(combined->options), 1);
+  const torch::Tensor g1 = g.view({1, 3, 9, 9});
+  EXPECT_EQ(learned_step(combined, g1, LearnedState{}, mask, g1).delta.sizes(), g1.sizes());
+}
+
 TEST(LearnedOptimizer, RejectsMissingAndIncompatibleModelFiles) {
   EXPECT_THROW(LearnedOptimizer("/nonexistent/model.pt"), Error);
   const auto path = (std::filesystem::temp_directory_path() / "fnopt_test_wrong_model.pt").string();

@@ -55,6 +55,12 @@ TEST(LearnedPqn, BadParametersAreOneLineErrors) {
     }
   }
   EXPECT_THROW(LearnedPqnOptimizer("/nonexistent/model.pt"), Error);
+  try {
+    LearnedPqnOptimizer optimizer(with_pqn_direction_input(tiny_model()), "widened");
+    ADD_FAILURE() << "a model that reads pqn's direction was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("widened: reads pqn's direction as an input"), std::string::npos) << e.what();
+  }
 }
 
 TEST(LearnedPqn, NeverMovesAHandleNorRaisesTheEnergyOnTheStepsGridOrACoarserOne) {

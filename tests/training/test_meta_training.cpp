@@ -388,5 +388,43 @@ TEST(MetaTraining, AFreshRunStartsFromTheInitialModel) {
   std::filesystem::remove_all(dir);
 }
 
+// A model that reads pqn's direction, started from one that does not: the initial weights widened
+// (the new input's lifting column zero), trained, resumed exactly; its checkpoint is not one of
+// the plain model's; the probe objective does not take it.
+TEST(MetaTraining, AModelThatReadsPqnsDirectionStartsWidenedTrainsAndResumes) {
+  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_pqn_input";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "initial.pt").string();
+  torch::manual_seed(9);
+  FNO2d initial(tiny_training().model);
+  save_fno(path, initial);
+  TrainOptions options = tiny_training();
+  options.initial_model = path;
+  options.model.in_channels(4);
+  options.pool.subspace = 8;
+  options.pool.pqn_direction = true;
+  options.score_after_subspace_step = true;
+  MetaTrainer trainer(options);
+  const auto given = initial->named_parameters();
+  for (const auto& p : trainer.model()->named_parameters()) {
+    if (p.key() != "lift_in.weight") {
+      EXPECT_TRUE(torch::equal(p.value(), given[p.key()])) << p.key();
+      continue;
+    }
+    const torch::Tensor w = p.value(), w0 = given[p.key()];
+    EXPECT_TRUE(torch::equal(w.narrow(1, 0, 3), w0.narrow(1, 0, 3)));
+    EXPECT_EQ(w.narrow(1, 3, 1).abs().max().item<float>(), 0.0f);
+    EXPECT_TRUE(torch::equal(w.narrow(1, 4, 2), w0.narrow(1, 3, 2)));
+  }
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(std::isfinite(trainer.step().loss));
+  EXPECT_NE(options.signature().find(" pqn_input"), std::string::npos) << options.signature();
+  expect_resumes_exactly(trainer, options, "fnopt_test_resume_pqn_input", 3);
+  options.objective = TrainObjective::Probe;
+  options.pool.subspace = 0;
+  options.pool.pqn_direction = options.score_after_subspace_step = false;
+  EXPECT_THROW(options.validate(), Error);
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace fnopt

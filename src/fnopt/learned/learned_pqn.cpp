@@ -52,6 +52,8 @@ LearnedPqnOptimizer::LearnedPqnOptimizer(const std::string& model_path, LearnedP
 LearnedPqnOptimizer::LearnedPqnOptimizer(FNO2d model, std::string model_name, LearnedPqnParams params)
     : model_(std::move(model)), model_name_(std::move(model_name)), params_(validated(params)), pqn_(params_.pqn) {
   check_learned_model(model_->options, model_name_);
+  require(!takes_pqn_direction(model_->options), model_name_,
+          "reads pqn's direction as an input, which fnopt-pqn does not give (run it with fnopt-ss or fnopt-ss-pqn)");
   model_->eval();
 }
 

@@ -14,7 +14,11 @@ torch::Tensor soft_normalize(const torch::Tensor& x) {
 
 }  // namespace
 
-int samples_per_environment(const FNO2dOptions& options) { return options.in_channels() == 9 ? 1 : 3; }
+int samples_per_environment(const FNO2dOptions& options) { return options.in_channels() >= 9 ? 1 : 3; }
+
+bool takes_pqn_direction(const FNO2dOptions& options) {
+  return options.in_channels() == 4 || options.in_channels() == 12;
+}
 
 torch::Tensor to_model_layout(const torch::Tensor& coordinate_samples, int samples_per_environment) {
   if (samples_per_environment == 3) return coordinate_samples;
@@ -25,18 +29,23 @@ torch::Tensor to_coordinate_layout(const torch::Tensor& model_samples) {
   return model_samples.reshape({3, 1, model_samples.size(2), model_samples.size(3)});
 }
 
-torch::Tensor learned_inputs(const torch::Tensor& gradient, const LearnedState& state) {
+torch::Tensor learned_inputs(const torch::Tensor& gradient, const LearnedState& state,
+                             const torch::Tensor& pqn_direction) {
   const auto sigma_g = gradient.pow(2).mean({1, 2, 3}, true).sqrt().clamp_min(1e-30);
   const auto g_hat = 10.0 * torch::tanh(gradient / (10.0 * sigma_g));
   const auto g_prev =
       state.gradient.defined() ? 10.0 * torch::tanh(state.gradient / (10.0 * sigma_g)) : torch::zeros_like(gradient);
   const auto d_prev = state.delta.defined() ? soft_normalize(state.delta) : torch::zeros_like(gradient);
-  return torch::cat({g_hat, g_prev, d_prev}, 1).detach();
+  if (!pqn_direction.defined()) return torch::cat({g_hat, g_prev, d_prev}, 1).detach();
+  return torch::cat({g_hat, g_prev, d_prev, soft_normalize(pqn_direction)}, 1).detach();
 }
 
 LearnedStep learned_step(FNO2d& model, const torch::Tensor& gradient, const LearnedState& state,
-                         const torch::Tensor& free_mask) {
-  const FNO2dOutput out = model->forward(learned_inputs(gradient, state));
+                         const torch::Tensor& free_mask, const torch::Tensor& pqn_direction) {
+  require(takes_pqn_direction(model->options) == pqn_direction.defined(), "learned model",
+          takes_pqn_direction(model->options) ? "takes pqn's direction as an input, and none was given"
+                                              : "does not take pqn's direction as an input");
+  const FNO2dOutput out = model->forward(learned_inputs(gradient, state, pqn_direction));
   const auto previous_scale = state.scale.defined()
                                   ? state.scale
                                   : torch::full({gradient.size(0), 1, 1, 1}, kInitialStepScale, gradient.options());
@@ -48,13 +57,39 @@ LearnedStep learned_step(FNO2d& model, const torch::Tensor& gradient, const Lear
 }
 
 void check_learned_model(const FNO2dOptions& options, const std::string& path) {
-  const bool per_coordinate = options.in_channels() == 3 && options.out_channels() == 1;
-  const bool combined = options.in_channels() == 9 && options.out_channels() == 3;
+  const auto in = options.in_channels();
+  const bool per_coordinate = (in == 3 || in == 4) && options.out_channels() == 1;
+  const bool combined = (in == 9 || in == 12) && options.out_channels() == 3;
   require((per_coordinate || combined) && options.scale_head(), path,
-          "not a learned-optimizer model (needs an FNO with 3 input channels and 1 output channel, or 9 and 3, "
-          "and a scale head; this one has " +
+          "not a learned-optimizer model (needs an FNO with 3 or 4 input channels and 1 output channel, or 9 or 12 "
+          "and 3, and a scale head; this one has " +
               std::to_string(options.in_channels()) + " in, " + std::to_string(options.out_channels()) + " out" +
               (options.scale_head() ? "" : ", no scale head") + ")");
+}
+
+FNO2d with_pqn_direction_input(const FNO2d& model) {
+  require(!takes_pqn_direction(model->options), "learned model", "already takes pqn's direction as an input");
+  check_learned_model(model->options, "learned model");
+  const int64_t old_inputs = model->options.in_channels();
+  const int64_t added = samples_per_environment(model->options) == 3 ? 1 : 3;
+  FNO2dOptions options = model->options;
+  options.in_channels(old_inputs + added);
+  FNO2d widened(options);
+  torch::NoGradGuard no_grad;
+  const auto from = model->named_parameters();
+  for (auto& p : widened->named_parameters()) {
+    const torch::Tensor& source = from[p.key()];
+    if (source.sizes() == p.value().sizes()) {
+      p.value().copy_(source);
+      continue;
+    }
+    // The lifting layer's weight [lifting, in + 2]: columns of the old inputs, then the new
+    // ones (zero), then the two grid channels (fno2d.hpp).
+    p.value().zero_();
+    p.value().narrow(1, 0, old_inputs).copy_(source.narrow(1, 0, old_inputs));
+    p.value().narrow(1, old_inputs + added, 2).copy_(source.narrow(1, old_inputs, 2));
+  }
+  return widened;
 }
 
 FNO2d load_learned_model(const std::string& path) {

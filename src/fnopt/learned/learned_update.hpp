@@ -6,10 +6,15 @@
 //   combined (FNO with 9 inputs, 3 outputs): one sample per environment with the coordinates
 //     as channels, [E, 3, R, C]: a third of the FNO passes, and the coordinates can couple
 //     (the stretch Hessian mixes them along every edge).
+// A model with one more input field per coordinate (4 inputs, or 12 combined) also reads pqn's
+// direction p = -A^-1 g (baselines/pqn_matrix.hpp): A holds the grid's stiffness, which the
+// normalised gradient does not, so the FNO can correct a step that already has the right
+// length scale instead of finding it (docs/design.md §4).
 // Per sample, with sigma_g = ||g||/sqrt(RC) (over all of the sample's channels) and sigma_d
 // likewise for the previous update,
 //   inputs  g^ = 10 tanh(g/(10 sigma_g)), g^_prev = 10 tanh(g_prev/(10 sigma_g)),
-//           d^_prev = 10 tanh(d_prev/(10 sigma_d))            (+ the FNO's grid channels)
+//           d^_prev = 10 tanh(d_prev/(10 sigma_d)),  [p^ = 10 tanh(p/(10 sigma_p))]
+//                                                              (+ the FNO's grid channels)
 //   outputs u (a field) and d (the scale head's scalar)
 //   update  delta = tanh(u) s,   s <- clamp(s_prev exp(2 tanh(d/2)), 1e-6, 10)
 // (FNOpt writes exp(2 tanh(d/2) - 1): with an untrained head, d ~ 0, that shrinks s by e
@@ -29,6 +34,8 @@ inline constexpr double kMaxStepScale = 10.0;
 
 // Samples per environment: 3 (per-coordinate layout) or 1 (combined layout).
 int samples_per_environment(const FNO2dOptions& options);
+// Whether the model reads pqn's direction as an input field (4 or 12 inputs).
+bool takes_pqn_direction(const FNO2dOptions& options);
 // Coordinate samples [3, 1, R, C] of one environment in the model's layout, and back.
 torch::Tensor to_model_layout(const torch::Tensor& coordinate_samples, int samples_per_environment);
 torch::Tensor to_coordinate_layout(const torch::Tensor& model_samples);
@@ -45,17 +52,25 @@ struct LearnedStep {
   torch::Tensor scale;  // [S, 1, 1, 1]
 };
 
-// The FNO's 3 input channels from a gradient and the state (no graph: inputs are data).
-torch::Tensor learned_inputs(const torch::Tensor& gradient, const LearnedState& state);
+// The FNO's input channels from a gradient, the state and, if defined, pqn's direction in the
+// gradient's layout (no graph: inputs are data).
+torch::Tensor learned_inputs(const torch::Tensor& gradient, const LearnedState& state,
+                             const torch::Tensor& pqn_direction = {});
 
 // One update from the masked gradient [S, 1, R, C]; `free_mask` [1 or S, 1, R, C] is 0 at
-// handles. Differentiable w.r.t. the model's parameters.
+// handles; `pqn_direction` (grid units, the gradient's layout) for a model that takes it, and
+// only then. Differentiable w.r.t. the model's parameters.
 LearnedStep learned_step(FNO2d& model, const torch::Tensor& gradient, const LearnedState& state,
-                         const torch::Tensor& free_mask);
+                         const torch::Tensor& free_mask, const torch::Tensor& pqn_direction = {});
 
 // Throws Error("<path>: ...") unless the model has one of the learned optimizer's
-// architectures: 3 inputs and 1 output, or 9 inputs and 3 outputs; and a scale head.
+// architectures: 3 (or 4 with pqn's direction) inputs and 1 output, or 9 (12) inputs and 3
+// outputs; and a scale head.
 void check_learned_model(const FNO2dOptions& options, const std::string& path);
+// `model` (a learned optimizer without pqn's direction as input) widened to take it: every
+// weight copied, the new input's lifting weights zero, so that the widened model proposes
+// exactly what `model` does until training moves them.
+FNO2d with_pqn_direction_input(const FNO2d& model);
 // The model in `path`, checked before its weights are read (Error naming the file if it is
 // missing or not a learned optimizer).
 FNO2d load_learned_model(const std::string& path);

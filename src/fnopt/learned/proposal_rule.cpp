@@ -55,14 +55,20 @@ LearnedState ProposalRule::apply(StepProblem& problem, const torch::Tensor& grad
 }
 
 void ProposalRule::add_pqn_direction(StepProblem& problem, const VecX& a, const VecX& gradient) {
-  if (!params_.pqn_direction) return;
+  if (!params_.pqn_direction && !params_.pqn_input) return;
   PqnFactor& factor = pqn_factor_.prepare(problem);
-  direction_ = -gradient;
-  factor.solve_in_place(direction_);
-  trial_ = a + direction_;
+  pqn_step_ = -gradient;
+  factor.solve_in_place(pqn_step_);
+  if (!params_.pqn_direction) return;
+  trial_ = a + pqn_step_;
   if (!std::isfinite(problem.value_gradient(trial_, gradient_change_))) return;
   gradient_change_ -= gradient;
-  subspace_.push(direction_, gradient_change_);
+  subspace_.push(pqn_step_, gradient_change_);
+}
+
+torch::Tensor ProposalRule::pqn_step_samples(const StepProblem& problem) const {
+  const Grid& grid = problem.grid();
+  return to_coordinate_samples(pqn_step_, grid, 1.0 / acceleration_per_grid_unit(grid, problem.objective().dt()));
 }
 
 bool ProposalRule::take_trial_if_lower(StepProblem& problem, VecX& a, double& value, VecX& gradient) {

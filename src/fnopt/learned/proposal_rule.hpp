@@ -55,6 +55,9 @@ struct LearnedParams {
   // (docs/design.md §4). One more gradient and one solve with A's factor per iteration; the
   // training pool takes it too when `fnopt train --pqn-direction` asks (training_env.hpp).
   bool pqn_direction = false;
+  // Compute pqn's direction for the model's input (learned_update.hpp) even without the pair:
+  // set from the model by whoever runs the rule (takes_pqn_direction), not a user option.
+  bool pqn_input = false;
 
   void validate() const;  // Error("fnopt.<field>: ...") for values out of range
 };
@@ -72,10 +75,15 @@ class ProposalRule {
   SecantSubspace& pairs() { return subspace_; }
   const SecantSubspace& pairs() const { return subspace_; }
 
-  // With LearnedParams::pqn_direction, adds the pair of d = -A^-1 g at a (g: the masked gradient
-  // there) to the kept pairs, a staying where it is; called before each proposal is made.
-  // Nothing otherwise.
+  // Called before each proposal is made, a staying where it is. With LearnedParams::pqn_input or
+  // pqn_direction, computes d = -A^-1 g at a (g: the masked gradient there; pqn_step() returns
+  // it); with pqn_direction, also adds the pair (d, g(a + d) - g(a)) to the kept pairs. Nothing
+  // otherwise.
   void add_pqn_direction(StepProblem& problem, const VecX& a, const VecX& gradient);
+  // d of the last add_pqn_direction (empty before one that computed it).
+  const VecX& pqn_step() const { return pqn_step_; }
+  // pqn_step() in grid units as coordinate samples [3, 1, R, C]: the model's input.
+  torch::Tensor pqn_step_samples(const StepProblem& problem) const;
 
   // Applies `proposal` (grid units, the model's layout) made from the masked gradient samples
   // `gradient_samples` at a. On entry value and gradient are L and its masked gradient at a; on
@@ -97,7 +105,7 @@ class ProposalRule {
   LearnedParams params_;
   SecantSubspace subspace_;
   // Where the proposal started, and scratch reused from one proposal to the next.
-  VecX start_, start_gradient_, direction_, trial_, trial_gradient_, gradient_change_;
+  VecX start_, start_gradient_, direction_, trial_, trial_gradient_, gradient_change_, pqn_step_;
   PqnFactorCache pqn_factor_{PqnMatrixKind::Isotropic};
 };
 

@@ -47,13 +47,16 @@ void TrainOptions::validate() const {
           "train.resolutions", "several resolutions need the energy objective with the per-environment loss");
   require(!score_after_subspace_step || pool.subspace > 0, "train.score_after_subspace_step",
           "needs a pool that takes the subspace step (subspace > 0: fnopt train --subspace K)");
+  require(objective == TrainObjective::Energy || !takes_pqn_direction(model), "train.objective",
+          "the probe objective trains models without pqn's direction as an input");
 }
 
 std::string TrainOptions::signature() const {
   std::ostringstream s;
   s << "res=";
   for (std::size_t i = 0; i < pool.resolutions.size(); ++i) s << (i ? "," : "") << pool.resolutions[i];
-  s << " envs=" << pool.environments << (model.in_channels() == 9 ? " combined" : "") << " width=" << model.width()
+  s << " envs=" << pool.environments << (samples_per_environment(model) == 1 ? " combined" : "")
+    << (takes_pqn_direction(model) ? " pqn_input" : "") << " width=" << model.width()
     << " layers=" << model.fourier_layers() << " modes=" << model.modes_x() << "x" << model.modes_y()
     << " lifting=" << model.lifting_channels() << " projection=" << model.projection_channels() << " batch=" << batch
     << " lr=" << learning_rate << " newton_weight=" << newton_weight << " seed=" << seed;
@@ -69,10 +72,14 @@ MetaTrainer::MetaTrainer(const TrainOptions& options, const std::string& checkpo
   options_.validate();
   require(options_.batch % processes_.size() == 0, "train.batch",
           "must be a multiple of the processes (" + std::to_string(processes_.size()) + ")");
+  options_.pool.pqn_input = takes_pqn_direction(options_.model);
   torch::manual_seed(options_.seed);
   model_ = FNO2d(options_.model);
   if (!options_.initial_model.empty() && checkpoint.empty()) {
-    const FNO2d initial = load_fno(options_.initial_model);
+    FNO2d initial = load_fno(options_.initial_model);
+    // A model without pqn's direction as input starts one that reads it, proposing what it did.
+    if (takes_pqn_direction(options_.model) && !takes_pqn_direction(initial->options))
+      initial = with_pqn_direction_input(initial);
     const FNO2dOptions& given = initial->options;
     require(given.in_channels() == options_.model.in_channels() && given.width() == options_.model.width() &&
                 given.fourier_layers() == options_.model.fourier_layers() &&
@@ -201,7 +208,7 @@ torch::Tensor MetaTrainer::group_forward(const std::vector<int>& members, GroupS
   batch.environments_in_all = options_.batch;
   batch.processes = &processes_;
   batch.current_gradient.resize(count);
-  std::vector<torch::Tensor> previous_gradients, previous_deltas, scales, masks, newton_deltas;
+  std::vector<torch::Tensor> previous_gradients, previous_deltas, scales, masks, newton_deltas, pqn_directions;
   for (int i = 0; i < count; ++i) {
     TrainingEnv& env = *pool_[members[i]];
     VecX& g = batch.current_gradient[i];
@@ -211,6 +218,7 @@ torch::Tensor MetaTrainer::group_forward(const std::vector<int>& members, GroupS
     // fnopt-ss-pqn's pair joins the kept ones before the proposal, so the loss past the subspace
     // step scores the proposal with it.
     env.rule().add_pqn_direction(problem, env.acceleration(), g);
+    if (options_.pool.pqn_input) pqn_directions.push_back(to_model_layout(env.rule().pqn_step_samples(problem), k));
     group.gradients.push_back(to_model_layout(to_coordinate_samples(g, env.grid()), k));
     previous_gradients.push_back(to_model_layout(env.previous_gradient, k));
     previous_deltas.push_back(to_model_layout(env.previous_delta, k));
@@ -222,7 +230,8 @@ torch::Tensor MetaTrainer::group_forward(const std::vector<int>& members, GroupS
   }
   const torch::Tensor gradient = torch::cat(group.gradients);
   const LearnedState state{torch::cat(previous_gradients), torch::cat(previous_deltas), torch::cat(scales)};
-  group.update = learned_step(model_, gradient, state, torch::cat(masks));
+  group.update = learned_step(model_, gradient, state, torch::cat(masks),
+                              pqn_directions.empty() ? torch::Tensor() : torch::cat(pqn_directions));
   torch::Tensor loss = EnergyLoss::apply(group.update.delta, &batch);
   if (options_.newton_weight > 0.0) {
     const auto target = torch::cat(newton_deltas).view({count, -1});

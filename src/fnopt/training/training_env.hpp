@@ -60,6 +60,9 @@ struct PoolOptions {
   // does (LearnedParams::pqn_direction; needs `subspace`), so the model trains for the directions
   // that complement A^-1 g.
   bool pqn_direction = false;
+  // Compute pqn's direction for a model that reads it (LearnedParams::pqn_input): set by the
+  // trainer from the model's inputs, not a user option.
+  bool pqn_input = false;
 
   int resolution_of(int environment) const {
     return resolutions[static_cast<std::size_t>(environment) % resolutions.size()];

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include <fnopt/fno/fno_io.hpp>
+#include <fnopt/learned/learned_update.hpp>
 #include <fnopt/util/atomic_file.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/flag_names.hpp>
@@ -161,8 +162,14 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
           stderr, "fnopt train: the loss scores each update %s\n",
           options.train.score_after_subspace_step ? "where the rule ends, past the subspace step" : "at the proposal");
     }
+    if (takes_pqn_direction(options.train.model))
+      std::fprintf(stderr, "fnopt train: the model reads pqn's direction -A^-1 g as an input field\n");
     if (!options.train.initial_model.empty() && !resuming)
-      std::fprintf(stderr, "fnopt train: starting from the weights of %s\n", options.train.initial_model.c_str());
+      std::fprintf(stderr, "fnopt train: starting from the weights of %s%s\n", options.train.initial_model.c_str(),
+                   takes_pqn_direction(options.train.model) &&
+                           !takes_pqn_direction(load_fno_options(options.train.initial_model))
+                       ? " (widened: the new input's weights zero)"
+                       : "");
   }
   std::unique_ptr<RolloutValidation> validation;
   if (root && options.validation) {
