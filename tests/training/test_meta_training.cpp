@@ -370,15 +370,20 @@ TEST(MetaTraining, ProbeObjectiveFollowsNewtonAndResumes) {
   std::filesystem::remove_all(dir);
 }
 
+// A tiny model with fixed random weights, saved to `path`.
+FNO2d saved_initial_model(const std::string& path) {
+  torch::manual_seed(9);
+  FNO2d model(tiny_training().model);
+  save_fno(path, model);
+  return model;
+}
+
 TEST(MetaTraining, AFreshRunStartsFromTheInitialModel) {
   const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_initial_model";
   std::filesystem::create_directories(dir);
-  const std::string path = (dir / "initial.pt").string();
-  torch::manual_seed(9);
-  FNO2d initial(tiny_training().model);
-  save_fno(path, initial);
   TrainOptions options = tiny_training();
-  options.initial_model = path;
+  options.initial_model = (dir / "initial.pt").string();
+  const FNO2d initial = saved_initial_model(options.initial_model);
   MetaTrainer trainer(options);
   const auto given = initial->named_parameters();
   for (const auto& p : trainer.model()->named_parameters())
@@ -389,17 +394,14 @@ TEST(MetaTraining, AFreshRunStartsFromTheInitialModel) {
 }
 
 // A model that reads pqn's direction, started from one that does not: the initial weights widened
-// (the new input's lifting column zero), trained, resumed exactly; its checkpoint is not one of
-// the plain model's; the probe objective does not take it.
+// (the new input's lifting column zero), trained, resumed exactly; its options' signature names
+// the input; the probe objective does not take it.
 TEST(MetaTraining, AModelThatReadsPqnsDirectionStartsWidenedTrainsAndResumes) {
   const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_pqn_input";
   std::filesystem::create_directories(dir);
-  const std::string path = (dir / "initial.pt").string();
-  torch::manual_seed(9);
-  FNO2d initial(tiny_training().model);
-  save_fno(path, initial);
   TrainOptions options = tiny_training();
-  options.initial_model = path;
+  options.initial_model = (dir / "initial.pt").string();
+  const FNO2d initial = saved_initial_model(options.initial_model);
   options.model.in_channels(4);
   options.pool.subspace = 8;
   options.pool.pqn_direction = true;
