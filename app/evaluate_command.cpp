@@ -68,16 +68,18 @@ void write_per_frame_table(const std::string& path, const TrajectoryComparison& 
 }
 
 // One row per sampled reference state: L at the start, at Newton's converged step and at the
-// method's, the per-step error and the method's status. Shows which states a mean is made of,
-// e.g. a negative error where the method ends in a lower minimum than Newton's.
+// method's, the per-step error and the method's status, and what Newton's step cost. Shows which
+// states a mean is made of, e.g. a negative error where the method ends in a lower minimum than
+// Newton's, or where the reference is expensive.
 void write_per_step_table(const std::string& path, const StepErrorSummary& summary) {
-  CsvTable table(
-      {"step", "initial_value", "newton_value", "method_value", "step_error", "status", "newton_negative_eigenvalues"});
+  CsvTable table({"step", "initial_value", "newton_value", "method_value", "step_error", "status",
+                  "newton_negative_eigenvalues", "newton_iterations", "newton_cg_products"});
   // L at round-trip precision: the error is a ratio of small differences of these values.
   auto value = [](double v) { return CsvTable::number(v, 17); };
   for (const StepErrorSample& s : summary.samples)
     table.add_row({std::to_string(s.step), value(s.initial_value), value(s.newton_value), value(s.method_value),
-                   CsvTable::number(s.error), to_string(s.status), std::to_string(s.newton_negative_eigenvalues)});
+                   CsvTable::number(s.error), to_string(s.status), std::to_string(s.newton_negative_eigenvalues),
+                   std::to_string(s.newton_iterations), std::to_string(s.newton_cg_products)});
   table.write(path);
 }
 

@@ -42,11 +42,13 @@ TEST(EvaluateCli, WritesThePerFrameAndPerStepTablesBehindItsMeans) {
   EXPECT_EQ(frames.size(), 13u);
 
   const auto steps = csv_rows(per_step, header);
-  EXPECT_EQ(header, "step,initial_value,newton_value,method_value,step_error,status,newton_negative_eigenvalues");
+  EXPECT_EQ(header,
+            "step,initial_value,newton_value,method_value,step_error,status,newton_negative_eigenvalues,"
+            "newton_iterations,newton_cg_products");
   ASSERT_EQ(steps.size(), 4u);
   double sum = 0.0;
   for (const auto& row : steps) {
-    ASSERT_EQ(row.size(), 7u);
+    ASSERT_EQ(row.size(), 9u);
     const double initial = std::stod(row[1]), newton = std::stod(row[2]), method = std::stod(row[3]);
     const double error = std::stod(row[4]);
     // The error is the remaining fraction of the start's distance to Newton's minimum.
@@ -54,6 +56,9 @@ TEST(EvaluateCli, WritesThePerFrameAndPerStepTablesBehindItsMeans) {
     EXPECT_GT(error, 0.0) << "three gradient steps do not reach the minimum, step " << row[0];
     EXPECT_EQ(row[5], "iteration-budget");
     EXPECT_EQ(row[6], "0") << "the hanging cloth's step ends at a minimum, step " << row[0];
+    // Newton took at least one iteration, each with at least one product with H.
+    EXPECT_GE(std::stoi(row[7]), 1) << row[0];
+    EXPECT_GE(std::stol(row[8]), std::stol(row[7])) << row[0];
     sum += error;
   }
   char mean[32];

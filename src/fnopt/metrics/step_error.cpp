@@ -51,7 +51,11 @@ StepErrorBench::StepErrorBench(const Scene& scene, const TrajectoryFrames& refer
     objective_->begin_step(state.x, state.v);
     VecX a = VecX::Zero(grid_.dof_count());
     dirichlet_.prescribe(a, state.x, state.v, state.targets, dt_);
-    state.newton_value = solve_step(newton, *problem_, a, NewtonOptimizer::reference_solve_options()).value;
+    const long cg_products_before = newton.counters().cg_iterations;
+    const InnerSolveResult newton_result = solve_step(newton, *problem_, a, NewtonOptimizer::reference_solve_options());
+    state.newton_value = newton_result.value;
+    state.newton_iterations = newton_result.iterations;
+    state.newton_cg_products = newton.counters().cg_iterations - cg_products_before;
     if (count_negative_eigenvalues)
       state.newton_negative_eigenvalues =
           negative_eigenvalue_count(objective_->hessian(a, dirichlet_.free_index(), false));
@@ -74,6 +78,8 @@ StepErrorSummary StepErrorBench::evaluate(InnerOptimizer& method, const InnerSol
     sample.initial_value = result.initial_value;
     sample.newton_value = state.newton_value;
     sample.newton_negative_eigenvalues = state.newton_negative_eigenvalues;
+    sample.newton_iterations = state.newton_iterations;
+    sample.newton_cg_products = state.newton_cg_products;
     sample.method_value = result.value;
     sample.status = result.status;
     const double gap = result.initial_value - state.newton_value;

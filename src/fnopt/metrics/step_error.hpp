@@ -37,6 +37,10 @@ struct StepErrorSample {
   // at a local minimum, > 0 at a saddle, where a method can end lower (a negative error); -1 if
   // not counted (the bench was not asked to) or not readable (a zero pivot).
   int newton_negative_eigenvalues = -1;
+  // What Newton's step from this state cost: its iterations and products with the exact Hessian
+  // (the hard states of a reference are where these are large).
+  int newton_iterations = 0;
+  long newton_cg_products = 0;
 };
 
 struct StepErrorSummary {
@@ -69,6 +73,8 @@ class StepErrorBench {
     std::vector<Vec3> targets;
     double newton_value = 0.0;
     int newton_negative_eigenvalues = -1;
+    int newton_iterations = 0;
+    long newton_cg_products = 0;
   };
   Grid grid_;
   std::unique_ptr<BackwardEulerObjective> objective_;
