@@ -64,5 +64,27 @@ TEST(StepError, SaysWhereNewtonsStepEndsAtASaddle) {
   EXPECT_GE(saddles("xz_v2", 60), 2);  // the last three of six samples, measured: 2 to 4 negative eigenvalues each
 }
 
+// Each sampled state is solved as a Newton started afresh on it would: a factor carried over from
+// the previous, unrelated state changes the solve (at 128^2 it sent Newton to other stationary
+// points in hundreds of iterations), so the bench must not carry one.
+TEST(StepError, NewtonSolvesEverySampledStateAfresh) {
+  Scene scene;
+  scene.rows = scene.cols = 12;
+  scene.frames = 60;
+  scene.motion = "xz_v2";
+  StepErrorBench bench(scene, newton_reference(scene), 6);
+  NewtonParams fresh;
+  fresh.reuse_factor_across_steps = false;
+  NewtonOptimizer afresh(fresh), carrying;
+  const StepErrorSummary exact = bench.evaluate(afresh, NewtonOptimizer::reference_solve_options());
+  const StepErrorSummary carried = bench.evaluate(carrying, NewtonOptimizer::reference_solve_options());
+  bool carrying_differs = false;
+  for (std::size_t k = 0; k < exact.samples.size(); ++k) {
+    EXPECT_EQ(exact.samples[k].method_value, exact.samples[k].newton_value) << "sample " << k;
+    carrying_differs |= carried.samples[k].method_value != carried.samples[k].newton_value;
+  }
+  EXPECT_TRUE(carrying_differs) << "a carried factor should change some solve (else this test says nothing)";
+}
+
 }  // namespace
 }  // namespace fnopt

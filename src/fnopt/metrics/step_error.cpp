@@ -39,7 +39,12 @@ StepErrorBench::StepErrorBench(const Scene& scene, const TrajectoryFrames& refer
   // Steps 0 .. frames-2 start from a stored state; spread the samples evenly over them.
   const int available = frames - 1;
   samples = std::min(samples, available);
-  NewtonOptimizer newton;
+  // The samples are unrelated states: a factor from the previous one is no preconditioner for the
+  // next, and the first trust region is sized by it. At 128^2 that made Newton take 83-322
+  // iterations on states its rollout solved in 3 (docs/results.md, the Newton reference).
+  NewtonParams fresh_factor;
+  fresh_factor.reuse_factor_across_steps = false;
+  NewtonOptimizer newton(fresh_factor);
   for (int k = 0; k < samples; ++k) {
     const int t = std::min(available - 1, static_cast<int>((k + 0.5) * available / samples));
     if (!steps_.empty() && steps_.back() == t) continue;
