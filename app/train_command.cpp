@@ -55,13 +55,11 @@ void run_train(TrainFlags& flags) {
       .modes_y(flags.modes)
       .lifting_channels(flags.lifting)
       .projection_channels(flags.projection)
-      .in_channels((flags.combined ? 9 : 3) + (flags.pqn_input ? (flags.combined ? 3 : 1) : 0))
+      .in_channels(flags.combined ? 9 : 3)
       .out_channels(flags.combined ? 3 : 1);
-  if (!flags.options.initial_model.empty()) {  // the shape is the file's, widened by --pqn-input
-    FNO2dOptions given = load_fno_options(flags.options.initial_model);
+  if (!flags.options.initial_model.empty()) {  // the shape is the file's
+    const FNO2dOptions given = load_fno_options(flags.options.initial_model);
     check_learned_model(given, flags.options.initial_model);
-    if (flags.pqn_input && !takes_pqn_direction(given))
-      given.in_channels(given.in_channels() + (samples_per_environment(given) == 1 ? 3 : 1));
     flags.options.model.width(given.width())
         .fourier_layers(given.fourier_layers())
         .modes_x(given.modes_x())
@@ -71,6 +69,9 @@ void run_train(TrainFlags& flags) {
         .in_channels(given.in_channels())
         .out_channels(given.out_channels());
   }
+  // --pqn-input widens the shape (the --init model too: MetaTrainer widens its weights alike).
+  if (flags.pqn_input && !takes_pqn_direction(flags.options.model))
+    flags.options.model = pqn_direction_input_options(flags.options.model);
   require(!flags.validate || flags.options.objective == TrainObjective::Energy, "validate-res",
           "validates fnopt-ss rollouts, not a probe (--objective probe): compare fnopt-pqn with --model instead");
   for (const std::string& text : flags.ranges) {

@@ -67,13 +67,16 @@ void check_learned_model(const FNO2dOptions& options, const std::string& path) {
               (options.scale_head() ? "" : ", no scale head") + ")");
 }
 
+FNO2dOptions pqn_direction_input_options(FNO2dOptions options) {
+  require(!takes_pqn_direction(options), "learned model", "already takes pqn's direction as an input");
+  check_learned_model(options, "learned model");
+  return options.in_channels(options.in_channels() + (samples_per_environment(options) == 3 ? 1 : 3));
+}
+
 FNO2d with_pqn_direction_input(const FNO2d& model) {
-  require(!takes_pqn_direction(model->options), "learned model", "already takes pqn's direction as an input");
-  check_learned_model(model->options, "learned model");
+  const FNO2dOptions options = pqn_direction_input_options(model->options);
   const int64_t old_inputs = model->options.in_channels();
-  const int64_t added = samples_per_environment(model->options) == 3 ? 1 : 3;
-  FNO2dOptions options = model->options;
-  options.in_channels(old_inputs + added);
+  const int64_t added = options.in_channels() - old_inputs;
   FNO2d widened(options);
   torch::NoGradGuard no_grad;
   const auto from = model->named_parameters();

@@ -67,6 +67,9 @@ LearnedStep learned_step(FNO2d& model, const torch::Tensor& gradient, const Lear
 // architectures: 3 (or 4 with pqn's direction) inputs and 1 output, or 9 (12) inputs and 3
 // outputs; and a scale head.
 void check_learned_model(const FNO2dOptions& options, const std::string& path);
+// A learned optimizer's shape without pqn's direction as input, with the inputs for it: one more
+// field per coordinate (3 -> 4, or 9 -> 12 in the combined layout).
+FNO2dOptions pqn_direction_input_options(FNO2dOptions options);
 // `model` (a learned optimizer without pqn's direction as input) widened to take it: every
 // weight copied, the new input's lifting weights zero, so that the widened model proposes
 // exactly what `model` does until training moves them.
