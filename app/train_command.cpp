@@ -236,8 +236,9 @@ const RegisterCommand kRegister([](CLI::App& app) {
       command
           ->add_option(
               "--validate-res", flags->validation.resolution,
-              "validate on an N x N grid every --validate-every steps: fnopt-ss rollouts of the benchmark scene "
-              "(default material, corner handles) against their Newton references (solved once, cached in OUT); "
+              "validate on an N x N grid every --validate-every steps: fnopt-ss rollouts of benchmark scenes "
+              "(default material; --validate-motions, --validate-handles) against their Newton references (solved "
+              "once, cached in OUT); "
               "the closest model so far (e_3D) is kept as OUT/model-best.pt, each score in OUT/validation.csv")
           ->each([flags](const std::string&) { flags->validate = true; });
   // The validation's settings: each shows its default and needs --validate-res.
@@ -248,8 +249,15 @@ const RegisterCommand kRegister([](CLI::App& app) {
   validation_option("--validate-frames", flags->validation.frames, "time steps of the validation rollout");
   command
       ->add_option("--validate-motions", flags->validation.motions,
-                   "motions of the validation scenes, comma-separated (default xyz_v3,rot_h0: not xy_v2, the test "
-                   "scene of the 64^2 and 100^2 tables in docs/results.md); the score is their mean e_3D")
+                   "motions of the validation scenes, comma-separated (default xyz_v4,rot_h1: not xy_v2, rot_h0 or "
+                   "xyz_v3, the test scenes of the 64^2 and 100^2 tables in docs/results.md); the score is the mean "
+                   "e_3D over every motion with every --validate-handles preset")
+      ->delimiter(',')
+      ->needs(validate_res);
+  command
+      ->add_option("--validate-handles", flags->validation.handles,
+                   "handle presets of the validation scenes, comma-separated (default corner; e.g. "
+                   "corner,diagonal,single-center to validate off the corners too)")
       ->delimiter(',')
       ->needs(validate_res);
   command

@@ -52,6 +52,31 @@ TEST(TrainCli, ValidatesEveryIntervalAndKeepsTheBestModel) {
   }
 }
 
+TEST(TrainCli, ValidatesOffTheCornersWithHandlePresets) {
+  const fnopt::testing::TempDir tmp;
+  const auto dir = tmp.path() / "out";
+  const CommandResult r =
+      run_fnopt("train --out " + dir.string() + " --steps 10" + kTinyModel +
+                " --validate-res 12 --validate-every 10 --validate-frames 12 --validate-handles corner,diagonal");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto rows = validation_rows(dir);
+  ASSERT_EQ(rows.size(), 2u) << read_text(dir / "validation.csv");
+  // The default motions (not the tables' test scenes), each with both presets.
+  EXPECT_EQ(rows[1].rfind("10,12,xyz_v4+rot_h1@corner+diagonal,12,fnopt-ss,10,", 0), 0u) << rows[1];
+  EXPECT_NE(r.output.find("validation references: 4 solved, 0 cached"), std::string::npos) << r.output;
+  for (const std::string label : {"validation_12_xyz_v4_", "validation_12_xyz_v4_diagonal_", "validation_12_rot_h1_",
+                                  "validation_12_rot_h1_diagonal_"}) {
+    // The label, then the 16 hex digits of the hash (so that xyz_v4_ does not count xyz_v4_diagonal_).
+    const std::string prefix = "newton_reference_" + label;
+    int files = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      files += name.rfind(prefix, 0) == 0 && name.size() == prefix.size() + 16 + 3;
+    }
+    EXPECT_EQ(files, 1) << label;
+  }
+}
+
 TEST(TrainCli, AResumedRunValidatesAsTheStraightRun) {
   const fnopt::testing::TempDir tmp;
   const auto straight = tmp.path() / "straight", resumed = tmp.path() / "resumed";
@@ -71,7 +96,9 @@ TEST(TrainCli, BadValidationFlagsAreOneLineErrors) {
   const auto dir = tmp.path() / "out";
   for (const std::string flags :
        {" --validate-res 12 --validate-motions xy_v2,sideways", " --validate-res 12 --validate-frames 0",
-        " --validate-res 2", " --validate-res 12 --validate-every 0", " --validate-res 12 --validate-subspace 9"}) {
+        " --validate-res 2", " --validate-res 12 --validate-every 0", " --validate-res 12 --validate-subspace 9",
+        " --validate-res 12 --validate-handles corner,sideways",
+        " --validate-res 12 --validate-motions rot_h1 --validate-handles single-center"}) {
     const CommandResult r = run_fnopt("train --out " + dir.string() + " --steps 5" + kTinyModel + flags);
     EXPECT_NE(r.status, 0) << flags;
     EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << flags << ": " << r.output;

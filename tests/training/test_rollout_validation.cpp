@@ -1,6 +1,6 @@
 // Validation rollouts: the Newton reference is solved once and reused only for its own scene,
-// scores are deterministic and leave the model alone, and a trained model scores better than
-// an untrained one.
+// every motion runs with every handle preset, scores are deterministic and leave the model alone,
+// and a trained model scores better than an untrained one.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -68,6 +68,37 @@ TEST(RolloutValidation, SolvesEachReferenceOnceAndOnlyReusesItForItsOwnScene) {
   EXPECT_EQ(resolved.references_solved(), 1);
 }
 
+TEST(RolloutValidation, ValidatesEveryMotionWithEveryHandlePreset) {
+  const testing::TempDir tmp;
+  const auto& dir = tmp.path();
+  ValidationOptions v = small_validation();
+  v.handles = {"corner", "diagonal"};
+  EXPECT_EQ(RolloutValidation::scene_set_text(v), "xy_v2@corner+diagonal");
+  EXPECT_EQ(RolloutValidation::scene_set_text(small_validation()), "xy_v2");
+  // Corner scenes keep the file names of the caches written before presets could be chosen.
+  const std::string corner = RolloutValidation::reference_file(dir.string(), v, "xy_v2");
+  const std::string diagonal = RolloutValidation::reference_file(dir.string(), v, "xy_v2", "diagonal");
+  EXPECT_EQ(corner, RolloutValidation::reference_file(dir.string(), small_validation(), "xy_v2"));
+  EXPECT_NE(std::filesystem::path(corner).filename().string().find("validation_12_xy_v2_"), std::string::npos);
+  EXPECT_NE(std::filesystem::path(diagonal).filename().string().find("validation_12_xy_v2_diagonal_"),
+            std::string::npos);
+  RolloutValidation validation(v, dir.string());
+  EXPECT_EQ(validation.references_solved(), 2);
+  ASSERT_EQ(validation.scenes().size(), 2u);
+  EXPECT_EQ(validation.scenes()[0].handles, "corner");
+  EXPECT_EQ(validation.scenes()[1].handles, "diagonal");
+  EXPECT_TRUE(std::filesystem::exists(diagonal));
+  // The score is the mean over both scenes: between the two scenes' own scores.
+  const FNO2d model = load_fno(std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt");
+  const double both = validation.score(model).e3d;
+  ValidationOptions only_diagonal = small_validation();
+  only_diagonal.handles = {"diagonal"};
+  const double corner_score = RolloutValidation(small_validation(), dir.string()).score(model).e3d;
+  const double diagonal_score = RolloutValidation(only_diagonal, dir.string()).score(model).e3d;
+  EXPECT_NE(corner_score, diagonal_score);
+  EXPECT_NEAR(both, 0.5 * (corner_score + diagonal_score), 1e-12 * both);
+}
+
 TEST(RolloutValidation, ScoreIsDeterministicAndLeavesTheModelAlone) {
   const testing::TempDir tmp;
   const auto& dir = tmp.path();
@@ -110,6 +141,23 @@ TEST(RolloutValidation, RejectsBadOptionsNamingTheField) {
   v = small_validation();
   v.motions.clear();
   EXPECT_THROW(v.validate(), Error);
+  v = small_validation();
+  v.handles = {"corner", "sideways"};
+  EXPECT_THROW(v.validate(), Error);
+  v = small_validation();
+  v.handles.clear();
+  EXPECT_THROW(v.validate(), Error);
+  // A motion a preset cannot carry (rot_h1 turns about the line through two handles).
+  v = small_validation();
+  v.motions = {"rot_h1"};
+  v.handles = {"corner", "single-center"};
+  try {
+    v.validate();
+    FAIL() << "rot_h1 with one handle was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("validate.handles: motion rot_h1 with handles single-center", 0), 0u)
+        << e.what();
+  }
   v = small_validation();
   v.frames = 0;
   EXPECT_THROW(v.validate(), Error);

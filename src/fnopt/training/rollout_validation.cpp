@@ -21,13 +21,28 @@ void ValidationOptions::validate() const {
   require(frames > 0, "validate.frames", "must be positive");
   require(iterations > 0, "validate.iterations", "must be positive");
   require(!motions.empty(), "validate.motions", "must name at least one motion");
+  require(!handles.empty(), "validate.handles", "must name at least one handle preset");
   require_subspace_size(subspace, "validate.subspace");
   require(!pqn_direction || subspace > 0, "validate.pqn_direction", "needs the subspace step (subspace > 0)");
   try {
     for (const std::string& motion : motions) scene_checks::motion_name(motion);
+    for (const std::string& preset : handles) scene_checks::handle_preset_name(preset);
   } catch (const Error& e) {
     throw Error(std::string("validate.") + e.what());
   }
+  // Every motion with every preset must make a scene (rot_h1 needs two handles, say).
+  for (const std::string& motion : motions)
+    for (const std::string& preset : handles) {
+      Scene scene;
+      scene.rows = scene.cols = resolution;
+      scene.motion = motion;
+      scene.handles = preset;
+      try {
+        scene.validate();
+      } catch (const Error& e) {
+        throw Error("validate.handles", "motion " + motion + " with handles " + preset + ": " + e.what());
+      }
+    }
 }
 
 namespace {
@@ -46,6 +61,11 @@ bool holds_reference(const std::string& path, const Scene& scene, const std::str
   }
 }
 
+// "xyz_v4", or "xyz_v4/diagonal" off the corner preset.
+std::string scene_name(const Scene& scene) {
+  return scene.handles == "corner" ? scene.motion : scene.motion + "/" + scene.handles;
+}
+
 FNO2d snapshot(const FNO2d& model) {
   FNO2d copy(model->options);
   torch::NoGradGuard no_grad;
@@ -57,19 +77,33 @@ FNO2d snapshot(const FNO2d& model) {
 
 }  // namespace
 
-Scene RolloutValidation::scene_of(const ValidationOptions& options, const std::string& motion) {
+Scene RolloutValidation::scene_of(const ValidationOptions& options, const std::string& motion,
+                                  const std::string& handles) {
   Scene scene;
   scene.rows = scene.cols = options.resolution;
   scene.motion = motion;
+  scene.handles = handles;
   scene.frames = options.frames;
   scene.validate();
   return scene;
 }
 
 std::string RolloutValidation::reference_file(const std::string& directory, const ValidationOptions& options,
-                                              const std::string& motion) {
-  return newton_reference_path(directory, "validation_" + std::to_string(options.resolution) + "_" + motion,
-                               scene_of(options, motion));
+                                              const std::string& motion, const std::string& handles) {
+  // Corner scenes keep the names of the files cached before presets could be chosen.
+  const std::string preset = handles == "corner" ? "" : "_" + handles;
+  return newton_reference_path(directory, "validation_" + std::to_string(options.resolution) + "_" + motion + preset,
+                               scene_of(options, motion, handles));
+}
+
+std::string RolloutValidation::scene_set_text(const ValidationOptions& options) {
+  auto joined = [](const std::vector<std::string>& names) {
+    std::string text;
+    for (const std::string& name : names) text += (text.empty() ? "" : "+") + name;
+    return text;
+  };
+  const bool corner_only = options.handles == std::vector<std::string>{"corner"};
+  return joined(options.motions) + (corner_only ? "" : "@" + joined(options.handles));
 }
 
 RolloutValidation::RolloutValidation(const ValidationOptions& options, const std::string& reference_directory,
@@ -78,13 +112,14 @@ RolloutValidation::RolloutValidation(const ValidationOptions& options, const std
   options_.validate();
   std::vector<std::string> paths;
   std::vector<bool> cached;
-  for (const std::string& motion : options_.motions) {
-    const Scene scene = scene_of(options_, motion);
-    scenes_.push_back(scene);
-    resolved_.push_back(resolve(scene));
-    paths.push_back(reference_file(reference_directory, options_, motion));
-    cached.push_back(holds_reference(paths.back(), scene, NewtonOptimizer{}.settings()));
-  }
+  for (const std::string& motion : options_.motions)
+    for (const std::string& handles : options_.handles) {
+      const Scene scene = scene_of(options_, motion, handles);
+      scenes_.push_back(scene);
+      resolved_.push_back(resolve(scene));
+      paths.push_back(reference_file(reference_directory, options_, motion, handles));
+      cached.push_back(holds_reference(paths.back(), scene, NewtonOptimizer{}.settings()));
+    }
   const int to_solve = static_cast<int>(std::count(cached.begin(), cached.end(), false));
   for (std::size_t i = 0; i < scenes_.size(); ++i) {
     if (!cached[i]) {
@@ -97,7 +132,7 @@ RolloutValidation::RolloutValidation(const ValidationOptions& options, const std
       rollout_options.solve = NewtonOptimizer::reference_solve_options();
       const RolloutResult reference = run_rollout(resolved_[i], newton, rollout_options, progress);
       require(!reference.diverged, "validate",
-              "the Newton reference of " + scenes_[i].motion + " diverged: " + reference.divergence);
+              "the Newton reference of " + scene_name(scenes_[i]) + " diverged: " + reference.divergence);
       write_rollout_file(paths[i], reference, to_scene_text(scenes_[i]), newton.settings());
       ++references_solved_;
     }
@@ -131,7 +166,7 @@ ValidationScore RolloutValidation::score(const FNO2d& model) const {
     s.max_strain = std::max(s.max_strain, rollout.max_strain());
     if (rollout.diverged) {
       s.diverged = true;
-      s.divergence += (s.divergence.empty() ? "" : "; ") + scenes_[i].motion + ": " + rollout.divergence;
+      s.divergence += (s.divergence.empty() ? "" : "; ") + scene_name(scenes_[i]) + ": " + rollout.divergence;
     } else {
       e3d_sum += compare_trajectories(references_[i], frames_of(rollout), -1.0, comparison).e3d;
     }

@@ -17,12 +17,14 @@
 namespace fnopt {
 
 struct ValidationOptions {
-  int resolution = 100;  // N x N vertices (default material, corner handles)
-  // Motion names (boundary/trajectory.hpp), one scene each. Not xy_v2 by default: that is the
-  // test scene of the 64^2 and 100^2 tables in docs/results.md, and a checkpoint chosen on it would make
-  // them optimistic. Two scenes, as one alone is a noisy judge (docs/history/training-experiments.md,
-  // "Stage 2's end").
-  std::vector<std::string> motions = {"xyz_v3", "rot_h0"};
+  int resolution = 100;  // N x N vertices (default material)
+  // Motion names (boundary/trajectory.hpp). Not xy_v2, rot_h0 or xyz_v3 by default: those are the
+  // test scenes of the 64^2 and 100^2 tables in docs/results.md, and a checkpoint chosen on them would
+  // make the tables optimistic. Two motions at least, as one alone is a noisy judge
+  // (docs/history/training-experiments.md, "Stage 2's end").
+  std::vector<std::string> motions = {"xyz_v4", "rot_h1"};
+  // Handle presets (boundary/handles.hpp); the scenes are every motion with every preset.
+  std::vector<std::string> handles = {"corner"};
   int frames = 120;     // time steps of each rollout (2 s at dt = 1/60)
   int iterations = 10;  // the learned optimizer's budget per step
   // The rule the rollouts take proposals with: fnopt-ss's subspace step over this many
@@ -42,7 +44,7 @@ struct ValidationScore {
   double e3d = std::numeric_limits<double>::infinity();
   double max_strain = 0.0;  // over all the rollouts
   bool diverged = false;
-  std::string divergence;  // "<motion>: why and when", empty if none diverged
+  std::string divergence;  // "<motion>[/<handles>]: why and when", empty if none diverged
 };
 
 class RolloutValidation {
@@ -55,11 +57,15 @@ class RolloutValidation {
   RolloutValidation(const ValidationOptions& options, const std::string& reference_directory,
                     const StepCallback& on_reference_step = {});
 
-  // The cache file of a motion's reference in `directory` (simulation/newton_reference.hpp).
+  // The cache file of a scene's reference in `directory` (simulation/newton_reference.hpp).
   static std::string reference_file(const std::string& directory, const ValidationOptions& options,
-                                    const std::string& motion);
-  // The validation scene of a motion: default material, corner handles.
-  static Scene scene_of(const ValidationOptions& options, const std::string& motion);
+                                    const std::string& motion, const std::string& handles = "corner");
+  // The validation scene of a motion and a handle preset: default material.
+  static Scene scene_of(const ValidationOptions& options, const std::string& motion,
+                        const std::string& handles = "corner");
+  // "xyz_v4+rot_h1", with "@corner+diagonal" appended where the presets are not corner alone:
+  // the scenes' names in the validation log and the training's messages.
+  static std::string scene_set_text(const ValidationOptions& options);
 
   // Scores a snapshot of `model` (its parameters are copied; the model is not touched).
   ValidationScore score(const FNO2d& model) const;

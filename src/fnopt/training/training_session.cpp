@@ -51,9 +51,8 @@ std::vector<std::vector<std::string>> trim_log(const std::string& path, const st
 
 // The validation log's identity of a validation scene; rows of another scene are not compared.
 std::vector<std::string> validation_key(const ValidationOptions& v) {
-  std::string motions;
-  for (const std::string& motion : v.motions) motions += (motions.empty() ? "" : "+") + motion;
-  return {std::to_string(v.resolution), motions, std::to_string(v.frames), v.optimizer(), std::to_string(v.iterations)};
+  return {std::to_string(v.resolution), RolloutValidation::scene_set_text(v), std::to_string(v.frames), v.optimizer(),
+          std::to_string(v.iterations)};
 }
 
 struct BestValidation {
@@ -86,6 +85,7 @@ void TrainingSessionOptions::validate() const {
                      {"validate.frames", "validate-frames"},
                      {"validate.iterations", "validate-iters"},
                      {"validate.motions", "validate-motions"},
+                     {"validate.handles", "validate-handles"},
                      {"validate.subspace", "validate-subspace"}},
                     [&] { validation->validate(); });
 }
@@ -184,8 +184,8 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
     });
     if (reference_bar) reference_bar->finish();
     std::fprintf(stderr, "fnopt train: validation references: %d solved, %d cached in %s\n",
-                 validation->references_solved(), static_cast<int>(v.motions.size()) - validation->references_solved(),
-                 options.out.c_str());
+                 validation->references_solved(),
+                 static_cast<int>(validation->scenes().size()) - validation->references_solved(), options.out.c_str());
     if (best.step >= 0) std::fprintf(stderr, "fnopt train: best so far: step %d, e_3D %.4g\n", best.step, best.e3d);
   }
 

@@ -36,7 +36,7 @@ struct TrainingSessionResult {
   bool out_of_time = false;        // stopped by the time limit (--resume continues)
   int best_step = -1;              // the best validated step, -1 if none
   double best_e3d = 0.0;           // its e_3D x 10^2
-  std::string validation_motions;  // the validation scenes' motions, "xyz_v3+rot_h0"
+  std::string validation_motions;  // the validation scenes, "xyz_v4+rot_h1" (RolloutValidation::scene_set_text)
   std::string model_path, log_path, best_model_path, validation_log_path;
 };
 
