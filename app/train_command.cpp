@@ -93,6 +93,7 @@ void run_train(TrainFlags& flags) {
                    {"train.score_after_subspace_step", "score"},
                    {"train.subspace", "subspace"},
                    {"train.pqn_direction", "pqn-direction"},
+                   {"train.reference_pqn_iterations", "reference-pqn-iters"},
                    {"train.ranges.undamped_share", "undamped-share"},
                    {"train.range", "range"},
                    {"train.ranges.stretch", "range"},
@@ -178,7 +179,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--decay-every", o.decay_every, "halve the learning rate every N steps")->capture_default_str();
   command->add_option("--clip", o.clip_norm, "gradient-norm clipping")->capture_default_str();
   command->add_option("--seed", o.seed, "random seed")->capture_default_str();
-  command->add_option("--newton-weight", o.newton_weight, "weight of the auxiliary loss toward the Newton step")
+  command
+      ->add_option(
+          "--newton-weight", o.newton_weight,
+          "weight of the auxiliary loss toward the reference step (Newton's, or pqn's with --reference-pqn-iters)")
       ->capture_default_str();
   command
       ->add_option("--average-decay", o.average_decay,
@@ -217,6 +221,12 @@ const RegisterCommand kRegister([](CLI::App& app) {
                     "the model also reads pqn's direction -A^-1 g as an input field (4 inputs, or 12 with "
                     "--combined), which holds the grid's stiffness; with --init, the file's model is widened with "
                     "zero weights for it, so training starts from what that model proposes");
+  command
+      ->add_option("--reference-pqn-iters", o.pool.reference_pqn_iterations,
+                   "the reference L* each time step's loss is measured against: 0, Newton's converged step (the "
+                   "shipped model's training); K, K pqn iterations, an upper bound on L* that costs the same on every "
+                   "material, for pools with fine grids, where Newton on the stiffest materials takes most of the time")
+      ->capture_default_str();
   command->add_option("--undamped-share", o.pool.ranges.undamped_share, "share of the environments without damping")
       ->capture_default_str();
   command->add_option("--width", flags->width, "FNO width")->capture_default_str();

@@ -291,6 +291,22 @@ TEST(MetaTraining, APoolOfTwoGridsResumesAndNeedsTheEnergyObjective) {
   EXPECT_THROW(options.validate(), Error);
 }
 
+// A pool measured against pqn's K iterations instead of Newton's step: its losses differ from
+// the first step on (the same environments, another L*), it resumes exactly, and its checkpoint
+// is not one of the Newton-referenced run (the options' signature names the reference).
+TEST(MetaTraining, APqnReferencedPoolTrainsResumesAndIsItsOwnRun) {
+  TrainOptions options = tiny_training();
+  options.pool.reference_pqn_iterations = 20;
+  MetaTrainer original(options), newton(tiny_training());
+  const double first = original.step().loss, first_newton = newton.step().loss;
+  EXPECT_TRUE(std::isfinite(first));
+  EXPECT_NE(first, first_newton);
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(std::isfinite(original.step().loss));
+  expect_resumes_exactly(original, options, "fnopt_test_resume_pqn_reference", 4);
+  EXPECT_NE(options.signature().find(" reference=pqn20"), std::string::npos) << options.signature();
+  EXPECT_EQ(tiny_training().signature().find("reference="), std::string::npos);
+}
+
 TEST(MetaTraining, RejectsACheckpointOfOtherOptions) {
   const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_resume_other";
   std::filesystem::create_directories(dir);

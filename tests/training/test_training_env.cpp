@@ -3,6 +3,8 @@
 // step scale stuck at its floor starts the next time step afresh.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <fnopt/cloth/grid_units.hpp>
 #include <fnopt/learned/grid_tensor.hpp>
 #include <fnopt/training/training_env.hpp>
@@ -92,6 +94,35 @@ TEST(TrainingEnv, TakesProposalsAsTheyAreWithoutASubspace) {
   EXPECT_EQ(env.rule().pairs().size(), 0);
   EXPECT_FALSE(env.rule().params().safeguard);
   EXPECT_EQ(env.state_tensors().size(), static_cast<std::size_t>(TrainingEnv::kStateTensors));
+}
+
+// pqn's K iterations as the reference: the same environment (same seed, id and generation) with
+// an L* between Newton's exact minimum and the start, closer to Newton's as K grows; the
+// Newton reference of the same step is the lowest.
+TEST(TrainingEnv, APqnReferenceBoundsNewtonsFromAboveAndApproachesIt) {
+  PoolOptions pool;
+  pool.resolutions = {12};
+  pool.environments = 3;
+  for (int id = 0; id < pool.environments; ++id) {
+    const TrainingEnv newton(pool, 5, id);
+    double previous_gap = INFINITY;
+    for (const int iterations : {3, 10, 40}) {
+      PoolOptions with_pqn = pool;
+      with_pqn.reference_pqn_iterations = iterations;
+      const TrainingEnv env(with_pqn, 5, id);
+      ASSERT_EQ(env.initial_loss(), newton.initial_loss()) << "the same environment";
+      const double start = newton.initial_loss() - newton.reference_loss();
+      const double gap = (env.reference_loss() - newton.reference_loss()) / start;
+      EXPECT_GE(gap, -1e-9) << "id " << id << ", K = " << iterations;
+      EXPECT_LT(gap, 1.0) << "id " << id << ", K = " << iterations;
+      EXPECT_LE(gap, previous_gap + 1e-12) << "id " << id << ", K = " << iterations;
+      if (iterations == 3) EXPECT_GT(gap, 1e-4) << "id " << id << ": 3 pqn iterations are not Newton's step";
+      previous_gap = gap;
+    }
+    EXPECT_LT(previous_gap, 0.05) << "id " << id << ": 40 pqn iterations land near Newton's step";
+  }
+  pool.reference_pqn_iterations = -1;
+  EXPECT_THROW(pool.validate(), Error);
 }
 
 TEST(TrainingEnv, RejectsALifetimeBelowOneStep) {

@@ -64,6 +64,7 @@ std::string TrainOptions::signature() const {
   if (objective == TrainObjective::Probe) s << " objective=probe";
   if (probe.iterations != 1) s << " probe_iterations=" << probe.iterations;
   if (probe.surface == ProbeSurface::Energy) s << " probe_surface=energy";
+  if (pool.reference_pqn_iterations > 0) s << " reference=pqn" << pool.reference_pqn_iterations;
   return s.str();
 }
 

@@ -91,6 +91,7 @@ void PoolOptions::validate() const {
   require_subspace_size(subspace, "train.subspace");
   require(!pqn_direction || subspace > 0, "train.pqn_direction",
           "needs a pool that takes the subspace step (subspace > 0)");
+  require(reference_pqn_iterations >= 0, "train.reference_pqn_iterations", "must not be negative");
 }
 
 TrainingEnv::TrainingEnv(const PoolOptions& options, std::uint64_t seed, int id, long generation)
@@ -187,8 +188,11 @@ void TrainingEnv::begin_step() {
 
   StepProblem problem(*objective_, dirichlet_);
   reference_acceleration_ = a_;
+  const int pqn_iterations = options_.reference_pqn_iterations;
   const InnerSolveResult solve =
-      solve_step(newton_, problem, reference_acceleration_, NewtonOptimizer::reference_solve_options());
+      pqn_iterations > 0
+          ? solve_step(pqn_, problem, reference_acceleration_, InnerSolveOptions{pqn_iterations})
+          : solve_step(newton_, problem, reference_acceleration_, NewtonOptimizer::reference_solve_options());
   reference_loss_ = std::min(solve.value, initial_loss_);
 
   // The budget depends on (seed, id, generation, age) only, so a restored environment draws

@@ -4,7 +4,8 @@
 // random extra handles on a random smooth motion, and an iteration budget per time step drawn from {1, 3, 10, 30}. The
 // learned optimizer iterates on its current time step; when the budget is used the environment advances with its own
 // (learned) solution, so the pool visits the states the optimizer itself produces. Each time step is also solved by
-// Newton (L* = the exact minimum), which makes the training loss scale-free.
+// Newton (L* = the exact minimum), or by K pqn iterations where PoolOptions::reference_pqn_iterations says so, which
+// makes the training loss scale-free.
 // Everything random derives from (seed, id, generation), so an environment is restored from
 // its saved state and generation alone.
 #include <memory>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include <fnopt/baselines/newton.hpp>
+#include <fnopt/baselines/pqn.hpp>
 #include <fnopt/boundary/dirichlet.hpp>
 #include <fnopt/cloth/backward_euler.hpp>
 #include <fnopt/learned/proposal_rule.hpp>
@@ -63,6 +65,13 @@ struct PoolOptions {
   // Compute pqn's direction for a model that reads it (LearnedParams::pqn_input): set by the
   // trainer from the model's inputs, not a user option.
   bool pqn_input = false;
+  // The reference each time step's loss is measured against (L* of energy_loss.hpp): 0, Newton's
+  // converged step, the exact minimum (the shipped model's training); K > 0, K iterations of pqn
+  // from a_0, an upper bound on L* whose cost does not grow with the material's stiffness (its step
+  // is then also the a* that --newton-weight aims at and the probe objective follows). Why:
+  // on fine grids Newton's steps on the pool's stiffest materials take most of a training step's
+  // time (docs/training.md, "Pools with fine grids").
+  int reference_pqn_iterations = 0;
 
   int resolution_of(int environment) const {
     return resolutions[static_cast<std::size_t>(environment) % resolutions.size()];
@@ -86,8 +95,8 @@ class TrainingEnv {
 
   // Current iterate of this time step, and its loss bookkeeping.
   VecX& acceleration() { return a_; }
-  double reference_loss() const { return reference_loss_; }                       // L* (Newton)
-  const VecX& reference_acceleration() const { return reference_acceleration_; }  // a* (Newton)
+  double reference_loss() const { return reference_loss_; }                       // L* (Newton, or pqn)
+  const VecX& reference_acceleration() const { return reference_acceleration_; }  // a* (Newton, or pqn)
   double initial_loss() const { return initial_loss_; }                           // L(a_0)
   int budget() const { return budget_; }
   int used() const { return used_; }
@@ -117,7 +126,7 @@ class TrainingEnv {
   void restore(const std::vector<torch::Tensor>& tensors);
 
   void generate();    // material, pose, handles, motion from (seed, id, generation)
-  void begin_step();  // handle targets, a_0, Newton reference, budget
+  void begin_step();  // handle targets, a_0, the reference (Newton or pqn), budget
   Vec3 handle_target(int h, double t) const;
 
   PoolOptions options_;
@@ -130,6 +139,7 @@ class TrainingEnv {
   std::unique_ptr<BackwardEulerObjective> objective_;
   DirichletSet dirichlet_;
   NewtonOptimizer newton_;
+  PqnOptimizer pqn_;  // the reference where reference_pqn_iterations > 0
   ProposalRule rule_;
   std::vector<Vec3> handle_rest_;
   Vec3 pivot_, amplitude_, turn_axis_;
