@@ -104,6 +104,12 @@ TEST(TrainCli, BadValidationFlagsAreOneLineErrors) {
     EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << flags << ": " << r.output;
     EXPECT_FALSE(std::filesystem::exists(dir)) << flags << ": nothing is written before the flags are checked";
     EXPECT_NE(r.output.find("validate"), std::string::npos) << flags << ": " << r.output;
+    // A bad motion or preset (or a pair of them that makes no scene) names the flag that set it.
+    if (flags.find("--validate-handles") != std::string::npos) {
+      EXPECT_NE(r.output.find("validate-handles: "), std::string::npos) << flags << ": " << r.output;
+    } else if (flags.find("--validate-motions") != std::string::npos) {
+      EXPECT_NE(r.output.find("validate-motions: "), std::string::npos) << flags << ": " << r.output;
+    }
   }
 }
 

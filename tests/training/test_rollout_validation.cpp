@@ -136,14 +136,19 @@ TEST(RolloutValidation, RejectsBadOptionsNamingTheField) {
     v.validate();
     FAIL() << "an unknown motion was accepted";
   } catch (const Error& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("validate.motion: unknown motion 'sideways'", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind("validate.motions: unknown motion 'sideways'", 0), 0u) << e.what();
   }
   v = small_validation();
   v.motions.clear();
   EXPECT_THROW(v.validate(), Error);
   v = small_validation();
   v.handles = {"corner", "sideways"};
-  EXPECT_THROW(v.validate(), Error);
+  try {
+    v.validate();
+    FAIL() << "an unknown preset was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("validate.handles: unknown preset 'sideways'", 0), 0u) << e.what();
+  }
   v = small_validation();
   v.handles.clear();
   EXPECT_THROW(v.validate(), Error);

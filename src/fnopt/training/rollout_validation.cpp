@@ -24,11 +24,16 @@ void ValidationOptions::validate() const {
   require(!handles.empty(), "validate.handles", "must name at least one handle preset");
   require_subspace_size(subspace, "validate.subspace");
   require(!pqn_direction || subspace > 0, "validate.pqn_direction", "needs the subspace step (subspace > 0)");
+  // The scene checks name the scene's field ("motion", "handles"); the errors name this struct's.
   try {
     for (const std::string& motion : motions) scene_checks::motion_name(motion);
+  } catch (const Error& e) {
+    throw Error("validate.motions", e.problem());
+  }
+  try {
     for (const std::string& preset : handles) scene_checks::handle_preset_name(preset);
   } catch (const Error& e) {
-    throw Error(std::string("validate.") + e.what());
+    throw Error("validate.handles", e.problem());
   }
   // Every motion with every preset must make a scene (rot_h1 needs two handles, say).
   for (const std::string& motion : motions)
@@ -40,7 +45,7 @@ void ValidationOptions::validate() const {
       try {
         scene.validate();
       } catch (const Error& e) {
-        throw Error("validate.handles", "motion " + motion + " with handles " + preset + ": " + e.what());
+        throw Error("validate.handles", "motion " + motion + " with handles " + preset + ": " + e.problem());
       }
     }
 }
