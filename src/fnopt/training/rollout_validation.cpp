@@ -38,12 +38,8 @@ void ValidationOptions::validate() const {
   // Every motion with every preset must make a scene (rot_h1 needs two handles, say).
   for (const std::string& motion : motions)
     for (const std::string& preset : handles) {
-      Scene scene;
-      scene.rows = scene.cols = resolution;
-      scene.motion = motion;
-      scene.handles = preset;
       try {
-        scene.validate();
+        RolloutValidation::scene_of(*this, motion, preset);
       } catch (const Error& e) {
         throw Error("validate.handles", "motion " + motion + " with handles " + preset + ": " + e.problem());
       }
