@@ -27,6 +27,18 @@ std::vector<std::string> validation_rows(const std::filesystem::path& dir) {
   return rows;
 }
 
+// The cached Newton references in `dir` named newton_reference_<label><16 hex digits of the hash>.h5
+// (simulation/newton_reference.hpp); exact, so that label xyz_v4_ does not count xyz_v4_diagonal_.
+int reference_files(const std::filesystem::path& dir, const std::string& label) {
+  const std::string prefix = "newton_reference_" + label;
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    files += name.rfind(prefix, 0) == 0 && name.size() == prefix.size() + 16 + 3 && entry.path().extension() == ".h5";
+  }
+  return files;
+}
+
 TEST(TrainCli, ValidatesEveryIntervalAndKeepsTheBestModel) {
   const fnopt::testing::TempDir tmp;
   const auto dir = tmp.path() / "out";
@@ -43,13 +55,8 @@ TEST(TrainCli, ValidatesEveryIntervalAndKeepsTheBestModel) {
   EXPECT_NE(r.output.find("best validation: step "), std::string::npos) << r.output;
   // The references are cached next to the log, one file per motion (named by a hash of the scene,
   // Newton's settings and the version: simulation/newton_reference.hpp).
-  for (const std::string label : {"validation_12_xy_v2_", "validation_12_rot_h0_"}) {
-    int files = 0;
-    for (const auto& entry : std::filesystem::directory_iterator(dir))
-      files += entry.path().filename().string().rfind("newton_reference_" + label, 0) == 0 &&
-               entry.path().extension() == ".h5";
-    EXPECT_EQ(files, 1) << label;
-  }
+  for (const std::string label : {"validation_12_xy_v2_", "validation_12_rot_h0_"})
+    EXPECT_EQ(reference_files(dir, label), 1) << label;
 }
 
 TEST(TrainCli, ValidatesOffTheCornersWithHandlePresets) {
@@ -65,16 +72,8 @@ TEST(TrainCli, ValidatesOffTheCornersWithHandlePresets) {
   EXPECT_EQ(rows[1].rfind("10,12,xyz_v4+rot_h1@corner+diagonal,12,fnopt-ss,10,", 0), 0u) << rows[1];
   EXPECT_NE(r.output.find("validation references: 4 solved, 0 cached"), std::string::npos) << r.output;
   for (const std::string label : {"validation_12_xyz_v4_", "validation_12_xyz_v4_diagonal_", "validation_12_rot_h1_",
-                                  "validation_12_rot_h1_diagonal_"}) {
-    // The label, then the 16 hex digits of the hash (so that xyz_v4_ does not count xyz_v4_diagonal_).
-    const std::string prefix = "newton_reference_" + label;
-    int files = 0;
-    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-      const std::string name = entry.path().filename().string();
-      files += name.rfind(prefix, 0) == 0 && name.size() == prefix.size() + 16 + 3;
-    }
-    EXPECT_EQ(files, 1) << label;
-  }
+                                  "validation_12_rot_h1_diagonal_"})
+    EXPECT_EQ(reference_files(dir, label), 1) << label;
 }
 
 TEST(TrainCli, AResumedRunValidatesAsTheStraightRun) {

@@ -12,6 +12,7 @@
 #include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/scenes/scene_checks.hpp>
 #include <fnopt/util/error.hpp>
+#include <fnopt/util/parse_text.hpp>
 #include <fnopt/version.hpp>
 
 namespace fnopt {
@@ -98,13 +99,8 @@ std::string RolloutValidation::reference_file(const std::string& directory, cons
 }
 
 std::string RolloutValidation::scene_set_text(const ValidationOptions& options) {
-  auto joined = [](const std::vector<std::string>& names) {
-    std::string text;
-    for (const std::string& name : names) text += (text.empty() ? "" : "+") + name;
-    return text;
-  };
   const bool corner_only = options.handles == std::vector<std::string>{"corner"};
-  return joined(options.motions) + (corner_only ? "" : "@" + joined(options.handles));
+  return joined(options.motions, "+") + (corner_only ? "" : "@" + joined(options.handles, "+"));
 }
 
 RolloutValidation::RolloutValidation(const ValidationOptions& options, const std::string& reference_directory,
