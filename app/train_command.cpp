@@ -124,8 +124,8 @@ void run_train(TrainFlags& flags) {
   std::printf("trained %d steps in %s; model %s, log %s\n", result.steps, format_duration(result.seconds).c_str(),
               result.model_path.c_str(), result.log_path.c_str());
   if (result.best_step >= 0)
-    std::printf("best validation: step %d, e_3D x 10^2 %.4g at %dx%d (%s); model %s, log %s\n", result.best_step,
-                result.best_e3d, flags.validation.resolution, flags.validation.resolution,
+    std::printf("best validation: step %d, e_3D x 10^2 %.4g at %s (%s); model %s, log %s\n", result.best_step,
+                result.best_e3d, RolloutValidation::grid_set_text(flags.validation, true).c_str(),
                 result.validation_motions.c_str(), result.best_model_path.c_str(), result.validation_log_path.c_str());
 }
 
@@ -245,11 +245,14 @@ const RegisterCommand kRegister([](CLI::App& app) {
   CLI::Option* validate_res =
       command
           ->add_option(
-              "--validate-res", flags->validation.resolution,
-              "validate on an N x N grid every --validate-every steps: fnopt-ss rollouts of benchmark scenes "
-              "(default material; --validate-motions, --validate-handles) against their Newton references (solved "
-              "once, cached in OUT); "
-              "the closest model so far (e_3D) is kept as OUT/model-best.pt, each score in OUT/validation.csv")
+              "--validate-res", flags->validation.resolutions,
+              "validate on N x N grid(s), comma-separated, every --validate-every steps: fnopt-ss rollouts of "
+              "benchmark scenes (default material; --validate-motions, --validate-handles) against their Newton "
+              "references (solved once, cached in OUT); the score is the mean e_3D over each grid's scenes (with "
+              "several grids, the geometric mean of the grids' means); the closest model so far is kept as "
+              "OUT/model-best.pt, each score in OUT/validation.csv. At 32^2 every motion with the corner handles is "
+              "a scene of the 32^2 table: validate there off the corners (e.g. --validate-handles diagonal)")
+          ->delimiter(',')
           ->each([flags](const std::string&) { flags->validate = true; });
   // The validation's settings: each shows its default and needs --validate-res.
   auto validation_option = [&](const std::string& name, auto& value, const std::string& help) {

@@ -2,6 +2,7 @@
 // resume as in one straight run, and one-line errors for bad validation flags.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "run_fnopt.hpp"
@@ -48,7 +49,7 @@ TEST(TrainCli, ValidatesEveryIntervalAndKeepsTheBestModel) {
     EXPECT_TRUE(std::filesystem::exists(dir / "validated" / ("model-" + std::to_string(step) + ".pt"))) << step;
   const auto rows = validation_rows(dir);
   ASSERT_EQ(rows.size(), 4u) << read_text(dir / "validation.csv");
-  EXPECT_EQ(rows[0], "step,resolution,motions,frames,optimizer,iterations,e3d_x1e2,max_strain,diverged");
+  EXPECT_EQ(rows[0], "step,resolution,motions,frames,optimizer,iterations,e3d_x1e2,max_strain,diverged,grid_e3d_x1e2");
   EXPECT_EQ(rows[1].rfind("10,12,xy_v2+rot_h0,12,fnopt-ss,10,", 0), 0u) << rows[1];
   EXPECT_EQ(rows[3].rfind("30,", 0), 0u) << rows[3];
   EXPECT_TRUE(std::filesystem::exists(dir / "model-best.pt"));
@@ -76,6 +77,32 @@ TEST(TrainCli, ValidatesOffTheCornersWithHandlePresets) {
     EXPECT_EQ(reference_files(dir, label), 1) << label;
 }
 
+TEST(TrainCli, ValidatesAtSeveralGrids) {
+  const fnopt::testing::TempDir tmp;
+  const auto dir = tmp.path() / "out";
+  const CommandResult r = run_fnopt("train --out " + dir.string() + " --steps 10" + kTinyModel +
+                                    " --validate-res 10,12 --validate-every 10 --validate-frames 12");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("at 10x10+12x12 against Newton"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("validation references: 4 solved, 0 cached"), std::string::npos) << r.output;
+  const auto rows = validation_rows(dir);
+  ASSERT_EQ(rows.size(), 2u) << read_text(dir / "validation.csv");
+  EXPECT_EQ(rows[1].rfind("10,10+12,xyz_v4+rot_h1,12,fnopt-ss,10,", 0), 0u) << rows[1];
+  // The score column is the geometric mean of the last column's two grid means.
+  std::vector<std::string> fields;
+  std::istringstream row(rows[1]);
+  for (std::string field; std::getline(row, field, ',');) fields.push_back(field);
+  ASSERT_EQ(fields.size(), 10u) << rows[1];
+  const auto plus = fields[9].find('+');
+  ASSERT_NE(plus, std::string::npos) << rows[1];
+  const double coarse = std::stod(fields[9].substr(0, plus)), fine = std::stod(fields[9].substr(plus + 1));
+  EXPECT_NEAR(std::stod(fields[6]), std::sqrt(coarse * fine), 1e-5 * std::stod(fields[6])) << rows[1];
+  for (const std::string label :
+       {"validation_10_xyz_v4_", "validation_12_xyz_v4_", "validation_10_rot_h1_", "validation_12_rot_h1_"})
+    EXPECT_EQ(reference_files(dir, label), 1) << label;
+  EXPECT_NE(r.output.find("at 10x10+12x12 (xyz_v4+rot_h1)"), std::string::npos) << r.output;
+}
+
 TEST(TrainCli, AResumedRunValidatesAsTheStraightRun) {
   const fnopt::testing::TempDir tmp;
   const auto straight = tmp.path() / "straight", resumed = tmp.path() / "resumed";
@@ -95,8 +122,8 @@ TEST(TrainCli, BadValidationFlagsAreOneLineErrors) {
   const auto dir = tmp.path() / "out";
   for (const std::string flags :
        {" --validate-res 12 --validate-motions xy_v2,sideways", " --validate-res 12 --validate-frames 0",
-        " --validate-res 2", " --validate-res 12 --validate-every 0", " --validate-res 12 --validate-subspace 9",
-        " --validate-res 12 --validate-handles corner,sideways",
+        " --validate-res 2", " --validate-res 12,2", " --validate-res 12 --validate-every 0",
+        " --validate-res 12 --validate-subspace 9", " --validate-res 12 --validate-handles corner,sideways",
         " --validate-res 12 --validate-motions rot_h1 --validate-handles single-center"}) {
     const CommandResult r = run_fnopt("train --out " + dir.string() + " --steps 5" + kTinyModel + flags);
     EXPECT_NE(r.status, 0) << flags;

@@ -1,5 +1,6 @@
 // Validation rollouts: the Newton reference is solved once and reused only for its own scene,
-// every motion runs with every handle preset, scores are deterministic and leave the model alone,
+// every motion runs with every handle preset on every grid, several grids score the geometric mean of
+// their means, scores are deterministic and leave the model alone,
 // and a trained model scores better than an untrained one.
 #include <gtest/gtest.h>
 
@@ -18,7 +19,7 @@ namespace {
 
 ValidationOptions small_validation() {
   ValidationOptions v;
-  v.resolution = 12;
+  v.resolutions = {12};
   v.frames = 20;
   v.motions = {"xy_v2"};
   return v;
@@ -53,14 +54,14 @@ TEST(RolloutValidation, SolvesEachReferenceOnceAndOnlyReusesItForItsOwnScene) {
   EXPECT_EQ(steps_reported, 0);
   // A file of the same name holding another scene (here: a Newton rollout of another motion
   // copied over it) is solved anew, not compared against the wrong frames.
-  std::filesystem::copy_file(RolloutValidation::reference_file(dir.string(), two, "rot_h0"),
-                             RolloutValidation::reference_file(dir.string(), two, "xy_v2"),
+  std::filesystem::copy_file(RolloutValidation::reference_file(dir.string(), two, 12, "rot_h0"),
+                             RolloutValidation::reference_file(dir.string(), two, 12, "xy_v2"),
                              std::filesystem::copy_options::overwrite_existing);
   RolloutValidation changed(two, dir.string(), count);
   EXPECT_EQ(changed.references_solved(), 1);
   EXPECT_EQ(steps_reported, 20);
   // The right scene solved by another solver (its settings differ) is solved anew too.
-  const std::string path = RolloutValidation::reference_file(dir.string(), two, "xy_v2");
+  const std::string path = RolloutValidation::reference_file(dir.string(), two, 12, "xy_v2");
   NewtonOptimizer newton;
   const RolloutResult other = run_rollout(resolve(changed.scenes()[0]), newton, {});
   write_rollout_file(path, other, to_scene_text(changed.scenes()[0]), "newton: other settings");
@@ -76,9 +77,9 @@ TEST(RolloutValidation, ValidatesEveryMotionWithEveryHandlePreset) {
   EXPECT_EQ(RolloutValidation::scene_set_text(v), "xy_v2@corner+diagonal");
   EXPECT_EQ(RolloutValidation::scene_set_text(small_validation()), "xy_v2");
   // Corner scenes keep the file names of the caches written before presets could be chosen.
-  const std::string corner = RolloutValidation::reference_file(dir.string(), v, "xy_v2");
-  const std::string diagonal = RolloutValidation::reference_file(dir.string(), v, "xy_v2", "diagonal");
-  EXPECT_EQ(corner, RolloutValidation::reference_file(dir.string(), small_validation(), "xy_v2"));
+  const std::string corner = RolloutValidation::reference_file(dir.string(), v, 12, "xy_v2");
+  const std::string diagonal = RolloutValidation::reference_file(dir.string(), v, 12, "xy_v2", "diagonal");
+  EXPECT_EQ(corner, RolloutValidation::reference_file(dir.string(), small_validation(), 12, "xy_v2"));
   EXPECT_NE(std::filesystem::path(corner).filename().string().find("validation_12_xy_v2_"), std::string::npos);
   EXPECT_NE(std::filesystem::path(diagonal).filename().string().find("validation_12_xy_v2_diagonal_"),
             std::string::npos);
@@ -97,6 +98,41 @@ TEST(RolloutValidation, ValidatesEveryMotionWithEveryHandlePreset) {
   const double diagonal_score = RolloutValidation(only_diagonal, dir.string()).score(model).e3d;
   EXPECT_NE(corner_score, diagonal_score);
   EXPECT_NEAR(both, 0.5 * (corner_score + diagonal_score), 1e-12 * both);
+}
+
+TEST(RolloutValidation, SeveralGridsScoreTheGeometricMeanOfTheirMeans) {
+  const testing::TempDir tmp;
+  const auto& dir = tmp.path();
+  ValidationOptions v = small_validation();
+  v.resolutions = {10, 12};
+  v.motions = {"xy_v2", "rot_h0"};
+  EXPECT_EQ(RolloutValidation::grid_set_text(v), "10+12");
+  EXPECT_EQ(RolloutValidation::grid_set_text(v, true), "10x10+12x12");
+  EXPECT_EQ(RolloutValidation::grid_set_text(small_validation()), "12");
+  RolloutValidation both(v, dir.string());
+  EXPECT_EQ(both.references_solved(), 4);
+  ASSERT_EQ(both.scenes().size(), 4u);
+  EXPECT_EQ(both.scenes()[0].rows, 10);
+  EXPECT_EQ(both.scenes()[1].motion, "rot_h0");
+  EXPECT_EQ(both.scenes()[3].rows, 12);
+  EXPECT_TRUE(std::filesystem::exists(RolloutValidation::reference_file(dir.string(), v, 10, "rot_h0")));
+  // Each grid alone reuses the references the pair solved, and scores that grid's mean.
+  const FNO2d model = load_fno(std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt");
+  const ValidationScore pair = both.score(model);
+  ASSERT_FALSE(pair.diverged) << pair.divergence;
+  ASSERT_EQ(pair.grid_e3d.size(), 2u);
+  for (std::size_t g = 0; g < 2; ++g) {
+    ValidationOptions one = v;
+    one.resolutions = {v.resolutions[g]};
+    RolloutValidation alone(one, dir.string());
+    EXPECT_EQ(alone.references_solved(), 0);
+    const ValidationScore score = alone.score(model);
+    ASSERT_EQ(score.grid_e3d.size(), 1u);
+    EXPECT_EQ(score.e3d, score.grid_e3d[0]);
+    EXPECT_NEAR(pair.grid_e3d[g], score.e3d, 1e-12 * score.e3d) << v.resolutions[g];
+  }
+  EXPECT_NE(pair.grid_e3d[0], pair.grid_e3d[1]);
+  EXPECT_NEAR(pair.e3d, std::sqrt(pair.grid_e3d[0] * pair.grid_e3d[1]), 1e-12 * pair.e3d);
 }
 
 TEST(RolloutValidation, ScoreIsDeterministicAndLeavesTheModelAlone) {
@@ -161,8 +197,10 @@ TEST(RolloutValidation, RejectsBadOptionsNamingTheField) {
   v.frames = 0;
   EXPECT_THROW(v.validate(), Error);
   v = small_validation();
-  v.resolution = 2;
-  EXPECT_THROW(v.validate(), Error);
+  v.resolutions = {12, 2};
+  expect_refused(v, "validate.resolutions: must be at least 3");
+  v.resolutions.clear();
+  expect_refused(v, "validate.resolutions: must name at least one grid");
   v = small_validation();
   v.subspace = 0;
   v.pqn_direction = true;

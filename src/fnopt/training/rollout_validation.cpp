@@ -18,7 +18,8 @@
 namespace fnopt {
 
 void ValidationOptions::validate() const {
-  require(resolution >= 3, "validate.resolution", "must be at least 3");
+  require(!resolutions.empty(), "validate.resolutions", "must name at least one grid");
+  for (int resolution : resolutions) require(resolution >= 3, "validate.resolutions", "must be at least 3");
   require(frames > 0, "validate.frames", "must be positive");
   require(iterations > 0, "validate.iterations", "must be positive");
   require(!motions.empty(), "validate.motions", "must name at least one motion");
@@ -36,15 +37,16 @@ void ValidationOptions::validate() const {
   } catch (const Error& e) {
     throw Error("validate.handles", e.problem());
   }
-  // Every motion with every preset must make a scene (rot_h1 needs two handles, say).
-  for (const std::string& motion : motions)
-    for (const std::string& preset : handles) {
-      try {
-        RolloutValidation::scene_of(*this, motion, preset);
-      } catch (const Error& e) {
-        throw Error("validate.handles", "motion " + motion + " with handles " + preset + ": " + e.problem());
+  // Every motion with every preset must make a scene on every grid (rot_h1 needs two handles, say).
+  for (int resolution : resolutions)
+    for (const std::string& motion : motions)
+      for (const std::string& preset : handles) {
+        try {
+          RolloutValidation::scene_of(*this, resolution, motion, preset);
+        } catch (const Error& e) {
+          throw Error("validate.handles", "motion " + motion + " with handles " + preset + ": " + e.problem());
+        }
       }
-    }
 }
 
 namespace {
@@ -63,9 +65,10 @@ bool holds_reference(const std::string& path, const Scene& scene, const std::str
   }
 }
 
-// "xyz_v4", or "xyz_v4/diagonal" off the corner preset.
+// "100/xyz_v4", or "100/xyz_v4/diagonal" off the corner preset.
 std::string scene_name(const Scene& scene) {
-  return scene.handles == "corner" ? scene.motion : scene.motion + "/" + scene.handles;
+  const std::string name = std::to_string(scene.rows) + "/" + scene.motion;
+  return scene.handles == "corner" ? name : name + "/" + scene.handles;
 }
 
 FNO2d snapshot(const FNO2d& model) {
@@ -79,10 +82,10 @@ FNO2d snapshot(const FNO2d& model) {
 
 }  // namespace
 
-Scene RolloutValidation::scene_of(const ValidationOptions& options, const std::string& motion,
+Scene RolloutValidation::scene_of(const ValidationOptions& options, int resolution, const std::string& motion,
                                   const std::string& handles) {
   Scene scene;
-  scene.rows = scene.cols = options.resolution;
+  scene.rows = scene.cols = resolution;
   scene.motion = motion;
   scene.handles = handles;
   scene.frames = options.frames;
@@ -91,16 +94,23 @@ Scene RolloutValidation::scene_of(const ValidationOptions& options, const std::s
 }
 
 std::string RolloutValidation::reference_file(const std::string& directory, const ValidationOptions& options,
-                                              const std::string& motion, const std::string& handles) {
+                                              int resolution, const std::string& motion, const std::string& handles) {
   // Corner scenes keep the names of the files cached before presets could be chosen.
   const std::string preset = handles == "corner" ? "" : "_" + handles;
-  return newton_reference_path(directory, "validation_" + std::to_string(options.resolution) + "_" + motion + preset,
-                               scene_of(options, motion, handles));
+  return newton_reference_path(directory, "validation_" + std::to_string(resolution) + "_" + motion + preset,
+                               scene_of(options, resolution, motion, handles));
 }
 
 std::string RolloutValidation::scene_set_text(const ValidationOptions& options) {
   const bool corner_only = options.handles == std::vector<std::string>{"corner"};
   return joined(options.motions, "+") + (corner_only ? "" : "@" + joined(options.handles, "+"));
+}
+
+std::string RolloutValidation::grid_set_text(const ValidationOptions& options, bool squares) {
+  std::vector<std::string> grids;
+  for (int resolution : options.resolutions)
+    grids.push_back(std::to_string(resolution) + (squares ? "x" + std::to_string(resolution) : ""));
+  return joined(grids, "+");
 }
 
 RolloutValidation::RolloutValidation(const ValidationOptions& options, const std::string& reference_directory,
@@ -109,14 +119,15 @@ RolloutValidation::RolloutValidation(const ValidationOptions& options, const std
   options_.validate();
   std::vector<std::string> paths;
   std::vector<bool> cached;
-  for (const std::string& motion : options_.motions)
-    for (const std::string& handles : options_.handles) {
-      const Scene scene = scene_of(options_, motion, handles);
-      scenes_.push_back(scene);
-      resolved_.push_back(resolve(scene));
-      paths.push_back(reference_file(reference_directory, options_, motion, handles));
-      cached.push_back(holds_reference(paths.back(), scene, NewtonOptimizer{}.settings()));
-    }
+  for (int resolution : options_.resolutions)
+    for (const std::string& motion : options_.motions)
+      for (const std::string& handles : options_.handles) {
+        const Scene scene = scene_of(options_, resolution, motion, handles);
+        scenes_.push_back(scene);
+        resolved_.push_back(resolve(scene));
+        paths.push_back(reference_file(reference_directory, options_, resolution, motion, handles));
+        cached.push_back(holds_reference(paths.back(), scene, NewtonOptimizer{}.settings()));
+      }
   const int to_solve = static_cast<int>(std::count(cached.begin(), cached.end(), false));
   for (std::size_t i = 0; i < scenes_.size(); ++i) {
     if (!cached[i]) {
@@ -155,7 +166,8 @@ ValidationScore RolloutValidation::score(const FNO2d& model) const {
 
   const FNO2d weights = snapshot(model);
   ValidationScore s;
-  double e3d_sum = 0.0;
+  const std::size_t per_grid = scenes_.size() / options_.resolutions.size();
+  std::vector<double> e3d_sums(options_.resolutions.size(), 0.0);
   for (std::size_t i = 0; i < scenes_.size(); ++i) {
     // One optimizer per rollout: its step scale carries across steps, not across scenes.
     LearnedOptimizer optimizer(weights, "training snapshot", params);
@@ -165,10 +177,17 @@ ValidationScore RolloutValidation::score(const FNO2d& model) const {
       s.diverged = true;
       s.divergence += (s.divergence.empty() ? "" : "; ") + scene_name(scenes_[i]) + ": " + rollout.divergence;
     } else {
-      e3d_sum += compare_trajectories(references_[i], frames_of(rollout), -1.0, comparison).e3d;
+      e3d_sums[i / per_grid] += compare_trajectories(references_[i], frames_of(rollout), -1.0, comparison).e3d;
     }
   }
-  if (!s.diverged) s.e3d = 1e2 * e3d_sum / static_cast<double>(scenes_.size());
+  if (s.diverged) return s;
+  double log_sum = 0.0;
+  for (double sum : e3d_sums) {
+    s.grid_e3d.push_back(1e2 * sum / static_cast<double>(per_grid));
+    log_sum += std::log(s.grid_e3d.back());
+  }
+  // One grid's score is its mean itself, to the bit, as in logs written before several grids could be validated.
+  s.e3d = s.grid_e3d.size() == 1 ? s.grid_e3d[0] : std::exp(log_sum / static_cast<double>(e3d_sums.size()));
   return s;
 }
 

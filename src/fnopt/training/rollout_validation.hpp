@@ -1,9 +1,10 @@
 #pragma once
 // Validation of a model in training on the grid it will be used on: the learned optimizer's
 // rollouts (fnopt-ss by default, N iterations per step) of benchmark scenes against the Newton references
-// of the same scenes, scored by e_3D (trajectory_error.hpp) averaged over the scenes. Why: training at 32^2 keeps
-// lowering the 32^2 error while it can break larger grids (docs/history/training-experiments.md, "Stage 2's
-// end"), so the training loss alone cannot say which checkpoint to ship.
+// of the same scenes, scored by e_3D (trajectory_error.hpp) averaged over the scenes of each grid, then
+// geometrically over the grids. Why: training at 32^2 keeps lowering the 32^2 error while it can break larger
+// grids (docs/history/training-experiments.md, "Stage 2's end"), and a pool with fine grids gives up 32^2
+// (docs/results.md), so the training loss alone cannot say which checkpoint to ship.
 #include <limits>
 #include <string>
 #include <vector>
@@ -17,7 +18,10 @@
 namespace fnopt {
 
 struct ValidationOptions {
-  int resolution = 100;  // N x N vertices (default material)
+  // N x N grids (default material). With several, the score is the geometric mean of the grids' means: a
+  // checkpoint ranks by relative changes, so a 10 % gain at 32^2 weighs as much as one at 100^2, whose errors
+  // are ten times larger (docs/training.md, "Validation at several grids").
+  std::vector<int> resolutions = {100};
   // Motion names (boundary/trajectory.hpp). Not xy_v2, rot_h0 or xyz_v3 by default: those are the
   // test scenes of the 64^2 and 100^2 tables in docs/results.md, and a checkpoint chosen on them would
   // make the tables optimistic. Two motions at least, as one alone is a noisy judge
@@ -40,11 +44,13 @@ struct ValidationOptions {
 };
 
 struct ValidationScore {
-  // x 10^2, mean over frames, then over the scenes; inf if any rollout diverged
+  // x 10^2, mean over frames, then over each grid's scenes, then the geometric mean over the grids; inf if any
+  // rollout diverged
   double e3d = std::numeric_limits<double>::infinity();
-  double max_strain = 0.0;  // over all the rollouts
+  std::vector<double> grid_e3d;  // x 10^2, each grid's mean over its scenes, in the order of resolutions
+  double max_strain = 0.0;       // over all the rollouts
   bool diverged = false;
-  std::string divergence;  // "<motion>[/<handles>]: why and when", empty if none diverged
+  std::string divergence;  // "<N>/<motion>[/<handles>]: why and when", empty if none diverged
 };
 
 class RolloutValidation {
@@ -58,14 +64,17 @@ class RolloutValidation {
                     const StepCallback& on_reference_step = {});
 
   // The cache file of a scene's reference in `directory` (simulation/newton_reference.hpp).
-  static std::string reference_file(const std::string& directory, const ValidationOptions& options,
+  static std::string reference_file(const std::string& directory, const ValidationOptions& options, int resolution,
                                     const std::string& motion, const std::string& handles = "corner");
-  // The validation scene of a motion and a handle preset: default material.
-  static Scene scene_of(const ValidationOptions& options, const std::string& motion,
+  // The validation scene of a grid, a motion and a handle preset: default material.
+  static Scene scene_of(const ValidationOptions& options, int resolution, const std::string& motion,
                         const std::string& handles = "corner");
   // "xyz_v4+rot_h1", with "@corner+diagonal" appended where the presets are not corner alone:
   // the scenes' names in the validation log and the training's messages.
   static std::string scene_set_text(const ValidationOptions& options);
+  // "100", or "32+100" for several grids: the validation log's resolution column; with `squares`,
+  // "100x100" and "32x32+100x100", for messages.
+  static std::string grid_set_text(const ValidationOptions& options, bool squares = false);
 
   // Scores a snapshot of `model` (its parameters are copied; the model is not touched).
   ValidationScore score(const FNO2d& model) const;
@@ -75,7 +84,7 @@ class RolloutValidation {
 
  private:
   ValidationOptions options_;
-  std::vector<Scene> scenes_;
+  std::vector<Scene> scenes_;            // grid by grid, each grid's motions by motion, then by preset
   std::vector<ResolvedScene> resolved_;  // scenes_, resolved once
   std::vector<TrajectoryFrames> references_;
   int references_solved_ = 0;

@@ -25,8 +25,10 @@ namespace {
 constexpr const char* kLogHeader =
     "step,seconds,loss,newton_loss,mean_ratio,gradient_norm,learning_rate,renewed,skipped,ratio_without_probe";
 
+// e3d_x1e2 is the score (one grid's mean, or the geometric mean of several); grid_e3d_x1e2 each grid's mean,
+// "+"-separated as the resolution column. Logs written before it have the first ten columns only.
 constexpr const char* kValidationHeader =
-    "step,seconds,resolution,motions,frames,optimizer,iterations,e3d_x1e2,max_strain,diverged";
+    "step,seconds,resolution,motions,frames,optimizer,iterations,e3d_x1e2,max_strain,diverged,grid_e3d_x1e2";
 
 // Keeps a CSV log's rows up to `step` (those the checkpoint had seen), so a resumed run's log
 // reads as one run; returns the kept rows, split into fields.
@@ -51,8 +53,8 @@ std::vector<std::vector<std::string>> trim_log(const std::string& path, const st
 
 // The validation log's identity of a validation scene; rows of another scene are not compared.
 std::vector<std::string> validation_key(const ValidationOptions& v) {
-  return {std::to_string(v.resolution), RolloutValidation::scene_set_text(v), std::to_string(v.frames), v.optimizer(),
-          std::to_string(v.iterations)};
+  return {RolloutValidation::grid_set_text(v), RolloutValidation::scene_set_text(v), std::to_string(v.frames),
+          v.optimizer(), std::to_string(v.iterations)};
 }
 
 struct BestValidation {
@@ -67,7 +69,9 @@ BestValidation best_of(const std::vector<std::vector<std::string>>& rows, const 
   BestValidation best;
   has_step = false;
   for (const auto& row : rows) {
-    if (row.size() != 10 || std::vector<std::string>(row.begin() + 2, row.begin() + 7) != validation_key(v)) continue;
+    if ((row.size() != 10 && row.size() != 11) ||
+        std::vector<std::string>(row.begin() + 2, row.begin() + 7) != validation_key(v))
+      continue;
     has_step = has_step || std::stoi(row[0]) == step;
     if (std::stod(row[7]) < best.e3d) best = {std::stod(row[7]), std::stoi(row[0])};
   }
@@ -81,7 +85,7 @@ void TrainingSessionOptions::validate() const {
   require(checkpoint_every > 0, "checkpoint-every", "must be positive");
   require(validate_every > 0, "validate-every", "must be positive");
   if (validation)
-    with_flag_names({{"validate.resolution", "validate-res"},
+    with_flag_names({{"validate.resolutions", "validate-res"},
                      {"validate.frames", "validate-frames"},
                      {"validate.iterations", "validate-iters"},
                      {"validate.motions", "validate-motions"},
@@ -174,9 +178,10 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
   std::unique_ptr<RolloutValidation> validation;
   if (root && options.validation) {
     const ValidationOptions& v = settings;
-    std::fprintf(stderr, "fnopt train: validation every %d steps: %s N=%d, %d frames of %s at %dx%d against Newton\n",
+    std::fprintf(stderr, "fnopt train: validation every %d steps: %s N=%d, %d frames of %s at %s against Newton%s\n",
                  options.validate_every, v.optimizer().c_str(), v.iterations, v.frames, validation_key(v)[1].c_str(),
-                 v.resolution, v.resolution);
+                 RolloutValidation::grid_set_text(v, true).c_str(),
+                 v.resolutions.size() > 1 ? " (score: the geometric mean of the grids' e_3D)" : "");
     std::optional<ProgressBar> reference_bar;  // only if a reference is solved
     validation = std::make_unique<RolloutValidation>(v, options.out, [&](int done, int total, const StepRecord&) {
       if (!reference_bar) reference_bar.emplace("validation references", total);
@@ -208,7 +213,9 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
     for (const std::string& field : validation_key(settings)) row << field << ',';
     // e_3D at round-trip precision: a resumed run compares later scores with this text.
     row << std::setprecision(17) << score.e3d << std::setprecision(6) << ',' << score.max_strain << ','
-        << (score.diverged ? "yes" : "no") << '\n';
+        << (score.diverged ? "yes" : "no") << ',';
+    for (std::size_t g = 0; g < score.grid_e3d.size(); ++g) row << (g ? "+" : "") << score.grid_e3d[g];
+    row << '\n';
     if (score.e3d < best.e3d) {
       best = {score.e3d, step};
       save_fno(best_model_path, trainer.output_model());
