@@ -256,7 +256,12 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
     }
     // Validation comes before the checkpoint of the same step: a run killed in between
     // repeats both (the steps are reproducible), never loses a validation of a saved step.
-    if (validation && (step % options.validate_every == 0 || step == options.train.steps)) validate(step);
+    if (validation && (step % options.validate_every == 0 || step == options.train.steps)) {
+      // A validation takes minutes at 100^2: the bar says so meanwhile.
+      bar->update(step, "validating " + std::to_string(validation->scenes().size()) + " rollouts at " +
+                            RolloutValidation::grid_set_text(settings, true));
+      validate(step);
+    }
     if (step % options.checkpoint_every == 0 || step == options.train.steps || out_of_time) {
       log.flush();
       save();
