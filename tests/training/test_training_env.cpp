@@ -116,7 +116,9 @@ TEST(TrainingEnv, APqnReferenceBoundsNewtonsFromAboveAndApproachesIt) {
       EXPECT_GE(gap, -1e-9) << "id " << id << ", K = " << iterations;
       EXPECT_LT(gap, 1.0) << "id " << id << ", K = " << iterations;
       EXPECT_LE(gap, previous_gap + 1e-12) << "id " << id << ", K = " << iterations;
-      if (iterations == 3) EXPECT_GT(gap, 1e-4) << "id " << id << ": 3 pqn iterations are not Newton's step";
+      if (iterations == 3) {
+        EXPECT_GT(gap, 1e-4) << "id " << id << ": 3 pqn iterations are not Newton's step";
+      }
       previous_gap = gap;
     }
     EXPECT_LT(previous_gap, 0.05) << "id " << id << ": 40 pqn iterations land near Newton's step";

@@ -36,6 +36,23 @@ struct FNO2dOptions {
 // Throws fnopt::Error("FNO2d option <name>: <problem>") for the first invalid option.
 void validate(const FNO2dOptions& options);
 
+// Every option that shapes the model (not the spectral backend), in one list: what a weights file
+// stores (fno_io.hpp) and what two blended models must share (weight_blend.hpp).
+template <typename Options, typename Visit>
+void for_each_architecture_option(Options& o, Visit&& visit) {
+  visit("in_channels", o.in_channels());
+  visit("out_channels", o.out_channels());
+  visit("width", o.width());
+  visit("fourier_layers", o.fourier_layers());
+  visit("modes_x", o.modes_x());
+  visit("modes_y", o.modes_y());
+  visit("lifting_channels", o.lifting_channels());
+  visit("projection_channels", o.projection_channels());
+  visit("scale_head", o.scale_head());
+  visit("scale_head_layer", o.scale_head_layer());
+  visit("padding_fraction", o.padding_fraction());
+}
+
 struct FNO2dOutput {
   torch::Tensor field;  // [B, out_channels, R, C]
   torch::Tensor scale;  // [B, 1], undefined without a scale head

@@ -24,22 +24,6 @@ constexpr const char* kArchitecture = "fno2d";
 
 std::string first_line(const std::string& text) { return text.substr(0, text.find('\n')); }
 
-// Every option that shapes the model, in one list for writing and reading.
-template <typename Options, typename Visit>
-void for_each_stored_option(Options& o, Visit&& visit) {
-  visit("in_channels", o.in_channels());
-  visit("out_channels", o.out_channels());
-  visit("width", o.width());
-  visit("fourier_layers", o.fourier_layers());
-  visit("modes_x", o.modes_x());
-  visit("modes_y", o.modes_y());
-  visit("lifting_channels", o.lifting_channels());
-  visit("projection_channels", o.projection_channels());
-  visit("scale_head", o.scale_head());
-  visit("scale_head_layer", o.scale_head_layer());
-  visit("padding_fraction", o.padding_fraction());
-}
-
 // FNV-1a (64 bit) over every parameter's values, in the model's parameter order: stored with
 // the weights, so that a file whose bytes changed (a bad copy, a disk error) is refused rather
 // than run with other weights. LibTorch's zip reader does not check its own CRCs.
@@ -97,7 +81,7 @@ FNO2dOptions read_options(torch::serialize::InputArchive& archive, const std::st
   torch::serialize::InputArchive stored;
   if (!archive.try_read("options", stored)) fail(path, "FNO weights file without options");
   FNO2dOptions options;
-  for_each_stored_option(options, [&](const char* name, auto& field) {
+  for_each_architecture_option(options, [&](const char* name, auto& field) {
     using Field = std::decay_t<decltype(field)>;
     c10::IValue value;
     const bool found = stored.try_read(name, value);
@@ -180,8 +164,8 @@ void save_fno(const std::string& path, const FNO2d& model) {
   archive.write("version", c10::IValue(kFnoFileVersion));
   archive.write("architecture", c10::IValue(std::string(kArchitecture)));
   torch::serialize::OutputArchive options(archive.compilation_unit());
-  for_each_stored_option(model->options,
-                         [&](const char* name, const auto& field) { options.write(name, c10::IValue(field)); });
+  for_each_architecture_option(model->options,
+                               [&](const char* name, const auto& field) { options.write(name, c10::IValue(field)); });
   archive.write("options", options);
   torch::serialize::OutputArchive parameters(archive.compilation_unit());
   model->save(parameters);
