@@ -29,7 +29,9 @@ void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice) {
 }
 
 void add_method_setting_flags(CLI::App& command, OptimizerChoice& choice) {
-  command.add_option("--model", choice.model, "learned optimizer weights (default: the shipped models/fnopt-32.pt)");
+  command.add_option("--model", choice.model,
+                     "learned optimizer weights (default: models/fnopt-multires.pt for fnopt-ss, the 32^2-only "
+                     "models/fnopt-32.pt for the other learned methods)");
   command
       .add_option("--pqn-history", choice.pqn_history,
                   "pqn and fnopt-pqn: curvature pairs kept (0: plain -A^-1 g steps)")

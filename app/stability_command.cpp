@@ -108,7 +108,9 @@ const RegisterCommand kRegister([](CLI::App& app) {
                       "iterations per time step of one method: METHOD=N (repeatable; defaults fnopt 10, lbfgs and "
                       "lbfgs-ls 100, adam and gd 500; newton=N caps the reference's iterations, " +
                           newton_budget_text() + ")");
-  command->add_option("--model", flags->model, "learned optimizer weights (default: the shipped models/fnopt-32.pt)");
+  command->add_option("--model", flags->model,
+                      "learned optimizer weights (default: models/fnopt-multires.pt for fnopt-ss, the 32^2-only "
+                      "models/fnopt-32.pt for the other learned methods)");
   add_threads_flag(*command, flags->threads);
   command->add_flag("--resume", flags->resume,
                     "keep the rows already in DIR/stability.csv (same case, method, N) and run the rest");

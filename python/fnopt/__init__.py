@@ -23,6 +23,7 @@ from ._fnopt import (
     run_rollout,
     set_threads,
     shipped_model_path,
+    multires_model_path,
     threads,
 )
 
@@ -40,5 +41,6 @@ __all__ = [
     "run_rollout",
     "set_threads",
     "shipped_model_path",
+    "multires_model_path",
     "threads",
 ]

@@ -42,7 +42,9 @@ PYBIND11_MODULE(_fnopt, m) {
       "Sets the OpenMP and LibTorch thread count, as --threads does (0: $OMP_NUM_THREADS, else 1); returns it");
   m.def("threads", &thread_count, "The thread count in effect");
   m.def("optimizer_names", &fnopt::optimizer_names, "Every optimizer's name, as `fnopt --help` lists them");
-  m.def("shipped_model_path", &fnopt::shipped_model_path, "The trained model fnopt ships (the default model)");
+  m.def("shipped_model_path", &fnopt::shipped_model_path,
+        "The model trained at 32^2 only (the default of every learned method but fnopt-ss)");
+  m.def("multires_model_path", &fnopt::multires_model_path, "fnopt-ss's default model, trained on 32^2 to 100^2 grids");
   define_scene(m);
   define_step_problem(m);
   define_simulator(m);

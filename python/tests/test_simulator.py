@@ -136,6 +136,13 @@ def test_the_learned_optimizer_with_pqns_direction_runs_by_name_on_the_shipped_m
         fnopt.run_rollout(fnopt.Scene(res=8, frames=2), optimizer="fnopt-ss-pqm")
 
 
+def test_fnopt_ss_runs_the_multires_model_and_fnopt_ss_32_the_32_model():
+    for name, model in (("fnopt-ss", fnopt.multires_model_path()), ("fnopt-ss-32", fnopt.shipped_model_path())):
+        rollout = fnopt.run_rollout(fnopt.Scene(res=12, frames=2), optimizer=name, iters=3)
+        assert rollout.optimizer_settings.startswith(name + ": model=" + model), rollout.optimizer_settings
+        assert np.isfinite(rollout.positions).all()
+
+
 def test_newton_min_runs_by_name_and_says_it_leaves_saddles():
     rollout = fnopt.run_rollout(fnopt.Scene(res=8, frames=3), optimizer="newton-min")
     assert "escape_saddles=1" in rollout.optimizer_settings

@@ -16,9 +16,11 @@ TEST(Install, TheInstalledBinaryRunsFromElsewhereOnTheInstalledModel) {
   const CommandResult install = run_shell(std::string("'") + FNOPT_CMAKE + "' --install '" + FNOPT_BUILD_DIR +
                                           "' --prefix '" + prefix.string() + "'");
   ASSERT_EQ(install.status, 0) << install.output;
-  const fs::path model = prefix / "share" / "fnopt" / "models" / "fnopt-32.pt";
+  const fs::path models = prefix / "share" / "fnopt" / "models";
+  const fs::path model = models / "fnopt-multires.pt";  // fnopt-ss's default
   ASSERT_TRUE(fs::exists(prefix / "bin" / "fnopt"));
   ASSERT_TRUE(fs::exists(model));
+  ASSERT_TRUE(fs::exists(models / "fnopt-32.pt"));
   const fs::path elsewhere = prefix / "elsewhere";
   fs::create_directories(elsewhere);
   const CommandResult run =

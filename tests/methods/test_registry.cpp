@@ -61,7 +61,7 @@ TEST(Registry, TableHoldsEveryMethodOnceAndTheHelpTextNamesTheInterpolation) {
   const std::vector<std::string> names = table_names();
   EXPECT_EQ(names,
             (std::vector<std::string>{"pqn", "newton", "newton-min", "implicit-euler", "fnopt", "fnopt-ls", "fnopt-ss",
-                                      "fnopt-ss-pqn", "fnopt-pqn", "gd", "adam", "lbfgs", "lbfgs-ls"}));
+                                      "fnopt-ss-32", "fnopt-ss-pqn", "fnopt-pqn", "gd", "adam", "lbfgs", "lbfgs-ls"}));
   EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
   EXPECT_NE(optimizer_names().find("METHOD-interpK"), std::string::npos);
   EXPECT_EQ(OptimizerChoice{}.name, "pqn");  // the default method is in the table
@@ -84,11 +84,34 @@ TEST(Registry, LearnedMethodsDefaultToTheShippedModel) {
   ASSERT_TRUE(std::filesystem::exists(shipped)) << shipped;
   EXPECT_EQ(shipped.filename(), "fnopt-32.pt");
   EXPECT_EQ(std::filesystem::file_size(shipped), std::filesystem::file_size(shipped_model()));
-  for (const std::string name : {"fnopt", "fnopt-ss", "fnopt-ss-pqn", "fnopt-pqn"}) {
+  for (const std::string name : {"fnopt", "fnopt-ss-32", "fnopt-ss-pqn", "fnopt-pqn"}) {
     OptimizerChoice c;
-    c.name = name;  // no model: the shipped one
-    EXPECT_EQ(c.make()->name(), name);
+    c.name = name;  // no model: the 32^2 one
+    const auto optimizer = c.make();
+    EXPECT_EQ(optimizer->name(), name);
+    EXPECT_NE(optimizer->settings().find("model=" + shipped.string()), std::string::npos) << optimizer->settings();
   }
+}
+
+TEST(Registry, FnoptSsDefaultsToTheMultiResolutionModelAndModelOverridesIt) {
+  const std::filesystem::path multires = multires_model_path();
+  ASSERT_TRUE(std::filesystem::exists(multires)) << multires;
+  EXPECT_EQ(multires.filename(), "fnopt-multires.pt");
+  OptimizerChoice c;
+  c.name = "fnopt-ss";  // no model: the multi-resolution one
+  EXPECT_NE(c.make()->settings().find("model=" + multires.string()), std::string::npos) << c.make()->settings();
+  c.model = shipped_model();
+  const auto chosen = c.make();
+  EXPECT_EQ(chosen->name(), "fnopt-ss");
+  EXPECT_NE(chosen->settings().find("model=" + shipped_model()), std::string::npos) << chosen->settings();
+  // fnopt-ss-32 is the same rule: with one model the two report the same settings but their names.
+  OptimizerChoice zero_shot = choice("fnopt-ss-32");
+  zero_shot.model = shipped_model();
+  const std::string ss = chosen->settings(), ss32 = zero_shot.make()->settings();
+  EXPECT_EQ(ss.substr(ss.find(':')), ss32.substr(ss32.find(':')));
+}
+
+TEST(Registry, AMissingModelIsAnError) {
   OptimizerChoice missing = choice("fnopt");
   missing.model = std::string(FNOPT_SOURCE_DIR) + "/models/no-such-model.pt";
   EXPECT_ANY_THROW(missing.make());

@@ -4,8 +4,10 @@
 
 namespace fnopt {
 
-LearnedOptimizer::LearnedOptimizer(const std::string& model_path, LearnedParams params)
-    : LearnedOptimizer(load_learned_model(model_path), model_path, params) {}
+LearnedOptimizer::LearnedOptimizer(const std::string& model_path, LearnedParams params, std::string method_name)
+    : LearnedOptimizer(load_learned_model(model_path), model_path, params) {
+  method_name_ = std::move(method_name);
+}
 
 LearnedOptimizer::LearnedOptimizer(FNO2d model, std::string model_name, LearnedParams params)
     : model_(std::move(model)), model_name_(std::move(model_name)), rule_(with_model_inputs(params, model_)) {
@@ -19,6 +21,7 @@ LearnedParams LearnedOptimizer::with_model_inputs(LearnedParams params, const FN
 }
 
 std::string LearnedOptimizer::name() const {
+  if (!method_name_.empty()) return method_name_;
   const LearnedParams& p = rule_.params();
   if (p.subspace > 0) return p.pqn_direction ? "fnopt-ss-pqn" : "fnopt-ss";
   return p.line_search ? "fnopt-ls" : "fnopt";

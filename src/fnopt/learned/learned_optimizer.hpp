@@ -22,7 +22,9 @@ namespace fnopt {
 class LearnedOptimizer final : public InnerOptimizer {
  public:
   // Loads the model file (Error naming the file if it is missing or not a learned optimizer).
-  explicit LearnedOptimizer(const std::string& model_path, LearnedParams params = {});
+  // `method_name`, if given, is the name it reports instead of its rule's (a registry name such
+  // as fnopt-ss-32, the same rule on another default model).
+  explicit LearnedOptimizer(const std::string& model_path, LearnedParams params = {}, std::string method_name = {});
   LearnedOptimizer(FNO2d model, std::string model_name, LearnedParams params = {});
 
   std::string name() const override;
@@ -44,6 +46,7 @@ class LearnedOptimizer final : public InnerOptimizer {
 
   FNO2d model_;
   std::string model_name_;
+  std::string method_name_;  // empty: the rule's name
   ProposalRule rule_;
   LearnedState state_;
   VecX previous_start_;  // x_t of the previous step (subspace only)

@@ -36,8 +36,8 @@ struct OptimizerEntry {
 constexpr MethodTraits kBudgeted{BudgetKind::Iterations, false, false, 1.0, 100};
 constexpr MethodTraits kLearned{BudgetKind::Iterations, false, false, 10.0, 10, true};
 
-// The learned optimizer on --model (default: the shipped model): plain, with the secant step
-// along its updates, or with the subspace step (and pqn's direction in it).
+// The learned optimizer on --model (default: the 32^2 model): plain, with the secant step along its
+// updates, or with the subspace step (and pqn's direction in it).
 std::unique_ptr<InnerOptimizer> make_learned(const OptimizerChoice& c, bool line_search, int subspace = 0,
                                              bool pqn_direction = false) {
   LearnedParams params;
@@ -45,6 +45,14 @@ std::unique_ptr<InnerOptimizer> make_learned(const OptimizerChoice& c, bool line
   params.subspace = subspace;
   params.pqn_direction = pqn_direction;
   return std::make_unique<LearnedOptimizer>(c.model.empty() ? shipped_model_path() : c.model, params);
+}
+
+// fnopt-ss on --model, by default `default_model`, reporting `name`.
+std::unique_ptr<InnerOptimizer> make_fnopt_ss(const OptimizerChoice& c, const std::string& default_model,
+                                              const std::string& name) {
+  LearnedParams params;
+  params.subspace = kFnoptSubspace;
+  return std::make_unique<LearnedOptimizer>(c.model.empty() ? default_model : c.model, params, name);
 }
 
 // pqn's settings from --pqn-history and --pqn-matrix (pqn and fnopt-pqn), validated under the
@@ -80,7 +88,9 @@ const std::vector<OptimizerEntry>& optimizer_table() {
       {"fnopt", kLearned, [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false); }},
       {"fnopt-ls", kLearned, [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/true); }},
       {"fnopt-ss", kLearned,
-       [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false, kFnoptSubspace); }},
+       [](const OptimizerChoice& c) { return make_fnopt_ss(c, multires_model_path(), "fnopt-ss"); }},
+      {"fnopt-ss-32", kLearned,
+       [](const OptimizerChoice& c) { return make_fnopt_ss(c, shipped_model_path(), "fnopt-ss-32"); }},
       {"fnopt-ss-pqn", kLearned,
        [](const OptimizerChoice& c) {
          return make_learned(c, /*line_search=*/false, kFnoptSubspace, /*pqn_direction=*/true);
@@ -225,5 +235,9 @@ InnerSolveOptions OptimizerChoice::solve_options() const {
 }
 
 std::string shipped_model_path() { return installed_data_path("models/fnopt-32.pt", "models/fnopt-32.pt"); }
+
+std::string multires_model_path() {
+  return installed_data_path("models/fnopt-multires.pt", "models/fnopt-multires.pt");
+}
 
 }  // namespace fnopt

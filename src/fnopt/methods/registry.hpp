@@ -63,7 +63,11 @@ struct OptimizerChoice {
 std::string optimizer_names();  // "newton" ... for help texts
 // The method whose traits say it is the reference (newton): every error is measured against it.
 std::string reference_method();
-// The trained model shipped in the repository (models/fnopt-32.pt), the default of --model.
+// The model trained at 32^2 only (models/fnopt-32.pt): the zero-shot super-resolution study's, and the
+// default of --model for every learned method but fnopt-ss.
 std::string shipped_model_path();
+// fnopt-ss's default model (models/fnopt-multires.pt): the 32^2 model blended with its continuation on a
+// pool of 32^2, 64^2 and 100^2 grids (docs/training.md, "The multi-resolution model").
+std::string multires_model_path();
 
 }  // namespace fnopt

@@ -99,8 +99,9 @@ void write_superres_section(MarkdownReport& md, const CompareReport& report, con
   if (!columns.empty()) {
     md.heading("Zero-shot super-resolution");
     md.paragraph(
-        "The learned optimizer's model is trained on coarse grids (the shipped one at 32x32 only). Super-evaluation "
-        "(each learned method: `fnopt`, `fnopt-ss`, `fnopt-ss-pqn`, ...) runs it unchanged on each grid. "
+        "The learned optimizer's models are trained on coarse grids: `fnopt-ss-32`, `fnopt-ss-pqn` and the other "
+        "learned methods run the one trained at 32x32 only, `fnopt-ss` the one trained on 32x32 to 100x100 grids "
+        "(unless --model sets one for all). Super-evaluation runs each model unchanged on each grid. "
         "The ablation (`METHOD-interpK`) instead restricts the state (x_t, v_t) bilinearly to the grid with K "
         "vertices along the longer edge, solves the step there with METHOD (same budget N), and prolongs the "
         "acceleration bilinearly; handles keep their prescribed motion. Both are measured against the Newton "
