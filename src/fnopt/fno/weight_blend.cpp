@@ -31,7 +31,7 @@ FNO2d blend_fno(const FNO2d& a, const FNO2d& b, double t) {
   torch::NoGradGuard no_grad;
   const auto from_a = a->parameters(), from_b = b->parameters();
   auto to = blend->parameters();
-  for (std::size_t i = 0; i < to.size(); ++i) to[i].copy_((1.0 - t) * from_a[i] + t * from_b[i]);
+  for (std::size_t i = 0; i < to.size(); ++i) to[i].copy_(from_a[i]).mul_(1.0 - t).add_(from_b[i], t);
   return blend;
 }
 
