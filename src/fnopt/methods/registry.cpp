@@ -36,22 +36,17 @@ struct OptimizerEntry {
 constexpr MethodTraits kBudgeted{BudgetKind::Iterations, false, false, 1.0, 100};
 constexpr MethodTraits kLearned{BudgetKind::Iterations, false, false, 10.0, 10, true};
 
-// The learned optimizer on --model (default: the 32^2 model): plain, with the secant step along its
-// updates, or with the subspace step (and pqn's direction in it).
+// The learned optimizer on --model (default: `default_model`, the 32^2 model unless said): plain, with the
+// secant step along its updates, or with the subspace step (and pqn's direction in it); `name`, if given,
+// replaces the rule's name (a registry name for the same rule on another default model).
 std::unique_ptr<InnerOptimizer> make_learned(const OptimizerChoice& c, bool line_search, int subspace = 0,
-                                             bool pqn_direction = false) {
+                                             bool pqn_direction = false,
+                                             const std::string& default_model = shipped_model_path(),
+                                             const std::string& name = {}) {
   LearnedParams params;
   params.line_search = line_search;
   params.subspace = subspace;
   params.pqn_direction = pqn_direction;
-  return std::make_unique<LearnedOptimizer>(c.model.empty() ? shipped_model_path() : c.model, params);
-}
-
-// fnopt-ss on --model, by default `default_model`, reporting `name`.
-std::unique_ptr<InnerOptimizer> make_fnopt_ss(const OptimizerChoice& c, const std::string& default_model,
-                                              const std::string& name) {
-  LearnedParams params;
-  params.subspace = kFnoptSubspace;
   return std::make_unique<LearnedOptimizer>(c.model.empty() ? default_model : c.model, params, name);
 }
 
@@ -88,9 +83,14 @@ const std::vector<OptimizerEntry>& optimizer_table() {
       {"fnopt", kLearned, [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false); }},
       {"fnopt-ls", kLearned, [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/true); }},
       {"fnopt-ss", kLearned,
-       [](const OptimizerChoice& c) { return make_fnopt_ss(c, multires_model_path(), "fnopt-ss"); }},
+       [](const OptimizerChoice& c) {
+         return make_learned(c, /*line_search=*/false, kFnoptSubspace, /*pqn_direction=*/false, multires_model_path());
+       }},
       {"fnopt-ss-32", kLearned,
-       [](const OptimizerChoice& c) { return make_fnopt_ss(c, shipped_model_path(), "fnopt-ss-32"); }},
+       [](const OptimizerChoice& c) {
+         return make_learned(c, /*line_search=*/false, kFnoptSubspace, /*pqn_direction=*/false, shipped_model_path(),
+                             "fnopt-ss-32");
+       }},
       {"fnopt-ss-pqn", kLearned,
        [](const OptimizerChoice& c) {
          return make_learned(c, /*line_search=*/false, kFnoptSubspace, /*pqn_direction=*/true);

@@ -181,13 +181,15 @@ ValidationScore RolloutValidation::score(const FNO2d& model) const {
     }
   }
   if (s.diverged) return s;
-  double log_sum = 0.0;
-  for (double sum : e3d_sums) {
-    s.grid_e3d.push_back(1e2 * sum / static_cast<double>(per_grid));
-    log_sum += std::log(s.grid_e3d.back());
-  }
+  for (double sum : e3d_sums) s.grid_e3d.push_back(1e2 * sum / static_cast<double>(per_grid));
   // One grid's score is its mean itself, to the bit, as in logs written before several grids could be validated.
-  s.e3d = s.grid_e3d.size() == 1 ? s.grid_e3d[0] : std::exp(log_sum / static_cast<double>(e3d_sums.size()));
+  if (s.grid_e3d.size() == 1) {
+    s.e3d = s.grid_e3d[0];
+    return s;
+  }
+  double log_sum = 0.0;
+  for (double e3d : s.grid_e3d) log_sum += std::log(e3d);
+  s.e3d = std::exp(log_sum / static_cast<double>(s.grid_e3d.size()));
   return s;
 }
 
