@@ -18,6 +18,7 @@
 #include <fnopt/util/progress_bar.hpp>
 #include "app/commands.hpp"
 #include "app/threads.hpp"
+#include "app/validation_flags.hpp"
 
 namespace fnopt::app {
 namespace {
@@ -254,33 +255,14 @@ const RegisterCommand kRegister([](CLI::App& app) {
               "a scene of the 32^2 table: validate there off the corners (e.g. --validate-handles diagonal)")
           ->delimiter(',')
           ->each([flags](const std::string&) { flags->validate = true; });
-  // The validation's settings: each shows its default and needs --validate-res.
-  auto validation_option = [&](const std::string& name, auto& value, const std::string& help) {
-    return command->add_option(name, value, help)->capture_default_str()->needs(validate_res);
-  };
-  validation_option("--validate-every", flags->validate_every, "steps between validations");
-  validation_option("--validate-frames", flags->validation.frames, "time steps of the validation rollout");
-  command
-      ->add_option("--validate-motions", flags->validation.motions,
-                   "motions of the validation scenes, comma-separated (default xyz_v4,rot_h1: not xy_v2, rot_h0 or "
-                   "xyz_v3, the test scenes of the 64^2 and 100^2 tables in docs/results.md); the score is the mean "
-                   "e_3D over every motion with every --validate-handles preset")
-      ->delimiter(',')
+  command->add_option("--validate-every", flags->validate_every, "steps between validations")
+      ->capture_default_str()
       ->needs(validate_res);
-  command
-      ->add_option("--validate-handles", flags->validation.handles,
-                   "handle presets of the validation scenes, comma-separated (default corner; e.g. "
-                   "corner,diagonal,single-center to validate off the corners too)")
-      ->delimiter(',')
-      ->needs(validate_res);
+  add_validation_scene_flags(*command, flags->validation, "validate-", validate_res);
   command
       ->add_flag("--keep-validated", flags->keep_validated,
                  "also keep every validated model as OUT/validated/model-STEP.pt (to compare them later)")
       ->needs(validate_res);
-  validation_option("--validate-iters", flags->validation.iterations, "iterations per validation step");
-  validation_option("--validate-subspace", flags->validation.subspace,
-                    "proposals the validation's subspace step keeps (fnopt-ss); 0 validates with fnopt-ls, as the "
-                    "validations before fnopt-ss did");
   command->callback([flags] { run_train(*flags); });
 });
 

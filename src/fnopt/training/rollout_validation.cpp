@@ -154,7 +154,7 @@ std::string ValidationOptions::optimizer() const {
   return pqn_direction ? rule + "-pqn" : rule;
 }
 
-ValidationScore RolloutValidation::score(const FNO2d& model) const {
+ValidationScore RolloutValidation::score(const FNO2d& model, const StepCallback& on_step) const {
   LearnedParams params;
   params.line_search = options_.subspace == 0;
   params.subspace = options_.subspace;
@@ -171,7 +171,11 @@ ValidationScore RolloutValidation::score(const FNO2d& model) const {
   for (std::size_t i = 0; i < scenes_.size(); ++i) {
     // One optimizer per rollout: its step scale carries across steps, not across scenes.
     LearnedOptimizer optimizer(weights, "training snapshot", params);
-    const RolloutResult rollout = run_rollout(resolved_[i], optimizer, rollout_options);
+    const int done_before = static_cast<int>(i) * options_.frames;
+    auto progress = [&](int done, int, const StepRecord& record) {
+      if (on_step) on_step(done_before + done, static_cast<int>(scenes_.size()) * options_.frames, record);
+    };
+    const RolloutResult rollout = run_rollout(resolved_[i], optimizer, rollout_options, progress);
     s.max_strain = std::max(s.max_strain, rollout.max_strain());
     if (rollout.diverged) {
       s.diverged = true;

@@ -76,8 +76,9 @@ class RolloutValidation {
   // "100x100" and "32x32+100x100", for messages.
   static std::string grid_set_text(const ValidationOptions& options, bool squares = false);
 
-  // Scores a snapshot of `model` (its parameters are copied; the model is not touched).
-  ValidationScore score(const FNO2d& model) const;
+  // Scores a snapshot of `model` (its parameters are copied; the model is not touched), reporting each step to
+  // `on_step`, counted over all the scenes.
+  ValidationScore score(const FNO2d& model, const StepCallback& on_step = {}) const;
 
   const std::vector<Scene>& scenes() const { return scenes_; }
   int references_solved() const { return references_solved_; }  // by the constructor
