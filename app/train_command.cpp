@@ -32,7 +32,8 @@ struct TrainFlags {
   bool resume = false;
   int64_t width = 32, layers = 4, modes = 8, lifting = 64, projection = 32;
   bool combined = false;
-  bool pqn_input = false;  // the model reads pqn's direction (learned_update.hpp)
+  bool pqn_input = false;        // the model reads pqn's direction (learned_update.hpp)
+  bool grid_size_input = false;  // the model reads the grid's size (learned_update.hpp)
   ValidationOptions validation;
   bool validate = false;  // --validate-res given
   int validate_every = 500;
@@ -70,9 +71,11 @@ void run_train(TrainFlags& flags) {
         .in_channels(given.in_channels())
         .out_channels(given.out_channels());
   }
-  // --pqn-input widens the shape (the --init model too: MetaTrainer widens its weights alike).
+  // --pqn-input and --grid-size-input widen the shape (the --init model too: MetaTrainer widens its weights alike).
   if (flags.pqn_input && !takes_pqn_direction(flags.options.model))
     flags.options.model = pqn_direction_input_options(flags.options.model);
+  if (flags.grid_size_input && !takes_grid_size(flags.options.model))
+    flags.options.model = grid_size_input_options(flags.options.model);
   require(!flags.validate || flags.options.objective == TrainObjective::Energy, "validate-res",
           "validates fnopt-ss rollouts, not a probe (--objective probe): compare fnopt-pqn with --model instead");
   for (const std::string& text : flags.ranges) {
@@ -222,6 +225,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
                     "the model also reads pqn's direction -A^-1 g as an input field (4 inputs, or 12 with "
                     "--combined), which holds the grid's stiffness; with --init, the file's model is widened with "
                     "zero weights for it, so training starts from what that model proposes");
+  command->add_flag("--grid-size-input", flags->grid_size_input,
+                    "the model also reads the grid's size as two constant input fields, log2((R - 1)/31) and "
+                    "log2((C - 1)/31), so that one model can act differently on coarse and fine grids (train with "
+                    "several --res); with --init, the file's model is widened with zero weights for them");
   command
       ->add_option("--reference-pqn-iters", o.pool.reference_pqn_iterations,
                    "the reference L* each time step's loss is measured against: 0, Newton's converged step (the "

@@ -222,7 +222,7 @@ TEST(TrainCli, APqnInputModelIsWidenedFromItsInitialModelAndRunsAsFnoptSs) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find(" pqn_input "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("the model reads pqn's direction -A^-1 g as an input field"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("model.pt (widened: the new input's weights zero)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("model.pt (widened: the new inputs' weights zero)"), std::string::npos) << r.output;
   const CommandResult sim = run_fnopt("simulate --res 12 --frames 3 --optimizer fnopt-ss --threads 1 --model " +
                                       (widened / "model.pt").string() + " --out " + (tmp.path() / "sim.h5").string());
   ASSERT_EQ(sim.status, 0) << sim.output;
@@ -230,6 +230,24 @@ TEST(TrainCli, APqnInputModelIsWidenedFromItsInitialModelAndRunsAsFnoptSs) {
                                       (widened / "model.pt").string() + " --out " + (tmp.path() / "pqn.h5").string());
   EXPECT_NE(pqn.status, 0);
   EXPECT_NE(pqn.output.find("reads pqn's direction as an input"), std::string::npos) << pqn.output;
+}
+
+// --grid-size-input: the --init model widened with the grid's size fields, trained on two grids; the
+// run's model runs as fnopt-ss on a third.
+TEST(TrainCli, AGridSizeInputModelIsWidenedFromItsInitialModelAndRunsOnAnyGrid) {
+  const fnopt::testing::TempDir tmp;
+  const auto first = tmp.path() / "first", widened = tmp.path() / "widened";
+  ASSERT_EQ(run_fnopt("train --out " + first.string() + " --steps 2" + kTinyModel).status, 0);
+  const CommandResult r =
+      run_fnopt("train --out " + widened.string() + " --steps 4 --grid-size-input --init " +
+                (first / "model.pt").string() + " --res 8,12 --envs 4 --batch 2 --threads 1 --checkpoint-every 10");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find(" grid_size_input "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("the model reads the grid's size"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("model.pt (widened: the new inputs' weights zero)"), std::string::npos) << r.output;
+  const CommandResult sim = run_fnopt("simulate --res 10 --frames 3 --optimizer fnopt-ss --threads 1 --model " +
+                                      (widened / "model.pt").string() + " --out " + (tmp.path() / "sim.h5").string());
+  EXPECT_EQ(sim.status, 0) << sim.output;
 }
 
 TEST(TrainCli, TheProbeObjectiveStartsFromAModelAndLogsPqnAlone) {

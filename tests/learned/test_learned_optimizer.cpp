@@ -2,6 +2,7 @@
 // model files, and the shipped model lowers the energy of a real step.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <tuple>
 
@@ -286,14 +287,69 @@ TEST(LearnedOptimizer, ALearnedStepNeedsPqnsDirectionExactlyWhenTheModelReadsIt)
   EXPECT_EQ(learned_step(combined, g1, LearnedState{}, mask, g1).delta.sizes(), g1.sizes());
 }
 
+// The shipped model widened to read the grid's size proposes what it did; with those weights moved it
+// still does at 32^2, where the size fields are zero, and no longer at 20^2. Widened for pqn's
+// direction too (6 inputs: pqn's field goes before the size fields), it still proposes what it did.
+TEST(LearnedOptimizer, AModelThatReadsTheGridSizeStartsAsTheModelItWidens) {
+  const FNO2d shipped = load_learned_model(std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt");
+  FNO2d widened = with_grid_size_input(shipped);
+  EXPECT_TRUE(takes_grid_size(widened->options));
+  EXPECT_FALSE(takes_pqn_direction(widened->options));
+  EXPECT_EQ(widened->options.in_channels(), 5);
+  EXPECT_THROW(with_grid_size_input(widened), Error);
+  const FNO2d both = with_pqn_direction_input(widened);
+  EXPECT_TRUE(takes_grid_size(both->options) && takes_pqn_direction(both->options));
+  LearnedParams params;
+  params.subspace = kFnoptSubspace;
+  auto solve = [&](const FNO2d& model, int n, std::string* settings = nullptr) {
+    Step step(n, n);
+    LearnedOptimizer optimizer(model, "model", params);
+    if (settings) *settings = optimizer.settings();
+    solve_step(optimizer, step.problem, step.a, {10, 0.0});
+    return VecX(step.a);
+  };
+  std::string settings;
+  const VecX shipped_32 = solve(shipped, 32), shipped_20 = solve(shipped, 20);
+  EXPECT_LT((solve(widened, 32, &settings) - shipped_32).norm(), 1e-5 * shipped_32.norm());
+  EXPECT_NE(settings.find(" grid_size_input"), std::string::npos) << settings;
+  EXPECT_LT((solve(widened, 20) - shipped_20).norm(), 1e-5 * shipped_20.norm());
+  EXPECT_LT((solve(both, 20) - shipped_20).norm(), 1e-5 * shipped_20.norm());
+  {
+    torch::NoGradGuard no_grad;
+    torch::manual_seed(5);
+    for (auto& p : widened->named_parameters())
+      if (p.key() == "lift_in.weight") p.value().narrow(1, 3, 2).normal_(0.0, 1.0);
+  }
+  EXPECT_LT((solve(widened, 32) - shipped_32).norm(), 1e-5 * shipped_32.norm());
+  EXPECT_GT((solve(widened, 20) - shipped_20).norm(), 1e-3 * shipped_20.norm()) << "the size fields are not read";
+}
+
+// The size fields are log2((n - 1)/31) of the rows and of the columns, constant, after the other inputs, in
+// either layout.
+TEST(LearnedOptimizer, TheGridSizeFieldsAreTheLogOfTheCellCountsOver31) {
+  const torch::Tensor g = torch::randn({3, 1, 9, 17}), mask = torch::ones({1, 1, 9, 17});
+  const torch::Tensor inputs = learned_inputs(g, LearnedState{}, {}, true);
+  ASSERT_EQ(inputs.size(1), 5);
+  EXPECT_TRUE(torch::allclose(inputs.narrow(1, 3, 1), torch::full({3, 1, 9, 17}, std::log2(8.0 / 31.0))));
+  EXPECT_TRUE(torch::allclose(inputs.narrow(1, 4, 1), torch::full({3, 1, 9, 17}, std::log2(16.0 / 31.0))));
+  EXPECT_TRUE(torch::equal(inputs.narrow(1, 0, 3), learned_inputs(g, LearnedState{})));
+  FNO2d combined = with_grid_size_input(tiny_model(true));
+  EXPECT_EQ(combined->options.in_channels(), 11);
+  EXPECT_EQ(with_pqn_direction_input(combined)->options.in_channels(), 14);
+  const torch::Tensor g1 = g.view({1, 3, 9, 17});
+  EXPECT_EQ(learned_step(combined, g1, LearnedState{}, mask).delta.sizes(), g1.sizes());
+  FNO2d per_coordinate = with_grid_size_input(tiny_model());
+  EXPECT_EQ(learned_step(per_coordinate, g, LearnedState{}, mask).delta.sizes(), g.sizes());
+}
+
 TEST(LearnedOptimizer, RejectsMissingAndIncompatibleModelFiles) {
   EXPECT_THROW(LearnedOptimizer("/nonexistent/model.pt"), Error);
   const auto path = (std::filesystem::temp_directory_path() / "fnopt_test_wrong_model.pt").string();
   save_fno(path,
-           FNO2d(FNO2dOptions().in_channels(5).width(4).fourier_layers(2).lifting_channels(4).projection_channels(4)));
+           FNO2d(FNO2dOptions().in_channels(7).width(4).fourier_layers(2).lifting_channels(4).projection_channels(4)));
   try {
     LearnedOptimizer optimizer(path);
-    FAIL() << "a 5-channel FNO was accepted";
+    FAIL() << "a 7-channel FNO was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("not a learned-optimizer model"), std::string::npos) << e.what();
   }

@@ -33,8 +33,8 @@ std::string LearnedOptimizer::settings() const {
   return name() + ": model=" + model_name_ + " width=" + std::to_string(o.width()) +
          " layers=" + std::to_string(o.fourier_layers()) + " modes=" + std::to_string(o.modes_x()) + "x" +
          std::to_string(o.modes_y()) + (samples_per_environment(o) == 1 ? " combined" : "") +
-         (takes_pqn_direction(o) ? " pqn_input" : "") + " safeguard=" + (p.safeguard ? "on" : "off") +
-         " line_search=" + (p.line_search ? "on" : "off") +
+         (takes_pqn_direction(o) ? " pqn_input" : "") + (takes_grid_size(o) ? " grid_size_input" : "") +
+         " safeguard=" + (p.safeguard ? "on" : "off") + " line_search=" + (p.line_search ? "on" : "off") +
          (p.subspace > 0 ? " subspace=" + std::to_string(p.subspace) + (p.carry_subspace ? " carried" : "") +
                                (p.pqn_direction ? " pqn_direction=isotropic" : "")
                          : "");

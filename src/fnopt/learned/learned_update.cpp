@@ -1,5 +1,9 @@
 #include <fnopt/learned/learned_update.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include <fnopt/fno/fno_io.hpp>
 #include <fnopt/util/error.hpp>
 
@@ -12,13 +16,52 @@ torch::Tensor soft_normalize(const torch::Tensor& x) {
   return 10.0 * torch::tanh(x / (10.0 * sigma));
 }
 
+// The input fields besides the gradient and the state: pqn's direction (one per coordinate) and
+// the grid's size (two per sample), recognised by the count of inputs (learned_update.hpp).
+struct ExtraInputs {
+  bool valid = false, pqn_direction = false, grid_size = false;
+};
+
+ExtraInputs extra_inputs(const FNO2dOptions& options) {
+  const int64_t in = options.in_channels();
+  const bool combined = in >= 9;
+  const int64_t extra = in - (combined ? 9 : 3), per_coordinate = combined ? 3 : 1;
+  ExtraInputs e;
+  for (const bool pqn : {false, true})
+    for (const bool grid : {false, true})
+      if (extra == (pqn ? per_coordinate : 0) + (grid ? 2 : 0)) e = {true, pqn, grid};
+  return e;
+}
+
+// `model` with `count` more inputs at `at` (the new options), their lifting weights zero: it proposes what `model`
+// does.
+FNO2d with_inserted_inputs(const FNO2d& model, const FNO2dOptions& options, int64_t at, int64_t count) {
+  const int64_t old_inputs = model->options.in_channels();
+  FNO2d widened(options);
+  torch::NoGradGuard no_grad;
+  const auto from = model->named_parameters();
+  for (auto& p : widened->named_parameters()) {
+    const torch::Tensor& source = from[p.key()];
+    if (source.sizes() == p.value().sizes()) {
+      p.value().copy_(source);
+      continue;
+    }
+    // The lifting layer's weight [lifting, in + 2]: the old inputs before `at`, the new ones
+    // (zero), the old ones after, then the FNO's two grid channels (fno2d.hpp).
+    p.value().zero_();
+    p.value().narrow(1, 0, at).copy_(source.narrow(1, 0, at));
+    p.value().narrow(1, at + count, old_inputs - at + 2).copy_(source.narrow(1, at, old_inputs - at + 2));
+  }
+  return widened;
+}
+
 }  // namespace
 
 int samples_per_environment(const FNO2dOptions& options) { return options.in_channels() >= 9 ? 1 : 3; }
 
-bool takes_pqn_direction(const FNO2dOptions& options) {
-  return options.in_channels() == 4 || options.in_channels() == 12;
-}
+bool takes_pqn_direction(const FNO2dOptions& options) { return extra_inputs(options).pqn_direction; }
+
+bool takes_grid_size(const FNO2dOptions& options) { return extra_inputs(options).grid_size; }
 
 torch::Tensor to_model_layout(const torch::Tensor& coordinate_samples, int samples_per_environment) {
   if (samples_per_environment == 3) return coordinate_samples;
@@ -30,14 +73,24 @@ torch::Tensor to_coordinate_layout(const torch::Tensor& model_samples) {
 }
 
 torch::Tensor learned_inputs(const torch::Tensor& gradient, const LearnedState& state,
-                             const torch::Tensor& pqn_direction) {
+                             const torch::Tensor& pqn_direction, bool grid_size) {
   const auto sigma_g = gradient.pow(2).mean({1, 2, 3}, true).sqrt().clamp_min(1e-30);
   const auto g_hat = 10.0 * torch::tanh(gradient / (10.0 * sigma_g));
   const auto g_prev =
       state.gradient.defined() ? 10.0 * torch::tanh(state.gradient / (10.0 * sigma_g)) : torch::zeros_like(gradient);
   const auto d_prev = state.delta.defined() ? soft_normalize(state.delta) : torch::zeros_like(gradient);
-  if (!pqn_direction.defined()) return torch::cat({g_hat, g_prev, d_prev}, 1).detach();
-  return torch::cat({g_hat, g_prev, d_prev, soft_normalize(pqn_direction)}, 1).detach();
+  std::vector<torch::Tensor> fields = {g_hat, g_prev, d_prev};
+  if (pqn_direction.defined()) fields.push_back(soft_normalize(pqn_direction));
+  if (grid_size) {
+    const int64_t samples = gradient.size(0), rows = gradient.size(2), cols = gradient.size(3);
+    auto size_field = [&](int64_t n) {
+      return torch::full({samples, 1, rows, cols},
+                         std::log2((static_cast<double>(std::max<int64_t>(n, 2)) - 1.0) / 31.0), gradient.options());
+    };
+    fields.push_back(size_field(rows));
+    fields.push_back(size_field(cols));
+  }
+  return torch::cat(fields, 1).detach();
 }
 
 LearnedStep learned_step(FNO2d& model, const torch::Tensor& gradient, const LearnedState& state,
@@ -45,7 +98,8 @@ LearnedStep learned_step(FNO2d& model, const torch::Tensor& gradient, const Lear
   require(takes_pqn_direction(model->options) == pqn_direction.defined(), "learned model",
           takes_pqn_direction(model->options) ? "takes pqn's direction as an input, and none was given"
                                               : "does not take pqn's direction as an input");
-  const FNO2dOutput out = model->forward(learned_inputs(gradient, state, pqn_direction));
+  const FNO2dOutput out =
+      model->forward(learned_inputs(gradient, state, pqn_direction, takes_grid_size(model->options)));
   const auto previous_scale = state.scale.defined()
                                   ? state.scale
                                   : torch::full({gradient.size(0), 1, 1, 1}, kInitialStepScale, gradient.options());
@@ -57,12 +111,11 @@ LearnedStep learned_step(FNO2d& model, const torch::Tensor& gradient, const Lear
 }
 
 void check_learned_model(const FNO2dOptions& options, const std::string& path) {
-  const auto in = options.in_channels();
-  const bool per_coordinate = (in == 3 || in == 4) && options.out_channels() == 1;
-  const bool combined = (in == 9 || in == 12) && options.out_channels() == 3;
-  require((per_coordinate || combined) && options.scale_head(), path,
-          "not a learned-optimizer model (needs an FNO with 3 or 4 input channels and 1 output channel, or 9 or 12 "
-          "and 3, and a scale head; this one has " +
+  const bool combined = options.in_channels() >= 9;
+  const bool outputs = options.out_channels() == (combined ? 3 : 1);
+  require(extra_inputs(options).valid && outputs && options.scale_head(), path,
+          "not a learned-optimizer model (needs an FNO with 3 to 6 input channels and 1 output channel, or 9, 11, "
+          "12 or 14 and 3, and a scale head; this one has " +
               std::to_string(options.in_channels()) + " in, " + std::to_string(options.out_channels()) + " out" +
               (options.scale_head() ? "" : ", no scale head") + ")");
 }
@@ -74,25 +127,21 @@ FNO2dOptions pqn_direction_input_options(FNO2dOptions options) {
 }
 
 FNO2d with_pqn_direction_input(const FNO2d& model) {
+  // pqn's direction comes after the gradient and the state, before the grid's size fields.
   const FNO2dOptions options = pqn_direction_input_options(model->options);
-  const int64_t old_inputs = model->options.in_channels();
-  const int64_t added = options.in_channels() - old_inputs;
-  FNO2d widened(options);
-  torch::NoGradGuard no_grad;
-  const auto from = model->named_parameters();
-  for (auto& p : widened->named_parameters()) {
-    const torch::Tensor& source = from[p.key()];
-    if (source.sizes() == p.value().sizes()) {
-      p.value().copy_(source);
-      continue;
-    }
-    // The lifting layer's weight [lifting, in + 2]: columns of the old inputs, then the new
-    // ones (zero), then the two grid channels (fno2d.hpp).
-    p.value().zero_();
-    p.value().narrow(1, 0, old_inputs).copy_(source.narrow(1, 0, old_inputs));
-    p.value().narrow(1, old_inputs + added, 2).copy_(source.narrow(1, old_inputs, 2));
-  }
-  return widened;
+  const int64_t at = samples_per_environment(options) == 3 ? 3 : 9;
+  return with_inserted_inputs(model, options, at, options.in_channels() - model->options.in_channels());
+}
+
+FNO2dOptions grid_size_input_options(FNO2dOptions options) {
+  require(!takes_grid_size(options), "learned model", "already takes the grid's size as an input");
+  check_learned_model(options, "learned model");
+  return options.in_channels(options.in_channels() + 2);
+}
+
+FNO2d with_grid_size_input(const FNO2d& model) {
+  const FNO2dOptions options = grid_size_input_options(model->options);
+  return with_inserted_inputs(model, options, model->options.in_channels(), 2);
 }
 
 FNO2d load_learned_model(const std::string& path) {

@@ -9,12 +9,16 @@
 // A model with one more input field per coordinate (4 inputs, or 12 combined) also reads pqn's
 // direction p = -A^-1 g (baselines/pqn_matrix.hpp): A holds the grid's stiffness, which the
 // normalised gradient does not, so the FNO can correct a step that already has the right
-// length scale instead of finding it (docs/design.md §4).
+// length scale instead of finding it (docs/design.md §4). A model with two more input fields per
+// sample (5 or 6 inputs, or 11 or 14 combined) reads the grid's size, log2((R - 1)/31) and
+// log2((C - 1)/31) as constant fields (0 at 32 x 32): the normalised inputs look alike on every
+// grid while the update they ask for does not (the grid-unit stiffness grows with the cell
+// count; docs/design.md §4), so one model can act differently at 32^2 and at 100^2.
 // Per sample, with sigma_g = ||g||/sqrt(RC) (over all of the sample's channels) and sigma_d
 // likewise for the previous update,
 //   inputs  g^ = 10 tanh(g/(10 sigma_g)), g^_prev = 10 tanh(g_prev/(10 sigma_g)),
-//           d^_prev = 10 tanh(d_prev/(10 sigma_d)),  [p^ = 10 tanh(p/(10 sigma_p))]
-//                                                              (+ the FNO's grid channels)
+//           d^_prev = 10 tanh(d_prev/(10 sigma_d)),  [p^ = 10 tanh(p/(10 sigma_p))],
+//           [log2((R - 1)/31), log2((C - 1)/31)]               (+ the FNO's grid channels)
 //   outputs u (a field) and d (the scale head's scalar)
 //   update  delta = tanh(u) s,   s <- clamp(s_prev exp(2 tanh(d/2)), 1e-6, 10)
 // (FNOpt writes exp(2 tanh(d/2) - 1): with an untrained head, d ~ 0, that shrinks s by e
@@ -34,8 +38,10 @@ inline constexpr double kMaxStepScale = 10.0;
 
 // Samples per environment: 3 (per-coordinate layout) or 1 (combined layout).
 int samples_per_environment(const FNO2dOptions& options);
-// Whether the model reads pqn's direction as an input field (4 or 12 inputs).
+// Whether the model reads pqn's direction as an input field (4, 6, 12 or 14 inputs).
 bool takes_pqn_direction(const FNO2dOptions& options);
+// Whether the model reads the grid's size as two constant input fields (5, 6, 11 or 14 inputs).
+bool takes_grid_size(const FNO2dOptions& options);
 // Coordinate samples [3, 1, R, C] of one environment in the model's layout, and back.
 torch::Tensor to_model_layout(const torch::Tensor& coordinate_samples, int samples_per_environment);
 torch::Tensor to_coordinate_layout(const torch::Tensor& model_samples);
@@ -52,10 +58,10 @@ struct LearnedStep {
   torch::Tensor scale;  // [S, 1, 1, 1]
 };
 
-// The FNO's input channels from a gradient, the state and, if defined, pqn's direction in the
-// gradient's layout (no graph: inputs are data).
+// The FNO's input channels from a gradient, the state, if defined, pqn's direction in the
+// gradient's layout and, with `grid_size`, the grid's size fields (no graph: inputs are data).
 torch::Tensor learned_inputs(const torch::Tensor& gradient, const LearnedState& state,
-                             const torch::Tensor& pqn_direction = {});
+                             const torch::Tensor& pqn_direction = {}, bool grid_size = false);
 
 // One update from the masked gradient [S, 1, R, C]; `free_mask` [1 or S, 1, R, C] is 0 at
 // handles; `pqn_direction` (grid units, the gradient's layout) for a model that takes it, and
@@ -64,8 +70,8 @@ LearnedStep learned_step(FNO2d& model, const torch::Tensor& gradient, const Lear
                          const torch::Tensor& free_mask, const torch::Tensor& pqn_direction = {});
 
 // Throws Error("<path>: ...") unless the model has one of the learned optimizer's
-// architectures: 3 (or 4 with pqn's direction) inputs and 1 output, or 9 (12) inputs and 3
-// outputs; and a scale head.
+// architectures: 3 inputs (4 with pqn's direction, 2 more with the grid's size) and 1 output, or
+// 9 (12; 2 more) inputs and 3 outputs; and a scale head.
 void check_learned_model(const FNO2dOptions& options, const std::string& path);
 // A learned optimizer's shape without pqn's direction as input, with the inputs for it: one more
 // field per coordinate (3 -> 4, or 9 -> 12 in the combined layout).
@@ -74,6 +80,9 @@ FNO2dOptions pqn_direction_input_options(FNO2dOptions options);
 // weight copied, the new input's lifting weights zero, so that the widened model proposes
 // exactly what `model` does until training moves them.
 FNO2d with_pqn_direction_input(const FNO2d& model);
+// The same two for the grid's size fields.
+FNO2dOptions grid_size_input_options(FNO2dOptions options);
+FNO2d with_grid_size_input(const FNO2d& model);
 // The model in `path`, checked before its weights are read (Error naming the file if it is
 // missing or not a learned optimizer).
 FNO2d load_learned_model(const std::string& path);

@@ -56,10 +56,10 @@ std::string TrainOptions::signature() const {
   s << "res=";
   for (std::size_t i = 0; i < pool.resolutions.size(); ++i) s << (i ? "," : "") << pool.resolutions[i];
   s << " envs=" << pool.environments << (samples_per_environment(model) == 1 ? " combined" : "")
-    << (takes_pqn_direction(model) ? " pqn_input" : "") << " width=" << model.width()
-    << " layers=" << model.fourier_layers() << " modes=" << model.modes_x() << "x" << model.modes_y()
-    << " lifting=" << model.lifting_channels() << " projection=" << model.projection_channels() << " batch=" << batch
-    << " lr=" << learning_rate << " newton_weight=" << newton_weight << " seed=" << seed;
+    << (takes_pqn_direction(model) ? " pqn_input" : "") << (takes_grid_size(model) ? " grid_size_input" : "")
+    << " width=" << model.width() << " layers=" << model.fourier_layers() << " modes=" << model.modes_x() << "x"
+    << model.modes_y() << " lifting=" << model.lifting_channels() << " projection=" << model.projection_channels()
+    << " batch=" << batch << " lr=" << learning_rate << " newton_weight=" << newton_weight << " seed=" << seed;
   if (loss_normalisation == LossNormalisation::Batch) s << " loss=batch";
   if (objective == TrainObjective::Probe) s << " objective=probe";
   if (probe.iterations != 1) s << " probe_iterations=" << probe.iterations;
@@ -78,9 +78,11 @@ MetaTrainer::MetaTrainer(const TrainOptions& options, const std::string& checkpo
   model_ = FNO2d(options_.model);
   if (!options_.initial_model.empty() && checkpoint.empty()) {
     FNO2d initial = load_fno(options_.initial_model);
-    // A model without pqn's direction as input starts one that reads it, proposing what it did.
+    // A model without pqn's direction or the grid's size as input starts one that reads them, proposing what it
+    // did.
     if (takes_pqn_direction(options_.model) && !takes_pqn_direction(initial->options))
       initial = with_pqn_direction_input(initial);
+    if (takes_grid_size(options_.model) && !takes_grid_size(initial->options)) initial = with_grid_size_input(initial);
     const FNO2dOptions& given = initial->options;
     require(given.in_channels() == options_.model.in_channels() && given.width() == options_.model.width() &&
                 given.fourier_layers() == options_.model.fourier_layers() &&

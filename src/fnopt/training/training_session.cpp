@@ -168,11 +168,12 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
     }
     if (takes_pqn_direction(options.train.model))
       std::fprintf(stderr, "fnopt train: the model reads pqn's direction -A^-1 g as an input field\n");
+    if (takes_grid_size(options.train.model))
+      std::fprintf(stderr, "fnopt train: the model reads the grid's size, log2((R - 1)/31) and log2((C - 1)/31)\n");
     if (!options.train.initial_model.empty() && !resuming)
       std::fprintf(stderr, "fnopt train: starting from the weights of %s%s\n", options.train.initial_model.c_str(),
-                   takes_pqn_direction(options.train.model) &&
-                           !takes_pqn_direction(load_fno_options(options.train.initial_model))
-                       ? " (widened: the new input's weights zero)"
+                   load_fno_options(options.train.initial_model).in_channels() != options.train.model.in_channels()
+                       ? " (widened: the new inputs' weights zero)"
                        : "");
   }
   std::unique_ptr<RolloutValidation> validation;
