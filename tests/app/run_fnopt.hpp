@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "tests/util/shell.hpp"
 
@@ -19,4 +20,18 @@ inline std::string read_text(const std::filesystem::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+// A CSV file's's data rows, split into fields.
+inline std::vector<std::vector<std::string>> csv_rows(const std::filesystem::path& path, std::string& header) {
+  std::istringstream text(read_text(path));
+  std::getline(text, header);
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(text, line);) {
+    std::vector<std::string> fields;
+    std::istringstream fields_text(line);
+    for (std::string field; std::getline(fields_text, field, ',');) fields.push_back(field);
+    rows.push_back(fields);
+  }
+  return rows;
 }

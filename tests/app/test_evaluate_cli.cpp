@@ -10,20 +10,6 @@
 
 namespace {
 
-// The CSV's data rows, split into fields.
-std::vector<std::vector<std::string>> csv_rows(const std::filesystem::path& path, std::string& header) {
-  std::istringstream text(read_text(path));
-  std::getline(text, header);
-  std::vector<std::vector<std::string>> rows;
-  for (std::string line; std::getline(text, line);) {
-    std::vector<std::string> fields;
-    std::istringstream fields_text(line);
-    for (std::string field; std::getline(fields_text, field, ',');) fields.push_back(field);
-    rows.push_back(fields);
-  }
-  return rows;
-}
-
 TEST(EvaluateCli, WritesThePerFrameAndPerStepTablesBehindItsMeans) {
   const fnopt::testing::TempDir tmp;
   const auto rollout = (tmp.path() / "newton.h5").string();
