@@ -15,7 +15,7 @@ namespace {
 const std::string kShipped = std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt";
 
 // The CSV's rows, header first.
-std::vector<std::vector<std::string>> csv_rows(const std::filesystem::path& path) {
+std::vector<std::vector<std::string>> header_and_rows(const std::filesystem::path& path) {
   std::string header;
   std::vector<std::vector<std::string>> rows = csv_rows(path, header);
   rows.insert(rows.begin(), {header});
@@ -30,7 +30,7 @@ TEST(ValidateCli, ScoresAModelAsTheTrainingValidatedIt) {
       " --steps 10 --res 8 --envs 4 --batch 2 --width 4 --layers 2 --modes 4 --lifting 8 --projection 4"
       " --threads 1 --checkpoint-every 10 --lr 0.05 --validate-res 12 --validate-every 10 --validate-frames 12");
   ASSERT_EQ(trained.status, 0) << trained.output;
-  const auto logged = csv_rows(dir / "validation.csv");
+  const auto logged = header_and_rows(dir / "validation.csv");
   ASSERT_EQ(logged.size(), 2u);
 
   const CommandResult r =
@@ -38,8 +38,8 @@ TEST(ValidateCli, ScoresAModelAsTheTrainingValidatedIt) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("references: 0 solved, 2 cached"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("closest to Newton: " + (dir / "model-best.pt").string()), std::string::npos) << r.output;
-  EXPECT_EQ(csv_rows(dir / "validation.csv"), logged);  // the training's log is left as it was
-  const auto rows = csv_rows(dir / "validate.csv");
+  EXPECT_EQ(header_and_rows(dir / "validation.csv"), logged);  // the training's log is left as it was
+  const auto rows = header_and_rows(dir / "validate.csv");
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_EQ(rows[0][0].rfind("model,resolution,", 0), 0u) << rows[0][0];
   EXPECT_EQ(rows[1][1] + "," + rows[1][2] + "," + rows[1][4], "12,xyz_v4+rot_h1,fnopt-ss");
@@ -56,7 +56,7 @@ TEST(ValidateCli, RanksModelsByTheGeometricMeanOverGrids) {
                                     " --res 10,12 --frames 12 --motions xy_v2 --threads 1 --out " + dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("references: 2 solved, 0 cached"), std::string::npos) << r.output;
-  const auto rows = csv_rows(dir / "validate.csv");
+  const auto rows = header_and_rows(dir / "validate.csv");
   ASSERT_EQ(rows.size(), 3u) << read_text(dir / "validate.csv");
   for (std::size_t m = 1; m < rows.size(); ++m) {
     ASSERT_EQ(rows[m].size(), 10u);
