@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
-#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -32,14 +31,9 @@ struct ValidateFlags {
 };
 
 void run_validate(ValidateFlags& flags) {
-  with_flag_names({{"validate.resolutions", "res"},
-                   {"validate.frames", "frames"},
-                   {"validate.iterations", "iters"},
-                   {"validate.motions", "motions"},
-                   {"validate.handles", "handles"},
-                   {"validate.subspace", "subspace"},
-                   {"validate.pqn_direction", "pqn-direction"}},
-                  [&] { flags.validation.validate(); });
+  auto flag_names = ValidationOptions::flag_names("");
+  flag_names.emplace("validate.pqn_direction", "pqn-direction");
+  with_flag_names(flag_names, [&] { flags.validation.validate(); });
   std::vector<FNO2d> models;  // every file checked before the references are solved
   for (const std::string& path : flags.models) models.push_back(load_learned_model(path));
   set_thread_count(flags.threads);
@@ -50,30 +44,20 @@ void run_validate(ValidateFlags& flags) {
                v.optimizer().c_str(), v.iterations, v.frames, RolloutValidation::scene_set_text(v).c_str(),
                RolloutValidation::grid_set_text(v, true).c_str(),
                v.resolutions.size() > 1 ? " (score: the geometric mean of the grids' e_3D)" : "");
-  std::optional<ProgressBar> reference_bar;  // only if a reference is solved
-  const RolloutValidation validation(v, flags.out, [&](int done, int total, const StepRecord&) {
-    if (!reference_bar) reference_bar.emplace("validation references", total);
-    reference_bar->update(done);
-  });
-  if (reference_bar) reference_bar->finish();
-  std::fprintf(stderr, "fnopt validate: references: %d solved, %d cached in %s\n", validation.references_solved(),
-               static_cast<int>(validation.scenes().size()) - validation.references_solved(), flags.out.c_str());
+  const std::unique_ptr<RolloutValidation> validation = RolloutValidation::open(v, flags.out, "fnopt validate");
 
-  const int steps_per_model = static_cast<int>(validation.scenes().size()) * v.frames;
+  const int steps_per_model = static_cast<int>(validation->scenes().size()) * v.frames;
   ProgressBar bar("validate", steps_per_model * static_cast<int>(models.size()));
   std::ostringstream csv;
-  csv << "model,resolution,motions,frames,optimizer,iterations,e3d_x1e2,max_strain,diverged,grid_e3d_x1e2\n";
+  csv << "model," << kValidationScoreColumns << '\n';
   std::vector<ValidationScore> scores;
   for (std::size_t m = 0; m < models.size(); ++m) {
     const int done_before = static_cast<int>(m) * steps_per_model;
-    scores.push_back(validation.score(models[m], [&](int done, int, const StepRecord&) {
+    scores.push_back(validation->score(models[m], [&](int done, int, const StepRecord&) {
       bar.update(done_before + done, "model " + std::to_string(m + 1) + "/" + std::to_string(models.size()));
     }));
-    const ValidationScore& s = scores.back();
-    csv << flags.models[m] << ',' << RolloutValidation::grid_set_text(v) << ',' << RolloutValidation::scene_set_text(v)
-        << ',' << v.frames << ',' << v.optimizer() << ',' << v.iterations << ',' << s.e3d << ',' << s.max_strain << ','
-        << (s.diverged ? "yes" : "no") << ',';
-    for (std::size_t g = 0; g < s.grid_e3d.size(); ++g) csv << (g ? "+" : "") << s.grid_e3d[g];
+    csv << flags.models[m] << ',';
+    RolloutValidation::write_score_columns(csv, v, scores.back());
     csv << '\n';
   }
   bar.finish();

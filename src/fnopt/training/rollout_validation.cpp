@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <iomanip>
+#include <optional>
 
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/learned/learned_optimizer.hpp>
@@ -13,6 +16,7 @@
 #include <fnopt/scenes/scene_checks.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/parse_text.hpp>
+#include <fnopt/util/progress_bar.hpp>
 #include <fnopt/version.hpp>
 
 namespace fnopt {
@@ -146,6 +150,42 @@ RolloutValidation::RolloutValidation(const ValidationOptions& options, const std
     }
     references_.push_back(read_trajectory_frames(paths[i]));
   }
+}
+
+std::map<std::string, std::string> ValidationOptions::flag_names(const std::string& prefix) {
+  return {{"validate.resolutions", prefix + "res"},  {"validate.frames", prefix + "frames"},
+          {"validate.iterations", prefix + "iters"}, {"validate.motions", prefix + "motions"},
+          {"validate.handles", prefix + "handles"},  {"validate.subspace", prefix + "subspace"}};
+}
+
+std::vector<std::string> RolloutValidation::scene_key(const ValidationOptions& options) {
+  return {grid_set_text(options), scene_set_text(options), std::to_string(options.frames), options.optimizer(),
+          std::to_string(options.iterations)};
+}
+
+void RolloutValidation::write_score_columns(std::ostream& row, const ValidationOptions& options,
+                                            const ValidationScore& score) {
+  for (const std::string& field : scene_key(options)) row << field << ',';
+  const auto precision = row.precision();
+  row << std::setprecision(17) << score.e3d << std::setprecision(6) << ',' << score.max_strain << ','
+      << (score.diverged ? "yes" : "no") << ',';
+  for (std::size_t g = 0; g < score.grid_e3d.size(); ++g) row << (g ? "+" : "") << score.grid_e3d[g];
+  row.precision(precision);
+}
+
+std::unique_ptr<RolloutValidation> RolloutValidation::open(const ValidationOptions& options,
+                                                           const std::string& directory, const std::string& command) {
+  std::optional<ProgressBar> bar;  // only if a reference is solved
+  auto validation =
+      std::make_unique<RolloutValidation>(options, directory, [&](int done, int total, const StepRecord&) {
+        if (!bar) bar.emplace("validation references", total);
+        bar->update(done);
+      });
+  if (bar) bar->finish();
+  std::fprintf(stderr, "%s: validation references: %d solved, %d cached in %s\n", command.c_str(),
+               validation->references_solved(),
+               static_cast<int>(validation->scenes().size()) - validation->references_solved(), directory.c_str());
+  return validation;
 }
 
 std::string ValidationOptions::optimizer() const {

@@ -6,6 +6,9 @@
 // grids (docs/history/training-experiments.md, "Stage 2's end"), and a pool with fine grids gives up 32^2
 // (docs/results.md), so the training loss alone cannot say which checkpoint to ship.
 #include <limits>
+#include <map>
+#include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -38,6 +41,9 @@ struct ValidationOptions {
   bool pqn_direction = false;  // fnopt-ss-pqn's rule (LearnedParams::pqn_direction; needs subspace)
 
   void validate() const;  // Error("validate.<field>: ...") for a bad value
+  // The fields validate() names mapped to the flags that set them, each `prefix` + its name ("validate-" in
+  // fnopt train, none in fnopt validate), for with_flag_names; pqn_direction is not a flag of its own in train.
+  static std::map<std::string, std::string> flag_names(const std::string& prefix);
   // "fnopt-ss" (K = kFnoptSubspace), "fnopt-ss-kK" (another K), either with "-pqn" for
   // pqn_direction, or "fnopt-ls".
   std::string optimizer() const;
@@ -52,6 +58,12 @@ struct ValidationScore {
   bool diverged = false;
   std::string divergence;  // "<N>/<motion>[/<handles>]: why and when", empty if none diverged
 };
+
+// The columns of a validation score, after those of the run that wrote it (fnopt train's step and seconds, fnopt
+// validate's model): the scenes' identity, then the score; one layout for the training's validation.csv and fnopt
+// validate's validate.csv.
+inline constexpr const char* kValidationScoreColumns =
+    "resolution,motions,frames,optimizer,iterations,e3d_x1e2,max_strain,diverged,grid_e3d_x1e2";
 
 class RolloutValidation {
  public:
@@ -75,6 +87,16 @@ class RolloutValidation {
   // "100", or "32+100" for several grids: the validation log's resolution column; with `squares`,
   // "100x100" and "32x32+100x100", for messages.
   static std::string grid_set_text(const ValidationOptions& options, bool squares = false);
+
+  // The first five of kValidationScoreColumns: scores of other scenes are not compared.
+  static std::vector<std::string> scene_key(const ValidationOptions& options);
+  // The kValidationScoreColumns of `score`, comma-separated, no line end; e_3D at round-trip precision (a resumed
+  // training compares later scores with this text).
+  static void write_score_columns(std::ostream& row, const ValidationOptions& options, const ValidationScore& score);
+  // The validation of `options` with its references in `directory`, those to solve shown by a progress bar on
+  // stderr, then "<command>: validation references: N solved, M cached in DIR" (fnopt train and fnopt validate).
+  static std::unique_ptr<RolloutValidation> open(const ValidationOptions& options, const std::string& directory,
+                                                 const std::string& command);
 
   // Scores a snapshot of `model` (its parameters are copied; the model is not touched), reporting each step to
   // `on_step`, counted over all the scenes.

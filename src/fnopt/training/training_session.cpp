@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <limits>
 #include <memory>
 #include <sstream>
@@ -27,8 +26,7 @@ constexpr const char* kLogHeader =
 
 // e3d_x1e2 is the score (one grid's mean, or the geometric mean of several); grid_e3d_x1e2 each grid's mean,
 // "+"-separated as the resolution column. Logs written before it have the first ten columns only.
-constexpr const char* kValidationHeader =
-    "step,seconds,resolution,motions,frames,optimizer,iterations,e3d_x1e2,max_strain,diverged,grid_e3d_x1e2";
+const std::string kValidationHeader = std::string("step,seconds,") + kValidationScoreColumns;
 
 // Keeps a CSV log's rows up to `step` (those the checkpoint had seen), so a resumed run's log
 // reads as one run; returns the kept rows, split into fields.
@@ -51,12 +49,6 @@ std::vector<std::vector<std::string>> trim_log(const std::string& path, const st
   return rows;
 }
 
-// The validation log's identity of a validation scene; rows of another scene are not compared.
-std::vector<std::string> validation_key(const ValidationOptions& v) {
-  return {RolloutValidation::grid_set_text(v), RolloutValidation::scene_set_text(v), std::to_string(v.frames),
-          v.optimizer(), std::to_string(v.iterations)};
-}
-
 struct BestValidation {
   double e3d = std::numeric_limits<double>::infinity();
   int step = -1;  // -1: none yet
@@ -70,7 +62,7 @@ BestValidation best_of(const std::vector<std::vector<std::string>>& rows, const 
   has_step = false;
   for (const auto& row : rows) {
     if ((row.size() != 10 && row.size() != 11) ||
-        std::vector<std::string>(row.begin() + 2, row.begin() + 7) != validation_key(v))
+        std::vector<std::string>(row.begin() + 2, row.begin() + 7) != RolloutValidation::scene_key(v))
       continue;
     has_step = has_step || std::stoi(row[0]) == step;
     if (std::stod(row[7]) < best.e3d) best = {std::stod(row[7]), std::stoi(row[0])};
@@ -84,14 +76,7 @@ void TrainingSessionOptions::validate() const {
   require(std::isfinite(minutes) && minutes >= 0.0, "minutes", "must be 0 (no limit) or a positive number of minutes");
   require(checkpoint_every > 0, "checkpoint-every", "must be positive");
   require(validate_every > 0, "validate-every", "must be positive");
-  if (validation)
-    with_flag_names({{"validate.resolutions", "validate-res"},
-                     {"validate.frames", "validate-frames"},
-                     {"validate.iterations", "validate-iters"},
-                     {"validate.motions", "validate-motions"},
-                     {"validate.handles", "validate-handles"},
-                     {"validate.subspace", "validate-subspace"}},
-                    [&] { validation->validate(); });
+  if (validation) with_flag_names(ValidationOptions::flag_names("validate-"), [&] { validation->validate(); });
 }
 
 TrainingSessionResult run_training_session(const TrainingSessionOptions& options, const Communicator& processes) {
@@ -110,7 +95,7 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
   result.log_path = log_path;
   result.best_model_path = best_model_path;
   result.validation_log_path = validation_log_path;
-  result.validation_motions = validation_key(settings)[1];
+  result.validation_motions = RolloutValidation::scene_key(settings)[1];
 
   require(!options.resume || std::filesystem::exists(checkpoint), "resume",
           "no checkpoint to resume: " + checkpoint + " does not exist");
@@ -180,18 +165,10 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
   if (root && options.validation) {
     const ValidationOptions& v = settings;
     std::fprintf(stderr, "fnopt train: validation every %d steps: %s N=%d, %d frames of %s at %s against Newton%s\n",
-                 options.validate_every, v.optimizer().c_str(), v.iterations, v.frames, validation_key(v)[1].c_str(),
-                 RolloutValidation::grid_set_text(v, true).c_str(),
+                 options.validate_every, v.optimizer().c_str(), v.iterations, v.frames,
+                 RolloutValidation::scene_key(v)[1].c_str(), RolloutValidation::grid_set_text(v, true).c_str(),
                  v.resolutions.size() > 1 ? " (score: the geometric mean of the grids' e_3D)" : "");
-    std::optional<ProgressBar> reference_bar;  // only if a reference is solved
-    validation = std::make_unique<RolloutValidation>(v, options.out, [&](int done, int total, const StepRecord&) {
-      if (!reference_bar) reference_bar.emplace("validation references", total);
-      reference_bar->update(done);
-    });
-    if (reference_bar) reference_bar->finish();
-    std::fprintf(stderr, "fnopt train: validation references: %d solved, %d cached in %s\n",
-                 validation->references_solved(),
-                 static_cast<int>(validation->scenes().size()) - validation->references_solved(), options.out.c_str());
+    validation = RolloutValidation::open(v, options.out, "fnopt train");
     if (best.step >= 0) std::fprintf(stderr, "fnopt train: best so far: step %d, e_3D %.4g\n", best.step, best.e3d);
   }
 
@@ -211,11 +188,7 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
     const ValidationScore score = validation->score(trainer.output_model());
     std::ofstream row(validation_log_path, std::ios::app);
     row << step << ',' << seconds_before + elapsed() << ',';
-    for (const std::string& field : validation_key(settings)) row << field << ',';
-    // e_3D at round-trip precision: a resumed run compares later scores with this text.
-    row << std::setprecision(17) << score.e3d << std::setprecision(6) << ',' << score.max_strain << ','
-        << (score.diverged ? "yes" : "no") << ',';
-    for (std::size_t g = 0; g < score.grid_e3d.size(); ++g) row << (g ? "+" : "") << score.grid_e3d[g];
+    RolloutValidation::write_score_columns(row, settings, score);
     row << '\n';
     if (score.e3d < best.e3d) {
       best = {score.e3d, step};
