@@ -242,7 +242,6 @@ TEST(NewtonSolver, NewtonMinLeavesTheSaddleTheReferenceEndsAt) {
   EXPECT_EQ(NewtonOptimizer(seek_minimum).name(), "newton-min");
 }
 
-// settings() keys compare's reference cache: changing any parameter must change it.
 // The preconditioner applied in floats changes CG's path by round-off only: the same steps to the
 // tolerance, with as many Newton iterations (within one per step).
 TEST(NewtonSolver, AFloatPreconditionerGivesTheSameSteps) {
@@ -270,6 +269,37 @@ TEST(NewtonSolver, AFloatPreconditionerGivesTheSameSteps) {
   }
 }
 
+// A multigrid V-cycle in place of P's factor (fine grids' default) changes CG's path, not the
+// steps: the same accelerations to the tolerance, and no factorisation of P.
+TEST(NewtonSolver, AMultigridPreconditionerGivesTheSameSteps) {
+  const Grid grid = Grid::make(24, 24, 1.0);
+  BackwardEulerObjective objective(grid, Material{}, 1.0 / 60.0, Vec3(0, 0, -9.81));
+  const DirichletSet handles(grid.vertex_count(), {0, grid.cols - 1});
+  StepProblem problem(objective, handles);
+  NewtonParams with_factor, with_multigrid;
+  with_factor.multigrid_from_dofs = 1 << 30;
+  with_multigrid.multigrid_from_dofs = 0;
+  NewtonOptimizer factor(with_factor), multigrid(with_multigrid);
+  InnerSolveOptions options = NewtonOptimizer::reference_solve_options();
+  options.acceleration_tolerance = 1e-7;
+  VecX x = grid.rest_positions(), v = VecX::Zero(grid.dof_count());
+  for (int step = 0; step < 20; ++step) {
+    objective.begin_step(x, v);
+    VecX a_factor = VecX::Zero(grid.dof_count()), a_multigrid = a_factor;
+    ASSERT_EQ(solve_step(factor, problem, a_factor, options).status, SolveStatus::Converged);
+    ASSERT_EQ(solve_step(multigrid, problem, a_multigrid, options).status, SolveStatus::Converged);
+    EXPECT_LT((a_multigrid - a_factor).norm(), 1e-6 * a_factor.norm()) << "step " << step;
+    v += objective.dt() * a_factor;
+    x += objective.dt() * v;
+  }
+  const long factor_products = factor.counters().cg_iterations;
+  const long multigrid_products = multigrid.counters().cg_iterations;
+  std::printf("CG products over 20 steps: factor %ld, multigrid %ld\n", factor_products, multigrid_products);
+  // A V-cycle approximates P^-1, so CG needs more products, but not many more.
+  EXPECT_LT(multigrid_products, 3 * factor_products);
+  EXPECT_GT(multigrid.counters().factorizations, 0);  // P rebuilt (the V-cycle's levels) as often as needed
+}
+
 TEST(NewtonParams, EveryParameterChangesTheSettingsString) {
   const std::string base = NewtonOptimizer{}.settings();
   const std::vector<void (*)(NewtonParams&)> changes = {
@@ -285,6 +315,9 @@ TEST(NewtonParams, EveryParameterChangesTheSettingsString) {
       [](NewtonParams& p) { p.refactor_cg_iterations = 10; },
       [](NewtonParams& p) { p.reuse_factor_across_steps = false; },
       [](NewtonParams& p) { p.single_precision_preconditioner = false; },
+      [](NewtonParams& p) { p.multigrid_from_dofs = 0; },
+      [](NewtonParams& p) { p.multigrid.smoothing_sweeps = 2; },
+      [](NewtonParams& p) { p.multigrid.coarsest_dofs = 100; },
       [](NewtonParams& p) { p.escape_saddles = true; }};
   for (std::size_t i = 0; i < changes.size(); ++i) {
     NewtonParams params;
@@ -305,7 +338,9 @@ TEST(NewtonParams, RejectsInvalidValues) {
       {[](NewtonParams& p) { p.acceleration_tolerance = 0.0; }, "newton.acceleration_tolerance"},
       {[](NewtonParams& p) { p.max_cg_iterations = 0; }, "newton.max_cg_iterations"},
       {[](NewtonParams& p) { p.refactor_cg_iterations = -1; }, "newton.refactor_cg_iterations"},
-      {[](NewtonParams& p) { p.max_saddle_escapes = -1; }, "newton.max_saddle_escapes"}};
+      {[](NewtonParams& p) { p.max_saddle_escapes = -1; }, "newton.max_saddle_escapes"},
+      {[](NewtonParams& p) { p.multigrid_from_dofs = -1; }, "newton.multigrid_from_dofs"},
+      {[](NewtonParams& p) { p.multigrid.smoothing_sweeps = 0; }, "multigrid.smoothing_sweeps"}};
   for (const auto& [change, field] : bad) {
     NewtonParams p;
     change(p);

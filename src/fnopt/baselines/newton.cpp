@@ -23,9 +23,13 @@ void NewtonParams::validate() const {
   require(acceleration_tolerance > 0.0, "newton.acceleration_tolerance", "must be positive");
   require(refactor_cg_iterations >= 0, "newton.refactor_cg_iterations", "must not be negative");
   require(max_saddle_escapes >= 0, "newton.max_saddle_escapes", "must not be negative");
+  require(multigrid_from_dofs >= 0, "newton.multigrid_from_dofs", "must not be negative");
+  multigrid.validate();
 }
 
-NewtonOptimizer::NewtonOptimizer(NewtonParams params) : params_(params) { params_.validate(); }
+NewtonOptimizer::NewtonOptimizer(NewtonParams params) : params_(params), multigrid_(params.multigrid) {
+  params_.validate();
+}
 
 std::string NewtonOptimizer::reference_stop_text() {
   return number_text(reference_solve_options().acceleration_tolerance) + " m/s^2";
@@ -41,7 +45,10 @@ std::string NewtonOptimizer::settings() const {
       << " forcing_cap=" << params_.forcing_cap << " acceleration_tolerance=" << params_.acceleration_tolerance
       << " max_cg_iterations=" << params_.max_cg_iterations
       << " refactor_cg_iterations=" << params_.refactor_cg_iterations
-      << " reuse_factor_across_steps=" << params_.reuse_factor_across_steps;
+      << " reuse_factor_across_steps=" << params_.reuse_factor_across_steps
+      << " multigrid_from_dofs=" << params_.multigrid_from_dofs
+      << " multigrid_sweeps=" << params_.multigrid.smoothing_sweeps
+      << " multigrid_coarsest_dofs=" << params_.multigrid.coarsest_dofs;
   if (params_.single_precision_preconditioner) out << " single_precision_preconditioner=1";
   if (params_.escape_saddles) out << " escape_saddles=1 max_saddle_escapes=" << params_.max_saddle_escapes;
   return out.str();
@@ -51,6 +58,11 @@ bool NewtonOptimizer::factorize_preconditioner(StepProblem& problem, const VecX&
   BackwardEulerObjective& objective = problem.objective();
   const Eigen::SparseMatrix<double>& projected = objective.hessian(a, problem.dirichlet().free_index(), true);
   ++counters_.factorizations;
+  if (use_multigrid_) {
+    have_factor_ =
+        multigrid_.assign(projected, problem.grid(), problem.dirichlet().free_index(), objective.hessian_pattern_id());
+    return have_factor_;
+  }
   have_factor_ = factor_.factorize_matrix(projected, objective.hessian_pattern_id());
   if (have_factor_ && params_.single_precision_preconditioner) single_factor_.assign(factor_);
   return have_factor_;
@@ -107,11 +119,17 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
   const DirichletSet& dirichlet = problem.dirichlet();
   dirichlet.gather_free(gradient, rhs_);
   const double gradient_norm = rhs_.norm();
+  if (const bool multigrid = rhs_.size() >= params_.multigrid_from_dofs; multigrid != use_multigrid_) {
+    use_multigrid_ = multigrid;
+    have_factor_ = false;
+  }
   const bool stale =
-      !have_factor_ || factor_.rows() != rhs_.size() || last_cg_iterations_ > params_.refactor_cg_iterations;
+      !have_factor_ || preconditioner_rows() != rhs_.size() || last_cg_iterations_ > params_.refactor_cg_iterations;
   if (stale && !factorize_preconditioner(problem, a)) return SolveStatus::FactorizationFailed;
   auto precondition = [&](VecX& r) {
-    if (params_.single_precision_preconditioner)
+    if (use_multigrid_)
+      multigrid_.solve_in_place(r);
+    else if (params_.single_precision_preconditioner)
       single_factor_.solve_in_place(r);
     else
       factor_.solve_in_place(r.data(), static_cast<int>(r.size()), 1);

@@ -4,8 +4,9 @@
 // Wright 2006, Alg. 4.1) on the exact Hessian H, each subproblem solved by Steihaug–Toint CG
 // (optimizer/steihaug_cg.hpp) preconditioned by one positive-definite matrix,
 //   P = dt^2 M (1 + c dt) + dt^4 K+,   K+ the per-stencil PSD-projected elastic Hessian,
-// which is factorized rarely: its sparse Cholesky factor is kept across iterations and time steps
-// and rebuilt only when a subproblem needed more than refactor_cg_iterations products with H.
+// which is built rarely: its sparse Cholesky factor (on fine grids, a multigrid V-cycle on it) is
+// kept across iterations and time steps and rebuilt only when a subproblem needed more than
+// refactor_cg_iterations products with H.
 // The trust region is measured in the mass metric W = dt^2 M (1 + c dt), ||d||_W = sqrt(d.W d):
 // P's own norm holds |negative curvature| of the compressed stencils and so made the region
 // tightest along the very buckling directions a step must take (docs/design.md §6).
@@ -21,6 +22,7 @@
 // a - f(x)/m, the part of Newton's second law the step leaves unbalanced
 // (reference_solve_options()); its size against the errors it measures is in docs/results.md, "The Newton
 // reference: a trust region", "The stop".
+#include <fnopt/optimizer/block_multigrid.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
 #include <fnopt/optimizer/single_precision_factor.hpp>
 #include <fnopt/optimizer/sparse_cholesky.hpp>
@@ -55,6 +57,13 @@ struct NewtonParams {
   // Apply P^-1 with a float copy of its factor (optimizer/single_precision_factor.hpp): half the
   // memory traffic of the solves that dominate an iteration at 100^2, the same convergence.
   bool single_precision_preconditioner = true;
+  // On steps with at least this many free dofs, P^-1 is applied approximately, by one V-cycle of a
+  // geometric multigrid on P (optimizer/block_multigrid.hpp), instead of with P's Cholesky factor:
+  // no factorisation and a cheaper product, for more CG iterations: 1.5x faster at 100^2, as fast
+  // at 32^2 (docs/results.md, "The Newton reference: a multigrid preconditioner"). From about 82^2,
+  // so that the references of 32^2 and 64^2, where it gains less, stay those of the factor. 0: always.
+  int multigrid_from_dofs = 20000;
+  BlockMultigridParams multigrid;
   // Seek a local minimum of the step's energy instead of any stationary point ("newton-min"):
   // where the stop is met but the exact Hessian has negative eigenvalues (a saddle: its LDL^T
   // factorisation has negative pivots), step along the direction of negative curvature those
@@ -68,7 +77,7 @@ struct NewtonParams {
 
 // Work counters, for benchmarks.
 struct NewtonCounters {
-  long factorizations = 0;
+  long factorizations = 0;      // builds of P's preconditioner: its Cholesky factor or its multigrid levels
   long cg_iterations = 0;       // products with H
   long negative_curvature = 0;  // subproblems that followed a negative-curvature direction
   long rejected_trials = 0;     // trial steps the trust region turned down
@@ -103,10 +112,13 @@ class NewtonOptimizer final : public InnerOptimizer {
   void set_metric(const StepProblem& problem);
   // Factorizes P at a; false if CHOLMOD fails (P is positive definite by construction).
   bool factorize_preconditioner(StepProblem& problem, const VecX& a);
+  Eigen::Index preconditioner_rows() const { return use_multigrid_ ? multigrid_.rows() : factor_.rows(); }
 
   NewtonParams params_;
   SparseCholesky factor_;
   SinglePrecisionFactor single_factor_;  // its float copy, when single_precision_preconditioner
+  BlockMultigrid multigrid_;             // in their place, on steps of multigrid_from_dofs free dofs or more
+  bool use_multigrid_ = false;           // this step's choice
   bool have_factor_ = false;
   int last_cg_iterations_ = 0;
   NewtonCounters counters_;

@@ -1,0 +1,302 @@
+#include <fnopt/optimizer/block_multigrid.hpp>
+
+#include <algorithm>
+
+#include <fnopt/util/error.hpp>
+
+namespace fnopt {
+
+namespace {
+
+// Coarse points of a line of n grid points: every other one and the last, coarse k at
+// min(2k, n - 1).
+int coarse_count(int n) { return n % 2 == 0 ? n / 2 + 1 : (n + 1) / 2; }
+
+// Linear interpolation along the line: point i from one or two coarse points; returns how many.
+int line_weights(int i, int n, int* k, double* w) {
+  if (i % 2 == 0 || i == n - 1) {
+    k[0] = i % 2 == 0 ? i / 2 : n / 2;
+    w[0] = 1.0;
+    return 1;
+  }
+  k[0] = (i - 1) / 2;
+  k[1] = (i + 1) / 2;
+  w[0] = w[1] = 0.5;
+  return 2;
+}
+
+// y = B x for a row-major 3x3 float block, subtracted from s.
+inline void subtract_block_product(const float* B, const float* x, float& s0, float& s1, float& s2) {
+  s0 -= B[0] * x[0] + B[1] * x[1] + B[2] * x[2];
+  s1 -= B[3] * x[0] + B[4] * x[1] + B[5] * x[2];
+  s2 -= B[6] * x[0] + B[7] * x[1] + B[8] * x[2];
+}
+
+}  // namespace
+
+void BlockMultigridParams::validate() const {
+  require(smoothing_sweeps > 0, "multigrid.smoothing_sweeps", "must be positive");
+  require(coarsest_dofs >= 3, "multigrid.coarsest_dofs", "must be at least 3");
+}
+
+BlockMultigrid::BlockMultigrid(BlockMultigridParams params) : params_(params) { params_.validate(); }
+
+void BlockMultigrid::build_hierarchy(const Eigen::SparseMatrix<double>& A, const Grid& grid,
+                                     const std::vector<int>& free_index) {
+  levels_.clear();
+  Level fine;
+  fine.grid_rows = grid.rows;
+  fine.grid_cols = grid.cols;
+  fine.unknown = free_index;
+  require(static_cast<int>(free_index.size()) == grid.vertex_count(), "multigrid",
+          "free index does not match the grid");
+  fine.unknowns = static_cast<int>(std::count_if(free_index.begin(), free_index.end(), [](int f) { return f >= 0; }));
+  require(A.rows() == 3 * fine.unknowns && A.cols() == A.rows() && A.isCompressed(), "multigrid",
+          "the matrix is not 3 dofs per free vertex");
+  // A's block pattern, read from the first column of each vertex's three; the other two must match.
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  fine.row_start.assign(1, 0);
+  for (int i = 0; i < fine.unknowns; ++i) {
+    const int begin = outer[3 * i], count = outer[3 * i + 1] - begin;
+    require(count % 3 == 0, "multigrid", "the matrix is not made of 3x3 blocks");
+    for (int c = 1; c < 3; ++c)
+      require(outer[3 * i + c + 1] - outer[3 * i + c] == count, "multigrid", "the matrix is not made of 3x3 blocks");
+    for (int m = 0; m < count / 3; ++m) {
+      const int j = inner[begin + 3 * m] / 3;
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r)
+          require(inner[outer[3 * i + c] + 3 * m + r] == 3 * j + r, "multigrid",
+                  "the matrix is not made of 3x3 blocks");
+      fine.column.push_back(j);
+    }
+    fine.row_start.push_back(static_cast<int>(fine.column.size()));
+  }
+  levels_.push_back(std::move(fine));
+  for (;;) {
+    Level& last = levels_.back();
+    const bool shrinks = coarse_count(last.grid_rows) < last.grid_rows || coarse_count(last.grid_cols) < last.grid_cols;
+    if (3 * last.unknowns <= params_.coarsest_dofs || !shrinks) break;
+    Level coarse = coarsen(last);
+    levels_.push_back(std::move(coarse));
+  }
+  for (Level& level : levels_) {
+    const int n = level.unknowns;
+    level.diagonal.assign(n, -1);
+    for (int i = 0; i < n; ++i)
+      for (int k = level.row_start[i]; k < level.row_start[i + 1]; ++k)
+        if (level.column[k] == i) level.diagonal[i] = k;
+    require(std::all_of(level.diagonal.begin(), level.diagonal.end(), [](int k) { return k >= 0; }), "multigrid",
+            "a free vertex has no diagonal block");
+    level.values.resize(9 * level.column.size());
+    level.values_single.resize(level.values.size());
+    level.diagonal_inverse.resize(9 * static_cast<std::size_t>(n));
+    level.x.resize(3 * n);
+    level.b.resize(3 * n);
+  }
+}
+
+BlockMultigrid::Level BlockMultigrid::coarsen(Level& fine) const {
+  Level coarse;
+  coarse.grid_rows = coarse_count(fine.grid_rows);
+  coarse.grid_cols = coarse_count(fine.grid_cols);
+  // Each fine unknown's bilinear weights on coarse grid vertices.
+  std::vector<int> start(1, 0), vertex;
+  std::vector<double> weight;
+  start.reserve(fine.unknowns + 1);
+  for (int v = 0; v < fine.grid_rows * fine.grid_cols; ++v) {
+    if (fine.unknown[v] < 0) continue;
+    require(fine.unknown[v] == static_cast<int>(start.size()) - 1, "multigrid",
+            "free vertices not numbered in grid order");
+    int ki[2], kj[2];
+    double wi[2], wj[2];
+    const int ni = line_weights(v / fine.grid_cols, fine.grid_rows, ki, wi);
+    const int nj = line_weights(v % fine.grid_cols, fine.grid_cols, kj, wj);
+    for (int a = 0; a < ni; ++a)
+      for (int b = 0; b < nj; ++b) {
+        vertex.push_back(ki[a] * coarse.grid_cols + kj[b]);
+        weight.push_back(wi[a] * wj[b]);
+      }
+    start.push_back(static_cast<int>(vertex.size()));
+  }
+  coarse.unknown.assign(static_cast<std::size_t>(coarse.grid_rows) * coarse.grid_cols, -1);
+  for (int c : vertex) coarse.unknown[c] = 0;
+  for (int& u : coarse.unknown)
+    if (u == 0) u = coarse.unknowns++;
+  fine.prolong_start = start;
+  fine.prolong_index.resize(vertex.size());
+  fine.prolong_weight.resize(vertex.size());
+  for (std::size_t e = 0; e < vertex.size(); ++e) {
+    fine.prolong_index[e] = coarse.unknown[vertex[e]];
+    fine.prolong_weight[e] = static_cast<float>(weight[e]);
+  }
+  // The coarse pattern: block (p, q) wherever some fine block (i, j) has p in i's and q in j's
+  // interpolation.
+  std::vector<std::vector<int>> rows(coarse.unknowns);
+  for (int i = 0; i < fine.unknowns; ++i)
+    for (int k = fine.row_start[i]; k < fine.row_start[i + 1]; ++k) {
+      const int j = fine.column[k];
+      for (int a = start[i]; a < start[i + 1]; ++a)
+        for (int b = start[j]; b < start[j + 1]; ++b) rows[fine.prolong_index[a]].push_back(fine.prolong_index[b]);
+    }
+  coarse.row_start.assign(1, 0);
+  for (std::vector<int>& row : rows) {
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+    coarse.column.insert(coarse.column.end(), row.begin(), row.end());
+    coarse.row_start.push_back(static_cast<int>(coarse.column.size()));
+  }
+  // The slot table of the Galerkin sum.
+  fine.galerkin_start.assign(1, 0);
+  fine.galerkin_slot.clear();
+  fine.galerkin_weight.clear();
+  for (int i = 0; i < fine.unknowns; ++i)
+    for (int k = fine.row_start[i]; k < fine.row_start[i + 1]; ++k) {
+      const int j = fine.column[k];
+      for (int a = start[i]; a < start[i + 1]; ++a) {
+        const int p = fine.prolong_index[a];
+        const auto first = coarse.column.begin() + coarse.row_start[p],
+                   last = coarse.column.begin() + coarse.row_start[p + 1];
+        for (int b = start[j]; b < start[j + 1]; ++b) {
+          fine.galerkin_slot.push_back(
+              static_cast<int>(std::lower_bound(first, last, fine.prolong_index[b]) - coarse.column.begin()));
+          fine.galerkin_weight.push_back(weight[a] * weight[b]);
+        }
+      }
+      fine.galerkin_start.push_back(static_cast<int>(fine.galerkin_slot.size()));
+    }
+  return coarse;
+}
+
+void BlockMultigrid::copy_fine_values(const Eigen::SparseMatrix<double>& A) {
+  // Block (i, j) of row i, entry (r, c), is A(3i + r, 3j + c) = A(3j + c, 3i + r): column 3i + r of the
+  // symmetric A, the m-th block of its rows.
+  Level& fine = levels_.front();
+  const int* outer = A.outerIndexPtr();
+  const double* a = A.valuePtr();
+  for (int i = 0; i < fine.unknowns; ++i)
+    for (int k = fine.row_start[i]; k < fine.row_start[i + 1]; ++k) {
+      const int m = k - fine.row_start[i];
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) fine.values[9 * k + 3 * r + c] = a[outer[3 * i + r] + 3 * m + c];
+    }
+}
+
+bool BlockMultigrid::prepare_smoother(Level& level) {
+  for (std::size_t e = 0; e < level.values.size(); ++e) level.values_single[e] = static_cast<float>(level.values[e]);
+  for (int i = 0; i < level.unknowns; ++i) {
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> block(&level.values[9 * level.diagonal[i]]);
+    const Eigen::LLT<Mat3> llt(block);
+    if (llt.info() != Eigen::Success) return false;
+    Eigen::Map<Eigen::Matrix<float, 3, 3, Eigen::RowMajor>>(&level.diagonal_inverse[9 * i]) =
+        llt.solve(Mat3::Identity()).cast<float>();
+  }
+  return true;
+}
+
+bool BlockMultigrid::assign(const Eigen::SparseMatrix<double>& A, const Grid& grid, const std::vector<int>& free_index,
+                            long pattern) {
+  if (levels_.empty() || pattern < 0 || pattern != pattern_) {
+    pattern_ = -1;
+    build_hierarchy(A, grid, free_index);
+    pattern_ = pattern;
+  }
+  copy_fine_values(A);
+  for (std::size_t l = 0; l + 1 < levels_.size(); ++l) {
+    const Level& fine = levels_[l];
+    Level& coarse = levels_[l + 1];
+    std::fill(coarse.values.begin(), coarse.values.end(), 0.0);
+    for (std::size_t k = 0; k < fine.column.size(); ++k) {
+      const double* block = &fine.values[9 * k];
+      for (int e = fine.galerkin_start[k]; e < fine.galerkin_start[k + 1]; ++e) {
+        double* target = &coarse.values[9 * static_cast<std::size_t>(fine.galerkin_slot[e])];
+        const double w = fine.galerkin_weight[e];
+        for (int c = 0; c < 9; ++c) target[c] += w * block[c];
+      }
+    }
+  }
+  for (Level& level : levels_)
+    if (!prepare_smoother(level)) return false;
+  const Level& last = levels_.back();
+  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(3 * last.unknowns, 3 * last.unknowns);
+  for (int i = 0; i < last.unknowns; ++i)
+    for (int k = last.row_start[i]; k < last.row_start[i + 1]; ++k)
+      dense.block<3, 3>(3 * i, 3 * last.column[k]) =
+          Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&last.values[9 * k]);
+  coarsest_.compute(dense);
+  coarsest_rhs_.resize(dense.rows());
+  return coarsest_.info() == Eigen::Success;
+}
+
+void BlockMultigrid::forward_sweep(Level& level) {
+  const float* values = level.values_single.data();
+  float* x = level.x.data();
+  for (int i = 0; i < level.unknowns; ++i) {
+    float s0 = level.b[3 * i], s1 = level.b[3 * i + 1], s2 = level.b[3 * i + 2];
+    for (int k = level.row_start[i]; k < level.row_start[i + 1]; ++k)
+      if (const int j = level.column[k]; j != i) subtract_block_product(values + 9 * k, x + 3 * j, s0, s1, s2);
+    const float* D = &level.diagonal_inverse[9 * i];
+    x[3 * i] = D[0] * s0 + D[1] * s1 + D[2] * s2;
+    x[3 * i + 1] = D[3] * s0 + D[4] * s1 + D[5] * s2;
+    x[3 * i + 2] = D[6] * s0 + D[7] * s1 + D[8] * s2;
+  }
+}
+
+void BlockMultigrid::backward_sweep(Level& level) {
+  const float* values = level.values_single.data();
+  float* x = level.x.data();
+  for (int i = level.unknowns - 1; i >= 0; --i) {
+    float s0 = level.b[3 * i], s1 = level.b[3 * i + 1], s2 = level.b[3 * i + 2];
+    for (int k = level.row_start[i]; k < level.row_start[i + 1]; ++k)
+      if (const int j = level.column[k]; j != i) subtract_block_product(values + 9 * k, x + 3 * j, s0, s1, s2);
+    const float* D = &level.diagonal_inverse[9 * i];
+    x[3 * i] = D[0] * s0 + D[1] * s1 + D[2] * s2;
+    x[3 * i + 1] = D[3] * s0 + D[4] * s1 + D[5] * s2;
+    x[3 * i + 2] = D[6] * s0 + D[7] * s1 + D[8] * s2;
+  }
+}
+
+void BlockMultigrid::cycle(std::size_t l) {
+  Level& level = levels_[l];
+  if (l + 1 == levels_.size()) {
+    for (int e = 0; e < 3 * level.unknowns; ++e) coarsest_rhs_[e] = level.b[e];
+    coarsest_.solveInPlace(coarsest_rhs_);
+    for (int e = 0; e < 3 * level.unknowns; ++e) level.x[e] = static_cast<float>(coarsest_rhs_[e]);
+    return;
+  }
+  std::fill(level.x.begin(), level.x.end(), 0.0f);
+  for (int s = 0; s < params_.smoothing_sweeps; ++s) forward_sweep(level);
+  // r = b - A x, restricted: b_c = R^T r.
+  const float* values = level.values_single.data();
+  Level& coarse = levels_[l + 1];
+  std::fill(coarse.b.begin(), coarse.b.end(), 0.0f);
+  for (int i = 0; i < level.unknowns; ++i) {
+    float s0 = level.b[3 * i], s1 = level.b[3 * i + 1], s2 = level.b[3 * i + 2];
+    for (int k = level.row_start[i]; k < level.row_start[i + 1]; ++k)
+      subtract_block_product(values + 9 * k, &level.x[3 * level.column[k]], s0, s1, s2);
+    for (int e = level.prolong_start[i]; e < level.prolong_start[i + 1]; ++e) {
+      float* target = &coarse.b[3 * level.prolong_index[e]];
+      const float w = level.prolong_weight[e];
+      target[0] += w * s0;
+      target[1] += w * s1;
+      target[2] += w * s2;
+    }
+  }
+  cycle(l + 1);
+  for (int i = 0; i < level.unknowns; ++i)
+    for (int e = level.prolong_start[i]; e < level.prolong_start[i + 1]; ++e) {
+      const float* source = &coarse.x[3 * level.prolong_index[e]];
+      const float w = level.prolong_weight[e];
+      for (int c = 0; c < 3; ++c) level.x[3 * i + c] += w * source[c];
+    }
+  for (int s = 0; s < params_.smoothing_sweeps; ++s) backward_sweep(level);
+}
+
+void BlockMultigrid::solve_in_place(VecX& r) {
+  Level& fine = levels_.front();
+  for (int e = 0; e < 3 * fine.unknowns; ++e) fine.b[e] = static_cast<float>(r[e]);
+  cycle(0);
+  for (int e = 0; e < 3 * fine.unknowns; ++e) r[e] = fine.x[e];
+}
+
+}  // namespace fnopt
