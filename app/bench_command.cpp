@@ -2,6 +2,7 @@
 // several resolutions, and the FNO's forward/backward passes.
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 
 #include <fnopt/baselines/newton.hpp>
@@ -28,6 +29,7 @@ struct BenchFlags {
   bool warm_start = false;
   std::string keep;  // directory for the Newton rollouts, or empty
   std::string model;
+  std::string preconditioner = "auto";
 };
 
 std::vector<int> parse_resolutions(const std::string& list) {
@@ -42,19 +44,38 @@ std::vector<int> parse_resolutions(const std::string& list) {
   return values;
 }
 
+// The reference's parameters with CG's preconditioner as --preconditioner asks: auto (the
+// reference's own choice by grid size), factor or multigrid at every grid.
+NewtonParams bench_newton_params(const std::string& preconditioner) {
+  NewtonParams params;
+  if (preconditioner == "factor")
+    params.multigrid_from_dofs = std::numeric_limits<int>::max();
+  else if (preconditioner == "multigrid")
+    params.multigrid_from_dofs = 0;
+  else if (preconditioner != "auto")
+    throw Error("preconditioner", "expected auto, factor or multigrid, got '" + preconditioner + "'");
+  return params;
+}
+
 void bench_newton(const BenchFlags& flags, int threads) {
   const InnerSolveOptions solve = NewtonOptimizer::reference_solve_options();
+  const NewtonParams params = bench_newton_params(flags.preconditioner);
+  const std::string preconditioner =
+      flags.preconditioner == "auto"
+          ? "P's factor, a multigrid from " + std::to_string(params.multigrid_from_dofs) + " free dofs"
+          : flags.preconditioner;
   std::printf(
       "Newton reference step (residual acceleration <= %g m/s^2), corner handles, motion xy_v2, %d frames, "
-      "dt = 1/60, %d thread%s, warm start %s\n",
-      solve.acceleration_tolerance, flags.frames, threads, threads == 1 ? "" : "s", flags.warm_start ? "on" : "off");
+      "dt = 1/60, %d thread%s, warm start %s, preconditioner %s\n",
+      solve.acceleration_tolerance, flags.frames, threads, threads == 1 ? "" : "s", flags.warm_start ? "on" : "off",
+      preconditioner.c_str());
   std::printf("%6s %10s %10s %9s %9s %9s %10s %9s %9s %9s\n", "res", "ms/frame", "max ms", "iters", "max it",
-              "factor/st", "cg it/st", "neg curv", "rejected", "converged");
+              "builds/st", "cg it/st", "neg curv", "rejected", "converged");
   for (int n : parse_resolutions(flags.resolutions)) {
     Scene scene;
     scene.rows = scene.cols = n;
     scene.frames = flags.frames;
-    NewtonOptimizer newton;
+    NewtonOptimizer newton(params);
     RolloutOptions options;
     options.solve = solve;
     options.warm_start = flags.warm_start;
@@ -110,6 +131,11 @@ const RegisterCommand kRegister([](CLI::App& app) {
                    "newton: also write each rollout to DIR/newton_<res>.h5 (an existing directory)")
       ->check(CLI::ExistingDirectory);
   command->add_flag("--warm-start", flags->warm_start, "start each step from the previous acceleration");
+  command
+      ->add_option("--preconditioner", flags->preconditioner,
+                   "newton: CG's preconditioner: auto (P's Cholesky factor, on fine grids a multigrid V-cycle), "
+                   "factor or multigrid at every grid")
+      ->capture_default_str();
   command->callback([flags] { run_bench(*flags); });
 });
 

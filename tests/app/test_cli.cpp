@@ -66,6 +66,11 @@ TEST(Cli, BenchNewtonKeepsTheRolloutItTimed) {
   ASSERT_EQ(b.positions.size(), a.positions.size());
   for (std::size_t f = 0; f < a.positions.size(); ++f) EXPECT_EQ(a.positions[f], b.positions[f]) << f;
   EXPECT_NE(fnopt::read_rollout_provenance(kept).optimizer_settings.find("trust-region"), std::string::npos);
+  // The multigrid at every grid (the reference's own from about 82^2) converges the same steps.
+  const CommandResult multigrid = run_fnopt("bench newton --res 8 --frames 4 --threads 1 --preconditioner multigrid");
+  EXPECT_EQ(multigrid.status, 0) << multigrid.output;
+  EXPECT_NE(multigrid.output.find("preconditioner multigrid"), std::string::npos) << multigrid.output;
+  EXPECT_NE(multigrid.output.find("4/4"), std::string::npos) << multigrid.output;
   const CommandResult missing = run_fnopt("bench newton --res 8 --frames 1 --keep " + (dir / "nope").string());
   EXPECT_EQ(missing.status, 2) << missing.output;
   std::filesystem::remove_all(dir);

@@ -204,3 +204,4 @@ TEST(BlockMultigrid, RejectsWhatIsNotItsMatrix) {
 
 }  // namespace
 }  // namespace fnopt
+

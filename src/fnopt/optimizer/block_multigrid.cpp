@@ -25,11 +25,32 @@ int line_weights(int i, int n, int* k, double* w) {
   return 2;
 }
 
-// y = B x for a row-major 3x3 float block, subtracted from s.
-inline void subtract_block_product(const float* B, const float* x, float& s0, float& s1, float& s2) {
-  s0 -= B[0] * x[0] + B[1] * x[1] + B[2] * x[2];
-  s1 -= B[3] * x[0] + B[4] * x[1] + B[5] * x[2];
-  s2 -= B[6] * x[0] + B[7] * x[1] + B[8] * x[2];
+// s <- b_i - sum_j A_ij x_j over the blocks [begin, end) of row i (block k row-major at values + 9k,
+// in column column[k]). Two partial sums per component, so that consecutive blocks' products do not
+// wait on each other's additions (the sweeps are bound by that latency, not by memory).
+inline void row_residual(const int* column, const float* values, int begin, int end, const float* x, const float* b,
+                         float* s) {
+  float a0 = b[0], a1 = b[1], a2 = b[2], c0 = 0.0f, c1 = 0.0f, c2 = 0.0f;
+  int k = begin;
+  for (; k + 1 < end; k += 2) {
+    const float *B = values + 9 * k, *y = x + 3 * column[k];
+    const float *C = B + 9, *z = x + 3 * column[k + 1];
+    a0 -= B[0] * y[0] + B[1] * y[1] + B[2] * y[2];
+    a1 -= B[3] * y[0] + B[4] * y[1] + B[5] * y[2];
+    a2 -= B[6] * y[0] + B[7] * y[1] + B[8] * y[2];
+    c0 += C[0] * z[0] + C[1] * z[1] + C[2] * z[2];
+    c1 += C[3] * z[0] + C[4] * z[1] + C[5] * z[2];
+    c2 += C[6] * z[0] + C[7] * z[1] + C[8] * z[2];
+  }
+  if (k < end) {
+    const float *B = values + 9 * k, *y = x + 3 * column[k];
+    a0 -= B[0] * y[0] + B[1] * y[1] + B[2] * y[2];
+    a1 -= B[3] * y[0] + B[4] * y[1] + B[5] * y[2];
+    a2 -= B[6] * y[0] + B[7] * y[1] + B[8] * y[2];
+  }
+  s[0] = a0 - c0;
+  s[1] = a1 - c1;
+  s[2] = a2 - c2;
 }
 
 }  // namespace
@@ -228,31 +249,23 @@ bool BlockMultigrid::assign(const Eigen::SparseMatrix<double>& A, const Grid& gr
   return coarsest_.info() == Eigen::Success;
 }
 
-void BlockMultigrid::forward_sweep(Level& level) {
+void BlockMultigrid::sweep(Level& level, bool forward) {
   const float* values = level.values_single.data();
   float* x = level.x.data();
-  for (int i = 0; i < level.unknowns; ++i) {
-    float s0 = level.b[3 * i], s1 = level.b[3 * i + 1], s2 = level.b[3 * i + 2];
-    for (int k = level.row_start[i]; k < level.row_start[i + 1]; ++k)
-      if (const int j = level.column[k]; j != i) subtract_block_product(values + 9 * k, x + 3 * j, s0, s1, s2);
+  for (int t = 0; t < level.unknowns; ++t) {
+    const int i = forward ? t : level.unknowns - 1 - t;
+    // x_i <- D_i^-1 (b_i - sum_{j != i} A_ij x_j): the whole row's residual plus the diagonal block's term.
+    float s[3];
+    row_residual(level.column.data(), values, level.row_start[i], level.row_start[i + 1], x, &level.b[3 * i], s);
+    const float* A = values + 9 * level.diagonal[i];
+    float* xi = x + 3 * i;
+    const float r0 = s[0] + A[0] * xi[0] + A[1] * xi[1] + A[2] * xi[2];
+    const float r1 = s[1] + A[3] * xi[0] + A[4] * xi[1] + A[5] * xi[2];
+    const float r2 = s[2] + A[6] * xi[0] + A[7] * xi[1] + A[8] * xi[2];
     const float* D = &level.diagonal_inverse[9 * i];
-    x[3 * i] = D[0] * s0 + D[1] * s1 + D[2] * s2;
-    x[3 * i + 1] = D[3] * s0 + D[4] * s1 + D[5] * s2;
-    x[3 * i + 2] = D[6] * s0 + D[7] * s1 + D[8] * s2;
-  }
-}
-
-void BlockMultigrid::backward_sweep(Level& level) {
-  const float* values = level.values_single.data();
-  float* x = level.x.data();
-  for (int i = level.unknowns - 1; i >= 0; --i) {
-    float s0 = level.b[3 * i], s1 = level.b[3 * i + 1], s2 = level.b[3 * i + 2];
-    for (int k = level.row_start[i]; k < level.row_start[i + 1]; ++k)
-      if (const int j = level.column[k]; j != i) subtract_block_product(values + 9 * k, x + 3 * j, s0, s1, s2);
-    const float* D = &level.diagonal_inverse[9 * i];
-    x[3 * i] = D[0] * s0 + D[1] * s1 + D[2] * s2;
-    x[3 * i + 1] = D[3] * s0 + D[4] * s1 + D[5] * s2;
-    x[3 * i + 2] = D[6] * s0 + D[7] * s1 + D[8] * s2;
+    xi[0] = D[0] * r0 + D[1] * r1 + D[2] * r2;
+    xi[1] = D[3] * r0 + D[4] * r1 + D[5] * r2;
+    xi[2] = D[6] * r0 + D[7] * r1 + D[8] * r2;
   }
 }
 
@@ -265,21 +278,21 @@ void BlockMultigrid::cycle(std::size_t l) {
     return;
   }
   std::fill(level.x.begin(), level.x.end(), 0.0f);
-  for (int s = 0; s < params_.smoothing_sweeps; ++s) forward_sweep(level);
+  for (int s = 0; s < params_.smoothing_sweeps; ++s) sweep(level, true);
   // r = b - A x, restricted: b_c = R^T r.
   const float* values = level.values_single.data();
   Level& coarse = levels_[l + 1];
   std::fill(coarse.b.begin(), coarse.b.end(), 0.0f);
   for (int i = 0; i < level.unknowns; ++i) {
-    float s0 = level.b[3 * i], s1 = level.b[3 * i + 1], s2 = level.b[3 * i + 2];
-    for (int k = level.row_start[i]; k < level.row_start[i + 1]; ++k)
-      subtract_block_product(values + 9 * k, &level.x[3 * level.column[k]], s0, s1, s2);
+    float s[3];
+    row_residual(level.column.data(), values, level.row_start[i], level.row_start[i + 1], level.x.data(),
+                 &level.b[3 * i], s);
     for (int e = level.prolong_start[i]; e < level.prolong_start[i + 1]; ++e) {
       float* target = &coarse.b[3 * level.prolong_index[e]];
       const float w = level.prolong_weight[e];
-      target[0] += w * s0;
-      target[1] += w * s1;
-      target[2] += w * s2;
+      target[0] += w * s[0];
+      target[1] += w * s[1];
+      target[2] += w * s[2];
     }
   }
   cycle(l + 1);
@@ -289,7 +302,7 @@ void BlockMultigrid::cycle(std::size_t l) {
       const float w = level.prolong_weight[e];
       for (int c = 0; c < 3; ++c) level.x[3 * i + c] += w * source[c];
     }
-  for (int s = 0; s < params_.smoothing_sweeps; ++s) backward_sweep(level);
+  for (int s = 0; s < params_.smoothing_sweeps; ++s) sweep(level, false);
 }
 
 void BlockMultigrid::solve_in_place(VecX& r) {

@@ -79,8 +79,8 @@ class BlockMultigrid {
   Level coarsen(Level& fine) const;
   void copy_fine_values(const Eigen::SparseMatrix<double>& A);
   bool prepare_smoother(Level& level);
-  void forward_sweep(Level& level);
-  void backward_sweep(Level& level);
+  // One block Gauss–Seidel sweep on level.x for level.b, in the unknowns' order or in reverse.
+  void sweep(Level& level, bool forward);
   void cycle(std::size_t l);
 
   BlockMultigridParams params_;
