@@ -50,9 +50,9 @@ double hat(int i, int k, int n) {
   return 0.0;
 }
 
-// One two-grid cycle with dense matrices: forward block Gauss–Seidel from 0, the coarse
-// correction R (R^T A R)^-1 R^T (b - A x), backward block Gauss–Seidel.
-VecX naive_two_grid(const ClothMatrix& m, const VecX& b) {
+// One two-grid cycle with dense matrices: `sweeps` forward block Gauss–Seidel sweeps from 0, the
+// coarse correction R (R^T A R)^-1 R^T (b - A x), as many backward sweeps.
+VecX naive_two_grid(const ClothMatrix& m, const VecX& b, int sweeps) {
   const Eigen::MatrixXd A(m.A);
   const int n = static_cast<int>(A.rows()) / 3;
   const int coarse_rows = coarse_points(m.grid.rows), coarse_cols = coarse_points(m.grid.cols);
@@ -75,27 +75,30 @@ VecX naive_two_grid(const ClothMatrix& m, const VecX& b) {
     }
   };
   VecX x = VecX::Zero(b.size());
-  sweep(x, true);
+  for (int s = 0; s < sweeps; ++s) sweep(x, true);
   const Eigen::MatrixXd coarse = R.transpose() * A * R;
   x += R * coarse.llt().solve(R.transpose() * (b - A * x));
-  sweep(x, false);
+  for (int s = 0; s < sweeps; ++s) sweep(x, false);
   return x;
 }
 
 TEST(BlockMultigrid, TwoLevelsAreTheNaiveTwoGridCycle) {
   // 10 x 11: an even line coarsens to 0, 2, ..., 8 and its last point 9; an odd one to 0, 2, ..., 10.
   const ClothMatrix m = cloth_matrix(10, 11);
-  BlockMultigridParams params;
-  params.coarsest_dofs = 120;  // 108 unknown dofs on the 6 x 6 coarse grid: two levels
-  BlockMultigrid multigrid(params);
-  ASSERT_TRUE(multigrid.assign(m.A, m.grid, m.handles.free_index()));
-  ASSERT_EQ(multigrid.level_count(), 2);
-  for (int trial = 0; trial < 3; ++trial) {
-    const VecX b = VecX::Random(m.A.rows());
-    VecX cycle = b;
-    multigrid.solve_in_place(cycle);
-    const VecX naive = naive_two_grid(m, b);
-    EXPECT_LT((cycle - naive).norm(), 1e-5 * naive.norm());
+  for (int sweeps : {1, 2}) {  // the default, and more sweeps than one
+    BlockMultigridParams params;
+    params.smoothing_sweeps = sweeps;
+    params.coarsest_dofs = 120;  // 108 unknown dofs on the 6 x 6 coarse grid: two levels
+    BlockMultigrid multigrid(params);
+    ASSERT_TRUE(multigrid.assign(m.A, m.grid, m.handles.free_index()));
+    ASSERT_EQ(multigrid.level_count(), 2);
+    for (int trial = 0; trial < 3; ++trial) {
+      const VecX b = VecX::Random(m.A.rows());
+      VecX cycle = b;
+      multigrid.solve_in_place(cycle);
+      const VecX naive = naive_two_grid(m, b, sweeps);
+      EXPECT_LT((cycle - naive).norm(), 1e-5 * naive.norm()) << sweeps << " sweeps";
+    }
   }
 }
 
@@ -204,4 +207,3 @@ TEST(BlockMultigrid, RejectsWhatIsNotItsMatrix) {
 
 }  // namespace
 }  // namespace fnopt
-

@@ -27,7 +27,7 @@ int line_weights(int i, int n, int* k, double* w) {
 
 // s <- b_i - sum_j A_ij x_j over the blocks [begin, end) of row i (block k row-major at values + 9k,
 // in column column[k]). Two partial sums per component, so that consecutive blocks' products do not
-// wait on each other's additions (the sweeps are bound by that latency, not by memory).
+// wait on each other's additions.
 inline void row_residual(const int* column, const float* values, int begin, int end, const float* x, const float* b,
                          float* s) {
   float a0 = b[0], a1 = b[1], a2 = b[2], c0 = 0.0f, c1 = 0.0f, c2 = 0.0f;
