@@ -140,10 +140,11 @@ BlockMultigrid::Level BlockMultigrid::coarsen(Level& fine) const {
       }
     start.push_back(static_cast<int>(vertex.size()));
   }
-  coarse.unknown.assign(static_cast<std::size_t>(coarse.grid_rows) * coarse.grid_cols, -1);
-  for (int c : vertex) coarse.unknown[c] = 0;
-  for (int& u : coarse.unknown)
-    if (u == 0) u = coarse.unknowns++;
+  // The coarse vertices some fine unknown interpolates from are the coarse unknowns, in grid order.
+  std::vector<char> used(static_cast<std::size_t>(coarse.grid_rows) * coarse.grid_cols, 0);
+  for (int c : vertex) used[c] = 1;
+  coarse.unknown.resize(used.size());
+  for (std::size_t c = 0; c < used.size(); ++c) coarse.unknown[c] = used[c] ? coarse.unknowns++ : -1;
   fine.prolong_start = start;
   fine.prolong_index.resize(vertex.size());
   fine.prolong_weight.resize(vertex.size());
