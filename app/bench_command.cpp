@@ -100,6 +100,8 @@ void bench_newton(const BenchFlags& flags, int threads) {
                 r.total_iterations() / steps, max_iterations, c.factorizations / steps, c.cg_iterations / steps,
                 100.0 * c.negative_curvature / iterations, c.rejected_trials / steps, converged,
                 static_cast<int>(r.steps.size()));
+    if (c.multigrid_fallbacks > 0)
+      std::printf("       (the multigrid gave way to P's factor: a fresh V-cycle left CG at its cap)\n");
     std::fflush(stdout);
   }
 }

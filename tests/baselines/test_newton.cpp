@@ -286,6 +286,19 @@ TEST(NewtonSolver, AMultigridPreconditionerGivesTheSameSteps) {
   EXPECT_GT(multigrid.counters().factorizations, 0);  // P rebuilt (the V-cycle's levels) as often as needed
 }
 
+// Where a fresh V-cycle leaves CG at its cap, the factor takes over and the step converges where the
+// factor's does (the cap forced low here; on very stiff cloth the cycle itself is too weak).
+TEST(NewtonSolver, AMultigridThatLeavesCgAtItsCapGivesWayToTheFactor) {
+  NewtonParams with_factor, with_multigrid;
+  with_factor.multigrid_from_dofs = 1 << 30;
+  with_multigrid.multigrid_from_dofs = 0;
+  with_factor.max_cg_iterations = with_multigrid.max_cg_iterations = 2;
+  NewtonOptimizer factor(with_factor), multigrid(with_multigrid);
+  solve_side_by_side(16, factor, multigrid);
+  EXPECT_EQ(multigrid.counters().multigrid_fallbacks, 1);
+  EXPECT_EQ(factor.counters().multigrid_fallbacks, 0);
+}
+
 TEST(NewtonParams, EveryParameterChangesTheSettingsString) {
   const std::string base = NewtonOptimizer{}.settings();
   const std::vector<void (*)(NewtonParams&)> changes = {

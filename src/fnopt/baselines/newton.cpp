@@ -119,7 +119,8 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
   const DirichletSet& dirichlet = problem.dirichlet();
   dirichlet.gather_free(gradient, rhs_);
   const double gradient_norm = rhs_.norm();
-  if (const bool multigrid = rhs_.size() >= params_.multigrid_from_dofs; multigrid != use_multigrid_) {
+  if (const bool multigrid = rhs_.size() >= params_.multigrid_from_dofs && !multigrid_failed_;
+      multigrid != use_multigrid_) {
     use_multigrid_ = multigrid;
     have_factor_ = false;
   }
@@ -154,6 +155,13 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
     const SteihaugResult sub =
         steihaug_cg(rhs_, radius_, forcing, params_.max_cg_iterations, multiply, precondition, metric_, step_, cg_);
     counters_.cg_iterations += sub.iterations;
+    // A V-cycle built at this iterate that leaves CG at its cap does not precondition this cloth (on very
+    // stiff stretch, docs/results.md "A multigrid preconditioner on fine grids"): P's factor from the next
+    // iteration on.
+    if (use_multigrid_ && stale && sub.end == SteihaugEnd::IterationLimit && !multigrid_failed_) {
+      multigrid_failed_ = true;
+      ++counters_.multigrid_fallbacks;
+    }
     last_cg_iterations_ = std::max(last_cg_iterations_, sub.iterations);
     if (sub.end == SteihaugEnd::NegativeCurvature) ++counters_.negative_curvature;
     dirichlet.scatter_free(step_, full_step_);

@@ -60,8 +60,9 @@ struct NewtonParams {
   // On steps with at least this many free dofs, P^-1 is applied approximately, by one V-cycle of a
   // geometric multigrid on P (optimizer/block_multigrid.hpp), instead of with P's Cholesky factor:
   // no factorisation and a cheaper product, for more CG iterations: 1.5x faster at 100^2, as fast
-  // at 32^2 (docs/results.md, "The Newton reference: a multigrid preconditioner"). From about 82^2,
-  // so that the references of 32^2 and 64^2, where it gains less, stay those of the factor. 0: always.
+  // at 32^2 (docs/results.md, "A multigrid preconditioner on fine grids"). From about 82^2, so that
+  // the references of 32^2 and 64^2, where it gains less, stay those of the factor. 0: always. Where
+  // a fresh V-cycle leaves CG at max_cg_iterations (very stiff cloth) the factor takes over for good.
   int multigrid_from_dofs = 20000;
   BlockMultigridParams multigrid;
   // Seek a local minimum of the step's energy instead of any stationary point ("newton-min"):
@@ -77,11 +78,12 @@ struct NewtonParams {
 
 // Work counters, for benchmarks.
 struct NewtonCounters {
-  long factorizations = 0;      // builds of P's preconditioner: its Cholesky factor or its multigrid levels
-  long cg_iterations = 0;       // products with H
-  long negative_curvature = 0;  // subproblems that followed a negative-curvature direction
-  long rejected_trials = 0;     // trial steps the trust region turned down
-  long saddle_escapes = 0;      // steps off a saddle (escape_saddles)
+  long factorizations = 0;       // builds of P's preconditioner: its Cholesky factor or its multigrid levels
+  long cg_iterations = 0;        // products with H
+  long negative_curvature = 0;   // subproblems that followed a negative-curvature direction
+  long rejected_trials = 0;      // trial steps the trust region turned down
+  long saddle_escapes = 0;       // steps off a saddle (escape_saddles)
+  long multigrid_fallbacks = 0;  // 1 once a fresh V-cycle left CG at max_cg_iterations: the factor since
 };
 
 class NewtonOptimizer final : public InnerOptimizer {
@@ -119,6 +121,7 @@ class NewtonOptimizer final : public InnerOptimizer {
   SinglePrecisionFactor single_factor_;  // its float copy, when single_precision_preconditioner
   BlockMultigrid multigrid_;             // in their place, on steps of multigrid_from_dofs free dofs or more
   bool use_multigrid_ = false;           // this step's choice
+  bool multigrid_failed_ = false;        // a fresh V-cycle left CG at its cap: the factor from then on
   bool have_factor_ = false;
   int last_cg_iterations_ = 0;
   NewtonCounters counters_;
