@@ -61,7 +61,12 @@ bool NewtonOptimizer::factorize_preconditioner(StepProblem& problem, const VecX&
   if (use_multigrid_) {
     have_factor_ =
         multigrid_.assign(projected, problem.grid(), problem.dirichlet().free_index(), objective.hessian_pattern_id());
-    return have_factor_;
+    if (have_factor_) return true;
+    // A diagonal block's or the coarsest grid's Cholesky failed (P and its Galerkin products are
+    // positive definite, but rounding can break that on extreme stiffness): the factor from here on.
+    use_multigrid_ = false;
+    multigrid_failed_ = true;
+    ++counters_.multigrid_fallbacks;
   }
   have_factor_ = factor_.factorize_matrix(projected, objective.hessian_pattern_id());
   if (have_factor_ && params_.single_precision_preconditioner) single_factor_.assign(factor_);

@@ -83,7 +83,7 @@ struct NewtonCounters {
   long negative_curvature = 0;   // subproblems that followed a negative-curvature direction
   long rejected_trials = 0;      // trial steps the trust region turned down
   long saddle_escapes = 0;       // steps off a saddle (escape_saddles)
-  long multigrid_fallbacks = 0;  // 1 once a fresh V-cycle left CG at max_cg_iterations: the factor since
+  long multigrid_fallbacks = 0;  // 1 once a fresh V-cycle left CG at its cap or could not be built: the factor since
 };
 
 class NewtonOptimizer final : public InnerOptimizer {
