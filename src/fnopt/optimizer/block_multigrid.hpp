@@ -16,8 +16,8 @@
 //
 // Why: the sparse Cholesky factor of A costs, at 100^2, 400–500 ms to compute and 7.8 ms per
 // solve even in floats (5.5 million entries read twice); A itself has 1.3 x 10^5 blocks, a
-// cycle reads it and its coarse levels about three times (docs/results.md, "The Newton
-// reference: a multigrid preconditioner").
+// cycle reads it and its coarse levels about three times, no factorisation to rebuild (docs/results.md,
+// "A multigrid preconditioner on fine grids").
 #include <Eigen/Cholesky>
 #include <Eigen/Sparse>
 #include <vector>
