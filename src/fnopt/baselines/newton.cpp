@@ -63,14 +63,19 @@ bool NewtonOptimizer::factorize_preconditioner(StepProblem& problem, const VecX&
         multigrid_.assign(projected, problem.grid(), problem.dirichlet().free_index(), objective.hessian_pattern_id());
     if (have_factor_) return true;
     // A diagonal block's or the coarsest grid's Cholesky failed (P and its Galerkin products are
-    // positive definite, but rounding can break that on extreme stiffness): the factor from here on.
+    // positive definite, but rounding can break that on extreme stiffness): the factor, now.
+    hand_over_to_factor();
     use_multigrid_ = false;
-    multigrid_failed_ = true;
-    ++counters_.multigrid_fallbacks;
   }
   have_factor_ = factor_.factorize_matrix(projected, objective.hessian_pattern_id());
   if (have_factor_ && params_.single_precision_preconditioner) single_factor_.assign(factor_);
   return have_factor_;
+}
+
+void NewtonOptimizer::hand_over_to_factor() {
+  if (multigrid_failed_) return;
+  multigrid_failed_ = true;
+  ++counters_.multigrid_fallbacks;
 }
 
 void NewtonOptimizer::begin_step(StepProblem&, const VecX&, double value, const VecX& gradient) {
@@ -163,10 +168,7 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
     // A V-cycle built at this iterate that leaves CG at its cap does not precondition this cloth (on very
     // stiff stretch, docs/results.md "A multigrid preconditioner on fine grids"): P's factor from the next
     // iteration on.
-    if (use_multigrid_ && stale && sub.end == SteihaugEnd::IterationLimit && !multigrid_failed_) {
-      multigrid_failed_ = true;
-      ++counters_.multigrid_fallbacks;
-    }
+    if (use_multigrid_ && stale && sub.end == SteihaugEnd::IterationLimit) hand_over_to_factor();
     last_cg_iterations_ = std::max(last_cg_iterations_, sub.iterations);
     if (sub.end == SteihaugEnd::NegativeCurvature) ++counters_.negative_curvature;
     dirichlet.scatter_free(step_, full_step_);

@@ -59,10 +59,11 @@ struct NewtonParams {
   bool single_precision_preconditioner = true;
   // On steps with at least this many free dofs, P^-1 is applied approximately, by one V-cycle of a
   // geometric multigrid on P (optimizer/block_multigrid.hpp), instead of with P's Cholesky factor:
-  // no factorisation and a cheaper product, for more CG iterations: 1.5x faster at 100^2, as fast
+  // no factorisation and a cheaper product, for more CG iterations: 1.4x faster at 100^2, as fast
   // at 32^2 (docs/results.md, "A multigrid preconditioner on fine grids"). From about 82^2, so that
   // the references of 32^2 and 64^2, where it gains less, stay those of the factor. 0: always. Where
-  // a fresh V-cycle leaves CG at max_cg_iterations (very stiff cloth) the factor takes over for good.
+  // a fresh V-cycle leaves CG at max_cg_iterations (very stiff cloth) or cannot be built, the factor
+  // takes over for good.
   int multigrid_from_dofs = 20000;
   BlockMultigridParams multigrid;
   // Seek a local minimum of the step's energy instead of any stationary point ("newton-min"):
@@ -112,8 +113,11 @@ class NewtonOptimizer final : public InnerOptimizer {
  private:
   // The trust region's metric on the free dofs, the inertia weights dt^2 m (1 + c dt).
   void set_metric(const StepProblem& problem);
-  // Factorizes P at a; false if CHOLMOD fails (P is positive definite by construction).
+  // Builds P's preconditioner at a (its factor, or its multigrid levels); false if CHOLMOD fails (P is
+  // positive definite by construction).
   bool factorize_preconditioner(StepProblem& problem, const VecX& a);
+  // The multigrid does not serve this rollout: P's factor from the next build on (counted once).
+  void hand_over_to_factor();
   Eigen::Index preconditioner_rows() const { return use_multigrid_ ? multigrid_.rows() : factor_.rows(); }
 
   NewtonParams params_;
@@ -121,7 +125,7 @@ class NewtonOptimizer final : public InnerOptimizer {
   SinglePrecisionFactor single_factor_;  // its float copy, when single_precision_preconditioner
   BlockMultigrid multigrid_;             // in their place, on steps of multigrid_from_dofs free dofs or more
   bool use_multigrid_ = false;           // this step's choice
-  bool multigrid_failed_ = false;        // a fresh V-cycle left CG at its cap: the factor from then on
+  bool multigrid_failed_ = false;        // hand_over_to_factor() was called: the factor from then on
   bool have_factor_ = false;
   int last_cg_iterations_ = 0;
   NewtonCounters counters_;
