@@ -13,10 +13,11 @@
 // With theta0 = 0 (bending) g'(c) = -K theta/sin(theta) and g''(c) = K (sin - theta cos)/sin^3
 // are 0/0 at the flat rest state; their Taylor series (1 + theta^2/6, 1/3 + 2 theta^2/15) are used
 // below theta = 1e-3. theta = atan2(|u x w|, u.w) keeps precision near 0 and pi.
-// The PSD projection acts on the 6x6 Hessian in (u, w); mapped back to the 9 vertex
-// coordinates it stays PSD.
+// The PSD projection acts on the 6x6 Hessian in (u, w), in closed form (angle_projection.hpp);
+// mapped back to the 9 vertex coordinates it stays PSD.
 #include <Eigen/Core>
 
+#include <fnopt/cloth/angle_projection.hpp>
 #include <fnopt/cloth/psd_projection.hpp>
 
 namespace fnopt {
@@ -65,7 +66,7 @@ struct AngleKernel {
         l.dE_dc * (I - uh * uh.transpose() - wh * wh.transpose() + c * uh * wh.transpose()) / (nu * nw);
     Huw.topRightCorner<3, 3>() += cross;
     Huw.bottomLeftCorner<3, 3>() += cross.transpose();
-    if (project) Huw = project_psd<6>(Huw);
+    if (project && !project_angle_hessian(u, w, stiffness, l.delta, Huw)) Huw = project_psd<6>(Huw);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         H.block<3, 3>(3 * i, 3 * j) = u_coeff[i] * u_coeff[j] * Huw.topLeftCorner<3, 3>() +
