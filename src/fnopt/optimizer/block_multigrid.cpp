@@ -25,32 +25,28 @@ int line_weights(int i, int n, int* k, double* w) {
   return 2;
 }
 
-// s <- b_i - sum_j A_ij x_j over the blocks [begin, end) of row i (block k row-major at values + 9k,
-// in column column[k]). Two partial sums per component, so that consecutive blocks' products do not
-// wait on each other's additions.
-inline void row_residual(const int* column, const float* values, int begin, int end, const float* x, const float* b,
-                         float* s) {
-  float a0 = b[0], a1 = b[1], a2 = b[2], c0 = 0.0f, c1 = 0.0f, c2 = 0.0f;
+// The smoother's kernels work on four float lanes, the fourth ignored: a 3x3 block stored column by
+// column is three overlapping 4-float columns (the last reads one float past the block: the next
+// block's first, or the padding at the end of the array), so that B y is three broadcasts, products
+// and sums instead of nine scalar ones.
+using Lanes = Eigen::Array4f;
+
+inline Lanes block_times(const float* B, const float* y) {
+  return Eigen::Map<const Lanes>(B) * y[0] + Eigen::Map<const Lanes>(B + 3) * y[1] +
+         Eigen::Map<const Lanes>(B + 6) * y[2];
+}
+
+// sum_k A_ik x_k over the blocks [begin, end) of a row (block k at values + 9k, in column column[k]).
+// Two partial sums, so that consecutive blocks' products do not wait on each other's additions.
+inline Lanes row_product(const int* column, const float* values, int begin, int end, const float* x) {
+  Lanes a = Lanes::Zero(), c = Lanes::Zero();
   int k = begin;
   for (; k + 1 < end; k += 2) {
-    const float *B = values + 9 * k, *y = x + 3 * column[k];
-    const float *C = B + 9, *z = x + 3 * column[k + 1];
-    a0 -= B[0] * y[0] + B[1] * y[1] + B[2] * y[2];
-    a1 -= B[3] * y[0] + B[4] * y[1] + B[5] * y[2];
-    a2 -= B[6] * y[0] + B[7] * y[1] + B[8] * y[2];
-    c0 += C[0] * z[0] + C[1] * z[1] + C[2] * z[2];
-    c1 += C[3] * z[0] + C[4] * z[1] + C[5] * z[2];
-    c2 += C[6] * z[0] + C[7] * z[1] + C[8] * z[2];
+    a += block_times(values + 9 * k, x + 3 * column[k]);
+    c += block_times(values + 9 * (k + 1), x + 3 * column[k + 1]);
   }
-  if (k < end) {
-    const float *B = values + 9 * k, *y = x + 3 * column[k];
-    a0 -= B[0] * y[0] + B[1] * y[1] + B[2] * y[2];
-    a1 -= B[3] * y[0] + B[4] * y[1] + B[5] * y[2];
-    a2 -= B[6] * y[0] + B[7] * y[1] + B[8] * y[2];
-  }
-  s[0] = a0 - c0;
-  s[1] = a1 - c1;
-  s[2] = a2 - c2;
+  if (k < end) a += block_times(values + 9 * k, x + 3 * column[k]);
+  return a + c;
 }
 
 }  // namespace
@@ -110,10 +106,19 @@ void BlockMultigrid::build_hierarchy(const Eigen::SparseMatrix<double>& A, const
     require(std::all_of(level.diagonal.begin(), level.diagonal.end(), [](int k) { return k >= 0; }), "multigrid",
             "a free vertex has no diagonal block");
     level.values.resize(9 * level.column.size());
-    level.values_single.resize(level.values.size());
-    level.diagonal_inverse.resize(9 * static_cast<std::size_t>(n));
+    level.lower_start.assign(1, 0);
+    level.lower_column.clear();
+    for (int i = 0; i < n; ++i) {
+      level.lower_column.insert(level.lower_column.end(), level.column.begin() + level.row_start[i],
+                                level.column.begin() + level.diagonal[i]);
+      level.lower_start.push_back(static_cast<int>(level.lower_column.size()));
+    }
+    // + the padding the kernels' last column reads.
+    level.lower_values.assign(9 * level.lower_column.size() + 1, 0.0f);
+    level.diagonal_inverse.assign(9 * static_cast<std::size_t>(n) + 1, 0.0f);
     level.x.resize(3 * n);
     level.b.resize(3 * n);
+    level.upper.resize(3 * n);
   }
 }
 
@@ -205,13 +210,17 @@ void BlockMultigrid::copy_fine_values(const Eigen::SparseMatrix<double>& A) {
 }
 
 bool BlockMultigrid::prepare_smoother(Level& level) {
-  for (std::size_t e = 0; e < level.values.size(); ++e) level.values_single[e] = static_cast<float>(level.values[e]);
+  // The blocks left of the diagonal, column by column (values holds each block row by row).
+  float* lower = level.lower_values.data();
+  for (int i = 0; i < level.unknowns; ++i)
+    for (int k = level.row_start[i]; k < level.diagonal[i]; ++k, lower += 9)
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) lower[3 * c + r] = static_cast<float>(level.values[9 * k + 3 * r + c]);
   for (int i = 0; i < level.unknowns; ++i) {
     const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> block(&level.values[9 * level.diagonal[i]]);
     const Eigen::LLT<Mat3> llt(block);
     if (llt.info() != Eigen::Success) return false;
-    Eigen::Map<Eigen::Matrix<float, 3, 3, Eigen::RowMajor>>(&level.diagonal_inverse[9 * i]) =
-        llt.solve(Mat3::Identity()).cast<float>();
+    Eigen::Map<Eigen::Matrix3f>(&level.diagonal_inverse[9 * i]) = llt.solve(Mat3::Identity()).cast<float>();
   }
   return true;
 }
@@ -250,23 +259,61 @@ bool BlockMultigrid::assign(const Eigen::SparseMatrix<double>& A, const Grid& gr
   return coarsest_.info() == Eigen::Success;
 }
 
-void BlockMultigrid::sweep(Level& level, bool forward) {
-  const float* values = level.values_single.data();
+void BlockMultigrid::forward_sweep(Level& level, bool from_zero) {
+  // x_i <- D_i^-1 (b_i - sum_{j < i} A_ij x_j - upper_i), upper = U x before the sweep (0 from x = 0).
+  const int* column = level.lower_column.data();
+  const float* lower = level.lower_values.data();
   float* x = level.x.data();
-  for (int t = 0; t < level.unknowns; ++t) {
-    const int i = forward ? t : level.unknowns - 1 - t;
-    // x_i <- D_i^-1 (b_i - sum_{j != i} A_ij x_j): the whole row's residual plus the diagonal block's term.
-    float s[3];
-    row_residual(level.column.data(), values, level.row_start[i], level.row_start[i + 1], x, &level.b[3 * i], s);
-    const float* A = values + 9 * level.diagonal[i];
-    float* xi = x + 3 * i;
-    const float r0 = s[0] + A[0] * xi[0] + A[1] * xi[1] + A[2] * xi[2];
-    const float r1 = s[1] + A[3] * xi[0] + A[4] * xi[1] + A[5] * xi[2];
-    const float r2 = s[2] + A[6] * xi[0] + A[7] * xi[1] + A[8] * xi[2];
-    const float* D = &level.diagonal_inverse[9 * i];
-    xi[0] = D[0] * r0 + D[1] * r1 + D[2] * r2;
-    xi[1] = D[3] * r0 + D[4] * r1 + D[5] * r2;
-    xi[2] = D[6] * r0 + D[7] * r1 + D[8] * r2;
+  for (int i = 0; i < level.unknowns; ++i) {
+    const float* b = &level.b[3 * i];
+    Lanes s =
+        Lanes(b[0], b[1], b[2], 0.0f) - row_product(column, lower, level.lower_start[i], level.lower_start[i + 1], x);
+    if (!from_zero) s -= Lanes(level.upper[3 * i], level.upper[3 * i + 1], level.upper[3 * i + 2], 0.0f);
+    const Lanes next = block_times(&level.diagonal_inverse[9 * i], s.data());
+    std::copy_n(next.data(), 3, x + 3 * i);
+  }
+}
+
+void BlockMultigrid::add_upper_product(const Level& level, const float* y, float* out, float sign) {
+  // (U y)_j = sum_{i > j} A_ji y_i = sum_{i > j} A_ij^T y_i: row i of the lower triangle, scattered.
+  const int* column = level.lower_column.data();
+  const float* lower = level.lower_values.data();
+  for (int i = 0; i < level.unknowns; ++i) {
+    const float y0 = sign * y[3 * i], y1 = sign * y[3 * i + 1], y2 = sign * y[3 * i + 2];
+    for (int k = level.lower_start[i]; k < level.lower_start[i + 1]; ++k) {
+      const float* B = lower + 9 * k;  // column by column: B^T y is the columns' dot products with y
+      float* target = out + 3 * column[k];
+      target[0] += B[0] * y0 + B[1] * y1 + B[2] * y2;
+      target[1] += B[3] * y0 + B[4] * y1 + B[5] * y2;
+      target[2] += B[6] * y0 + B[7] * y1 + B[8] * y2;
+    }
+  }
+}
+
+void BlockMultigrid::backward_sweep(Level& level) {
+  // In reverse order, x_i <- D_i^-1 (b_i - sum_{j < i} A_ij x_j - upper_i), upper_i = sum_{j > i} A_ij x_j
+  // of the x_j this sweep has already updated: scattered from each row as soon as its x_i is new, so
+  // that the one read of row i serves both sums.
+  const int* column = level.lower_column.data();
+  const float* lower = level.lower_values.data();
+  float* x = level.x.data();
+  float* upper = level.upper.data();
+  std::fill(level.upper.begin(), level.upper.end(), 0.0f);
+  for (int i = level.unknowns - 1; i >= 0; --i) {
+    const int begin = level.lower_start[i], end = level.lower_start[i + 1];
+    const float* b = &level.b[3 * i];
+    const Lanes s = Lanes(b[0] - upper[3 * i], b[1] - upper[3 * i + 1], b[2] - upper[3 * i + 2], 0.0f) -
+                    row_product(column, lower, begin, end, x);
+    const Lanes next = block_times(&level.diagonal_inverse[9 * i], s.data());
+    const float y0 = next[0], y1 = next[1], y2 = next[2];
+    std::copy_n(next.data(), 3, x + 3 * i);
+    for (int k = begin; k < end; ++k) {
+      const float* B = lower + 9 * k;
+      float* target = upper + 3 * column[k];
+      target[0] += B[0] * y0 + B[1] * y1 + B[2] * y2;
+      target[1] += B[3] * y0 + B[4] * y1 + B[5] * y2;
+      target[2] += B[6] * y0 + B[7] * y1 + B[8] * y2;
+    }
   }
 }
 
@@ -278,22 +325,36 @@ void BlockMultigrid::cycle(std::size_t l) {
     for (int e = 0; e < 3 * level.unknowns; ++e) level.x[e] = static_cast<float>(coarsest_rhs_[e]);
     return;
   }
-  std::fill(level.x.begin(), level.x.end(), 0.0f);
-  for (int s = 0; s < params_.smoothing_sweeps; ++s) sweep(level, true);
-  // r = b - A x, restricted: b_c = R^T r.
-  const float* values = level.values_single.data();
+  // The smoother reads only the blocks left of the diagonal (A is symmetric): a forward sweep gathers
+  // them row by row; the blocks right of the diagonal, U, are their transposes, scattered. The first
+  // sweep starts from x = 0, where U x = 0. Each forward sweep leaves row i's equation exact for the
+  // x_j (j > i) before it, x_j - dx_j with dx_j its change, so the residual is b - A x = -U dx: one
+  // scattered pass. A cycle is bound by memory traffic (at 100^2 a level's floats do not stay in the
+  // cache between CG's products), and reads half the matrix three times where it read all of it three
+  // times: 2x faster (docs/results.md, "The reference's kernels").
+  float* x = level.x.data();
+  forward_sweep(level, true);
+  for (int s = 1; s < params_.smoothing_sweeps; ++s) {
+    level.change.assign(level.x.begin(), level.x.end());
+    std::fill(level.upper.begin(), level.upper.end(), 0.0f);
+    add_upper_product(level, x, level.upper.data(), 1.0f);
+    forward_sweep(level, false);
+  }
+  if (params_.smoothing_sweeps > 1)
+    for (int e = 0; e < 3 * level.unknowns; ++e) level.change[e] = level.x[e] - level.change[e];
+  std::fill(level.upper.begin(), level.upper.end(), 0.0f);
+  add_upper_product(level, params_.smoothing_sweeps > 1 ? level.change.data() : x, level.upper.data(), -1.0f);
+  // b_c = R^T r.
   Level& coarse = levels_[l + 1];
   std::fill(coarse.b.begin(), coarse.b.end(), 0.0f);
   for (int i = 0; i < level.unknowns; ++i) {
-    float s[3];
-    row_residual(level.column.data(), values, level.row_start[i], level.row_start[i + 1], level.x.data(),
-                 &level.b[3 * i], s);
+    const float* r = &level.upper[3 * i];
     for (int e = level.prolong_start[i]; e < level.prolong_start[i + 1]; ++e) {
       float* target = &coarse.b[3 * level.prolong_index[e]];
       const float w = level.prolong_weight[e];
-      target[0] += w * s[0];
-      target[1] += w * s[1];
-      target[2] += w * s[2];
+      target[0] += w * r[0];
+      target[1] += w * r[1];
+      target[2] += w * r[2];
     }
   }
   cycle(l + 1);
@@ -301,9 +362,9 @@ void BlockMultigrid::cycle(std::size_t l) {
     for (int e = level.prolong_start[i]; e < level.prolong_start[i + 1]; ++e) {
       const float* source = &coarse.x[3 * level.prolong_index[e]];
       const float w = level.prolong_weight[e];
-      for (int c = 0; c < 3; ++c) level.x[3 * i + c] += w * source[c];
+      for (int c = 0; c < 3; ++c) x[3 * i + c] += w * source[c];
     }
-  for (int s = 0; s < params_.smoothing_sweeps; ++s) sweep(level, false);
+  for (int s = 0; s < params_.smoothing_sweeps; ++s) backward_sweep(level);
 }
 
 void BlockMultigrid::solve_in_place(VecX& r) {

@@ -15,9 +15,10 @@
 // and a dense Cholesky solve on the coarsest grid.
 //
 // Why: the sparse Cholesky factor of A costs, at 100^2, 400–500 ms to compute and 7.8 ms per
-// solve even in floats (5.5 million entries read twice); A itself has 1.3 x 10^5 blocks, a
-// cycle reads it and its coarse levels about three times, no factorisation to rebuild (docs/results.md,
-// "A multigrid preconditioner on fine grids").
+// solve even in floats (5.5 million entries read twice); A itself has 1.3 x 10^5 blocks, of which
+// the smoother keeps the half left of the diagonal (A is symmetric) and a cycle reads it and its
+// coarse levels about three times, no factorisation to rebuild (docs/results.md, "A multigrid
+// preconditioner on fine grids", "The reference's kernels").
 #include <Eigen/Cholesky>
 #include <Eigen/Sparse>
 #include <vector>
@@ -62,7 +63,10 @@ class BlockMultigrid {
     // block k in column column[k], its 3x3 values row-major at values[9k].
     std::vector<int> row_start, column, diagonal;  // diagonal[i]: row i's diagonal block
     std::vector<double> values;
-    std::vector<float> values_single, diagonal_inverse;  // the smoother's: A's blocks and D_i^-1, floats
+    // The smoother's: the blocks left of the diagonal, row by row (lower_start, lower_column as row_start,
+    // column), and D_i^-1, in floats, each block column by column, one float of padding.
+    std::vector<int> lower_start, lower_column;
+    std::vector<float> lower_values, diagonal_inverse;
     // Prolongation from the next coarser level: unknown i = sum of weight * coarse unknown over
     // [prolong_start[i], prolong_start[i + 1]).
     std::vector<int> prolong_start, prolong_index;
@@ -71,7 +75,9 @@ class BlockMultigrid {
     // block galerkin_slot over [galerkin_start[k], galerkin_start[k + 1]).
     std::vector<int> galerkin_start, galerkin_slot;
     std::vector<double> galerkin_weight;
-    std::vector<float> x, b;  // the cycle's solution and right-hand side
+    std::vector<float> x, b;    // the cycle's solution and right-hand side
+    std::vector<float> upper;   // products with the blocks right of the diagonal (the smoother's), the residual
+    std::vector<float> change;  // the last forward sweep's change of x, with more than one sweep
   };
 
   void build_hierarchy(const Eigen::SparseMatrix<double>& A, const Grid& grid, const std::vector<int>& free_index);
@@ -79,8 +85,12 @@ class BlockMultigrid {
   Level coarsen(Level& fine) const;
   void copy_fine_values(const Eigen::SparseMatrix<double>& A);
   bool prepare_smoother(Level& level);
-  // One block Gauss–Seidel sweep on level.x for level.b, in the unknowns' order or in reverse.
-  void sweep(Level& level, bool forward);
+  // Block Gauss–Seidel sweeps on level.x for level.b: forward, with level.upper = U x (U the blocks
+  // right of the diagonal) unless from_zero (x = 0); backward.
+  static void forward_sweep(Level& level, bool from_zero);
+  static void backward_sweep(Level& level);
+  // out += sign x U y, scattered from the blocks left of the diagonal (U = L^T).
+  static void add_upper_product(const Level& level, const float* y, float* out, float sign);
   void cycle(std::size_t l);
 
   BlockMultigridParams params_;
