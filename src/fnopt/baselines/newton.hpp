@@ -27,6 +27,7 @@
 #include <fnopt/optimizer/single_precision_factor.hpp>
 #include <fnopt/optimizer/sparse_cholesky.hpp>
 #include <fnopt/optimizer/steihaug_cg.hpp>
+#include <fnopt/optimizer/symmetric_block_matrix.hpp>
 
 namespace fnopt {
 
@@ -124,6 +125,7 @@ class NewtonOptimizer final : public InnerOptimizer {
   SparseCholesky factor_;
   SinglePrecisionFactor single_factor_;  // its float copy, when single_precision_preconditioner
   BlockMultigrid multigrid_;             // in their place, on steps of multigrid_from_dofs free dofs or more
+  SymmetricBlockMatrix exact_hessian_;   // H at the current iterate, for CG's products
   bool use_multigrid_ = false;           // this step's choice
   bool multigrid_failed_ = false;        // hand_over_to_factor() was called: the factor from then on
   bool have_factor_ = false;
