@@ -2,6 +2,8 @@
 // deformed grid, Dirichlet restriction of the Hessian, masses, stencil counts, grid units.
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
 #include <Eigen/Eigenvalues>
 #include <random>
 
@@ -115,6 +117,36 @@ TEST(BackwardEulerObjective, ResidualAccelerationIsTheUnbalancedForcePerMass) {
     objective.value_gradient(a, g);
     EXPECT_LT(objective.residual_acceleration(g), 1e-9);
   }
+}
+
+TEST(BackwardEulerObjective, OneThreadAndTwoGiveTheSameGradientAndHessians) {
+  // The stencils are evaluated in parallel and scattered in one order: a reference does not depend on
+  // the thread count it was solved with. A grid large enough for the parallel path (>= 2048 stencils).
+  const Grid grid = Grid::make(40, 40, 0.05);
+  BackwardEulerObjective objective(grid, Material{}, 1.0 / 60.0, Vec3(0.0, 0.0, -9.81));
+  std::mt19937 rng(12);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  VecX x = grid.rest_positions(), v = VecX::Zero(grid.dof_count()), a(grid.dof_count());
+  for (int i = 0; i < x.size(); ++i) x[i] += 0.2 * grid.spacing * normal(rng);
+  for (int i = 0; i < a.size(); ++i) a[i] = 20.0 * normal(rng);
+  objective.begin_step(x, v);
+  std::vector<int> free_index(grid.vertex_count());
+  for (int k = 0; k < grid.vertex_count(); ++k) free_index[k] = k;
+  const int threads = omp_get_max_threads();
+  VecX gradient[2];
+  double value[2];
+  Eigen::SparseMatrix<double> exact[2], projected[2];
+  for (int run = 0; run < 2; ++run) {
+    omp_set_num_threads(run + 1);
+    value[run] = objective.value_gradient(a, gradient[run]);
+    exact[run] = objective.hessian(a, free_index, false);
+    projected[run] = objective.hessian(a, free_index, true);
+  }
+  omp_set_num_threads(threads);
+  EXPECT_EQ(gradient[0], gradient[1]);
+  EXPECT_NEAR(value[0], value[1], 1e-12 * std::abs(value[0]));  // the parallel reduction's order may differ
+  EXPECT_EQ(exact[0].coeffs().matrix(), exact[1].coeffs().matrix());
+  EXPECT_EQ(projected[0].coeffs().matrix(), projected[1].coeffs().matrix());
 }
 
 TEST(ClothTerms, StencilCountsAndMasses) {
