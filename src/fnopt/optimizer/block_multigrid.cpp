@@ -36,6 +36,13 @@ inline Lanes block_times(const float* B, const float* y) {
          Eigen::Map<const Lanes>(B + 6) * y[2];
 }
 
+// target += B^T y for a block B stored column by column: its columns' dot products with y.
+inline void add_transpose_times(const float* B, float y0, float y1, float y2, float* target) {
+  target[0] += B[0] * y0 + B[1] * y1 + B[2] * y2;
+  target[1] += B[3] * y0 + B[4] * y1 + B[5] * y2;
+  target[2] += B[6] * y0 + B[7] * y1 + B[8] * y2;
+}
+
 // sum_k A_ik x_k over the blocks [begin, end) of a row (block k at values + 9k, in column column[k]).
 // Two partial sums, so that consecutive blocks' products do not wait on each other's additions.
 inline Lanes row_product(const int* column, const float* values, int begin, int end, const float* x) {
@@ -280,13 +287,8 @@ void BlockMultigrid::add_upper_product(const Level& level, const float* y, float
   const float* lower = level.lower_values.data();
   for (int i = 0; i < level.unknowns; ++i) {
     const float y0 = sign * y[3 * i], y1 = sign * y[3 * i + 1], y2 = sign * y[3 * i + 2];
-    for (int k = level.lower_start[i]; k < level.lower_start[i + 1]; ++k) {
-      const float* B = lower + 9 * k;  // column by column: B^T y is the columns' dot products with y
-      float* target = out + 3 * column[k];
-      target[0] += B[0] * y0 + B[1] * y1 + B[2] * y2;
-      target[1] += B[3] * y0 + B[4] * y1 + B[5] * y2;
-      target[2] += B[6] * y0 + B[7] * y1 + B[8] * y2;
-    }
+    for (int k = level.lower_start[i]; k < level.lower_start[i + 1]; ++k)
+      add_transpose_times(lower + 9 * k, y0, y1, y2, out + 3 * column[k]);
   }
 }
 
@@ -305,15 +307,9 @@ void BlockMultigrid::backward_sweep(Level& level) {
     const Lanes s = Lanes(b[0] - upper[3 * i], b[1] - upper[3 * i + 1], b[2] - upper[3 * i + 2], 0.0f) -
                     row_product(column, lower, begin, end, x);
     const Lanes next = block_times(&level.diagonal_inverse[9 * i], s.data());
-    const float y0 = next[0], y1 = next[1], y2 = next[2];
     std::copy_n(next.data(), 3, x + 3 * i);
-    for (int k = begin; k < end; ++k) {
-      const float* B = lower + 9 * k;
-      float* target = upper + 3 * column[k];
-      target[0] += B[0] * y0 + B[1] * y1 + B[2] * y2;
-      target[1] += B[3] * y0 + B[4] * y1 + B[5] * y2;
-      target[2] += B[6] * y0 + B[7] * y1 + B[8] * y2;
-    }
+    for (int k = begin; k < end; ++k)
+      add_transpose_times(lower + 9 * k, next[0], next[1], next[2], upper + 3 * column[k]);
   }
 }
 
