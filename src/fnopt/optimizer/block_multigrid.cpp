@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include <fnopt/optimizer/block_pattern.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
@@ -77,25 +78,9 @@ void BlockMultigrid::build_hierarchy(const Eigen::SparseMatrix<double>& A, const
   fine.unknowns = static_cast<int>(std::count_if(free_index.begin(), free_index.end(), [](int f) { return f >= 0; }));
   require(A.rows() == 3 * fine.unknowns && A.cols() == A.rows() && A.isCompressed(), "multigrid",
           "the matrix is not 3 dofs per free vertex");
-  // A's block pattern, read from the first column of each vertex's three; the other two must match.
-  const int* outer = A.outerIndexPtr();
-  const int* inner = A.innerIndexPtr();
-  fine.row_start.assign(1, 0);
-  for (int i = 0; i < fine.unknowns; ++i) {
-    const int begin = outer[3 * i], count = outer[3 * i + 1] - begin;
-    require(count % 3 == 0, "multigrid", "the matrix is not made of 3x3 blocks");
-    for (int c = 1; c < 3; ++c)
-      require(outer[3 * i + c + 1] - outer[3 * i + c] == count, "multigrid", "the matrix is not made of 3x3 blocks");
-    for (int m = 0; m < count / 3; ++m) {
-      const int j = inner[begin + 3 * m] / 3;
-      for (int c = 0; c < 3; ++c)
-        for (int r = 0; r < 3; ++r)
-          require(inner[outer[3 * i + c] + 3 * m + r] == 3 * j + r, "multigrid",
-                  "the matrix is not made of 3x3 blocks");
-      fine.column.push_back(j);
-    }
-    fine.row_start.push_back(static_cast<int>(fine.column.size()));
-  }
+  BlockPattern pattern = read_block_pattern(A, "multigrid");
+  fine.row_start = std::move(pattern.row_start);
+  fine.column = std::move(pattern.column);
   levels_.push_back(std::move(fine));
   for (;;) {
     Level& last = levels_.back();
@@ -203,17 +188,12 @@ BlockMultigrid::Level BlockMultigrid::coarsen(Level& fine) const {
 }
 
 void BlockMultigrid::copy_fine_values(const Eigen::SparseMatrix<double>& A) {
-  // Block (i, j) of row i, entry (r, c), is A(3i + r, 3j + c) = A(3j + c, 3i + r): column 3i + r of the
-  // symmetric A, the m-th block of its rows.
   Level& fine = levels_.front();
-  const int* outer = A.outerIndexPtr();
   const double* a = A.valuePtr();
   for (int i = 0; i < fine.unknowns; ++i)
-    for (int k = fine.row_start[i]; k < fine.row_start[i + 1]; ++k) {
-      const int m = k - fine.row_start[i];
+    for (int k = fine.row_start[i]; k < fine.row_start[i + 1]; ++k)
       for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) fine.values[9 * k + 3 * r + c] = a[outer[3 * i + r] + 3 * m + c];
-    }
+        for (int c = 0; c < 3; ++c) fine.values[9 * k + 3 * r + c] = a[block_entry(A, i, k - fine.row_start[i], r, c)];
 }
 
 bool BlockMultigrid::prepare_smoother(Level& level) {

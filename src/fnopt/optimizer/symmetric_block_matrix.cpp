@@ -1,5 +1,6 @@
 #include <fnopt/optimizer/symmetric_block_matrix.hpp>
 
+#include <fnopt/optimizer/block_pattern.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
@@ -7,31 +8,19 @@ namespace fnopt {
 void SymmetricBlockMatrix::read_pattern(const Eigen::SparseMatrix<double>& A) {
   require(A.rows() == A.cols() && A.rows() % 3 == 0 && A.isCompressed(), "symmetric block matrix",
           "the matrix is not square in 3x3 blocks");
-  const int* outer = A.outerIndexPtr();
-  const int* inner = A.innerIndexPtr();
+  const BlockPattern pattern = read_block_pattern(A, "symmetric block matrix");
   const int n = static_cast<int>(A.rows() / 3);
   row_start_.assign(1, 0);
   column_.clear();
   source_.clear();
-  // Block (i, j), entry (r, c), is A(3i + r, 3j + c) = A(3j + c, 3i + r): in column 3i + r of the
-  // symmetric A, its m-th block of rows (as in BlockMultigrid).
   auto add_block = [&](int i, int m) {
     for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r) source_.push_back(outer[3 * i + r] + 3 * m + c);
+      for (int r = 0; r < 3; ++r) source_.push_back(block_entry(A, i, m, r, c));  // column by column
   };
   for (int i = 0; i < n; ++i) {
-    const int begin = outer[3 * i], count = outer[3 * i + 1] - begin;
-    require(count % 3 == 0, "symmetric block matrix", "the matrix is not made of 3x3 blocks");
     int diagonal = -1;
-    for (int m = 0; m < count / 3; ++m) {
-      const int j = inner[begin + 3 * m] / 3;
-      for (int c = 0; c < 3; ++c) {
-        require(outer[3 * i + c + 1] - outer[3 * i + c] == count, "symmetric block matrix",
-                "the matrix is not made of 3x3 blocks");
-        for (int r = 0; r < 3; ++r)
-          require(inner[outer[3 * i + c] + 3 * m + r] == 3 * j + r, "symmetric block matrix",
-                  "the matrix is not made of 3x3 blocks");
-      }
+    for (int k = pattern.row_start[i]; k < pattern.row_start[i + 1]; ++k) {
+      const int j = pattern.column[k], m = k - pattern.row_start[i];
       if (j < i) {
         column_.push_back(j);
         add_block(i, m);
