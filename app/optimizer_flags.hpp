@@ -11,7 +11,7 @@ void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice);
 // The settings of particular methods (--model, --pqn-history, --pqn-matrix), for commands
 // that choose the methods themselves (compare).
 void add_method_setting_flags(CLI::App& command, OptimizerChoice& choice);
-// "default 1000, to a residual acceleration of 0.001 m/s^2": the reference's budget and stop,
+// "default 1000, to a residual acceleration of 0.1 m/s^2": the reference's budget and stop,
 // for help texts.
 std::string newton_budget_text();
 

@@ -34,7 +34,8 @@ TEST(StepError, IsZeroForNewtonAndBetweenZeroAndOneForAFewGdIterations) {
 
   NewtonOptimizer again;
   const StepErrorSummary exact = bench.evaluate(again, NewtonOptimizer::reference_solve_options());
-  EXPECT_NEAR(exact.mean, 0.0, 1e-6);
+  // Zero to the reference's stop (0.1 m/s^2: ~1e-6 here); a method's per-step error is 1e-2 and up.
+  EXPECT_NEAR(exact.mean, 0.0, 1e-5);
   GradientDescentOptimizer gd;
   const StepErrorSummary rough = bench.evaluate(gd, {3, 0.0});
   for (const auto& sample : rough.samples) {

@@ -152,9 +152,9 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
     radius_ = params_.initial_radius * std::sqrt((step_.array().square() * metric_.array()).sum());
     if (!(radius_ > 0.0)) return SolveStatus::PrecisionLimit;  // g = 0 to the last bit
   }
-  exact_hessian_.assign(problem.objective().hessian(a, dirichlet.free_index(), false),
-                        problem.objective().hessian_pattern_id());
-  auto multiply = [&](const VecX& p, VecX& out) { exact_hessian_.multiply(p, out); };
+  // H at this iterate, for CG's products (valid until the objective's next Hessian).
+  const SymmetricBlockMatrix& exact_hessian = problem.objective().hessian_blocks(a, dirichlet.free_index(), false);
+  auto multiply = [&](const VecX& p, VecX& out) { exact_hessian.multiply(p, out); };
   // The forcing term, but no finer than the stop needs (the residual acceleration scales with g).
   const double needed = 0.1 * params_.acceleration_tolerance / problem.objective().residual_acceleration(gradient);
   const double forcing = std::min(params_.forcing_cap, std::max(gradient_norm / initial_gradient_norm_, needed));

@@ -53,32 +53,39 @@ struct AngleKernel {
   void hessian(const Vec& x, Mat& H, bool project) const {
     const Eigen::Vector3d u = edge(x, u_coeff), w = edge(x, w_coeff);
     const Local l = local(u, w);
-    const double nu = u.norm(), nw = w.norm(), c = l.cos;
-    const Eigen::Vector3d uh = u / nu, wh = w / nw;
-    const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
-    const Eigen::Matrix3d mixed = wh * uh.transpose() + uh * wh.transpose();
-    Eigen::Matrix<double, 6, 1> dc;
-    dc << l.dc_du, l.dc_dw;
-    Eigen::Matrix<double, 6, 6> Huw = l.d2E_dc2 * dc * dc.transpose();
-    Huw.topLeftCorner<3, 3>() += l.dE_dc * (3 * c * uh * uh.transpose() - mixed - c * I) / (nu * nu);
-    Huw.bottomRightCorner<3, 3>() += l.dE_dc * (3 * c * wh * wh.transpose() - mixed - c * I) / (nw * nw);
-    const Eigen::Matrix3d cross =
-        l.dE_dc * (I - uh * uh.transpose() - wh * wh.transpose() + c * uh * wh.transpose()) / (nu * nw);
-    Huw.topRightCorner<3, 3>() += cross;
-    Huw.bottomLeftCorner<3, 3>() += cross.transpose();
+    const double c = l.cos;
+    const Eigen::Vector3d& uh = l.uh;
+    const Eigen::Vector3d& wh = l.wh;
+    const double ku = l.dE_dc * l.inv_u * l.inv_u, kw = l.dE_dc * l.inv_w * l.inv_w, kuw = l.dE_dc * l.inv_u * l.inv_w;
+    Eigen::Matrix<double, 6, 6> Huw;
+    for (int q = 0; q < 3; ++q)
+      for (int p = 0; p < 3; ++p) {
+        const double id = p == q ? 1.0 : 0.0;
+        Huw(p, q) = l.d2E_dc2 * l.dc_du[p] * l.dc_du[q] +
+                    ku * (3.0 * c * uh[p] * uh[q] - wh[p] * uh[q] - uh[p] * wh[q] - c * id);
+        Huw(3 + p, 3 + q) = l.d2E_dc2 * l.dc_dw[p] * l.dc_dw[q] +
+                            kw * (3.0 * c * wh[p] * wh[q] - uh[p] * wh[q] - wh[p] * uh[q] - c * id);
+        const double cross =
+            l.d2E_dc2 * l.dc_du[p] * l.dc_dw[q] + kuw * (id - uh[p] * uh[q] - wh[p] * wh[q] + c * uh[p] * wh[q]);
+        Huw(p, 3 + q) = cross;
+        Huw(3 + q, p) = cross;
+      }
     if (project && !project_angle_hessian(u, w, stiffness, l.delta, Huw)) Huw = project_psd<6>(Huw);
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        H.block<3, 3>(3 * i, 3 * j) = u_coeff[i] * u_coeff[j] * Huw.topLeftCorner<3, 3>() +
-                                      u_coeff[i] * w_coeff[j] * Huw.topRightCorner<3, 3>() +
-                                      w_coeff[i] * u_coeff[j] * Huw.bottomLeftCorner<3, 3>() +
-                                      w_coeff[i] * w_coeff[j] * Huw.bottomRightCorner<3, 3>();
+    // H = T Huw T^T, T = [u_coeff (x) I, w_coeff (x) I]: columns of vertex j first, then rows.
+    Eigen::Matrix<double, 6, 3> R[3];
+    for (int j = 0; j < 3; ++j) R[j] = u_coeff[j] * Huw.leftCols<3>() + w_coeff[j] * Huw.rightCols<3>();
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i <= j; ++i) {
+        const Eigen::Matrix3d B = u_coeff[i] * R[j].topRows<3>() + w_coeff[i] * R[j].bottomRows<3>();
+        H.block<3, 3>(3 * i, 3 * j) = B;
+        if (i != j) H.block<3, 3>(3 * j, 3 * i) = B.transpose();
+      }
   }
 
  private:
   struct Local {
-    double cos, delta, dE_dc, d2E_dc2;
-    Eigen::Vector3d dc_du, dc_dw;
+    double cos, delta, dE_dc, d2E_dc2, inv_u, inv_w;
+    Eigen::Vector3d uh, wh, dc_du, dc_dw;
   };
 
   static Eigen::Vector3d edge(const Vec& x, const Eigen::Vector3d& coeff) {
@@ -90,16 +97,18 @@ struct AngleKernel {
   }
 
   Local local(const Eigen::Vector3d& u, const Eigen::Vector3d& w) const {
-    const double nu = u.norm(), nw = w.norm();
-    const double sin = u.cross(w).norm() / (nu * nw);
-    const double cos = u.dot(w) / (nu * nw);
-    const double theta = std::atan2(sin, cos);
     Local l;
+    l.inv_u = 1.0 / u.norm();
+    l.inv_w = 1.0 / w.norm();
+    l.uh = l.inv_u * u;
+    l.wh = l.inv_w * w;
+    const double sin = l.uh.cross(l.wh).norm();
+    const double cos = l.uh.dot(l.wh);
+    const double theta = std::atan2(sin, cos);
     l.cos = cos;
     l.delta = theta - rest_angle;
-    const Eigen::Vector3d uh = u / nu, wh = w / nw;
-    l.dc_du = (wh - cos * uh) / nu;
-    l.dc_dw = (uh - cos * wh) / nw;
+    l.dc_du = (l.wh - cos * l.uh) * l.inv_u;
+    l.dc_dw = (l.uh - cos * l.wh) * l.inv_w;
     if (rest_angle == 0.0 && theta < 1e-3) {
       const double t2 = theta * theta;
       l.dE_dc = -stiffness * (1.0 + t2 / 6.0);

@@ -77,6 +77,16 @@ std::atomic<long> next_pattern_id{0};  // hessian_pattern_id() of the next patte
 
 const Eigen::SparseMatrix<double>& BackwardEulerObjective::hessian(const VecX& a, const std::vector<int>& free_index,
                                                                    bool project) {
+  return assemble_hessian(a, free_index, project, HessianAssembly::Target::Matrix).matrix();
+}
+
+const SymmetricBlockMatrix& BackwardEulerObjective::hessian_blocks(const VecX& a, const std::vector<int>& free_index,
+                                                                   bool project) {
+  return assemble_hessian(a, free_index, project, HessianAssembly::Target::LowerBlocks).lower_blocks();
+}
+
+const HessianAssembly& BackwardEulerObjective::assemble_hessian(const VecX& a, const std::vector<int>& free_index,
+                                                                bool project, HessianAssembly::Target target) {
   const long generation = repulsion_ ? repulsion_->pattern_generation() : 0;
   if (!assembly_ || free_index != hessian_free_index_ || generation != assembled_generation_) {
     hessian_free_index_ = free_index;
@@ -88,14 +98,14 @@ const Eigen::SparseMatrix<double>& BackwardEulerObjective::hessian(const VecX& a
     assembly_->finalize();
   }
   trial_positions(a, x_trial_);
-  assembly_->set_zero();
+  assembly_->set_zero(target);
   for (std::size_t t = 0; t < terms_.size(); ++t)
     if (term_handles_[t] >= 0) terms_[t]->accumulate_hessian(x_trial_, project, *assembly_, term_handles_[t]);
   const double dt2 = dt_ * dt_;
   assembly_->scale(dt2 * dt2);
   for (Eigen::Index k = 0; k < masses_.size(); ++k)
     assembly_->add_vertex_diagonal(static_cast<int>(k), inertia_weight(static_cast<int>(k)));
-  return assembly_->matrix();
+  return *assembly_;
 }
 
 double BackwardEulerObjective::residual_acceleration(const VecX& gradient) const {

@@ -62,12 +62,18 @@ class BackwardEulerObjective {
   // hess L(a) restricted to the free vertices (free_index[v] >= 0), each stencil projected to
   // PSD if `project`. The sparsity pattern is built on the first call for a given free set.
   const Eigen::SparseMatrix<double>& hessian(const VecX& a, const std::vector<int>& free_index, bool project);
+  // The same matrix as its lower triangle of 3x3 blocks, for products: half of hessian()'s writes
+  // (the Newton reference's exact Hessian at every iteration). Valid until the next hessian call.
+  const SymmetricBlockMatrix& hessian_blocks(const VecX& a, const std::vector<int>& free_index, bool project);
 
   // The potential P(x) (elastic + gravity, zero at height 0) and the kinetic energy of v.
   double potential(const VecX& x) const;
   double kinetic(const VecX& v) const;
 
  private:
+  const HessianAssembly& assemble_hessian(const VecX& a, const std::vector<int>& free_index, bool project,
+                                          HessianAssembly::Target target);
+
   Grid grid_;
   Material material_;
   double dt_;

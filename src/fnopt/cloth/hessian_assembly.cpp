@@ -48,17 +48,53 @@ void HessianAssembly::finalize() {
   matrix_ = Eigen::Map<const Eigen::SparseMatrix<double>>(n, n, outer[n], outer.data(), inner.data(), values.data());
   matrix_.makeCompressed();
 
+  // Lower blocks: row fa holds the columns fb < fa of column_rows_[fa] (the pattern is symmetric),
+  // then its diagonal.
+  std::vector<int> row_start(1, 0), column;
+  lower_start_.assign(free_count_, 0);
+  for (int fa = 0; fa < free_count_; ++fa) {
+    lower_start_[fa] = static_cast<int>(column.size());
+    for (int fb : column_rows_[fa])
+      if (fb < fa) column.push_back(fb);
+    column.push_back(fa);
+    row_start.push_back(static_cast<int>(column.size()));
+  }
+  lower_.set_pattern(std::move(row_start), std::move(column));
+
   set_offset_.clear();
   slots_.clear();
+  lower_slots_.clear();
   for (const StencilSet& set : sets_) {
     set_offset_.push_back(slots_.size());
     for (std::size_t s = 0; s < set.count; ++s)
       for (int a = 0; a < set.n; ++a)
-        for (int b = 0; b < set.n; ++b)
-          slots_.push_back(block_slot(set.vertices[s * set.n + a], set.vertices[s * set.n + b]));
+        for (int b = 0; b < set.n; ++b) {
+          const int va = set.vertices[s * set.n + a], vb = set.vertices[s * set.n + b];
+          slots_.push_back(block_slot(va, vb));
+          lower_slots_.push_back(lower_block_slot(va, vb));
+        }
   }
   diagonal_.resize(free_index_.size());
-  for (int v = 0; v < static_cast<int>(free_index_.size()); ++v) diagonal_[v] = block_slot(v, v);
+  lower_diagonal_.resize(free_index_.size());
+  for (int v = 0; v < static_cast<int>(free_index_.size()); ++v) {
+    diagonal_[v] = block_slot(v, v);
+    lower_diagonal_[v] = lower_block_slot(v, v);
+  }
+}
+
+void HessianAssembly::set_zero(Target target) {
+  target_ = target;
+  if (target_ == Target::Matrix)
+    matrix_.coeffs().setZero();
+  else
+    lower_.set_zero();
+}
+
+void HessianAssembly::scale(double factor) {
+  if (target_ == Target::Matrix)
+    matrix_.coeffs() *= factor;
+  else
+    lower_.scale(factor);
 }
 
 HessianAssembly::Slot HessianAssembly::block_slot(int row_vertex, int col_vertex) const {
@@ -71,10 +107,18 @@ HessianAssembly::Slot HessianAssembly::block_slot(int row_vertex, int col_vertex
   return {matrix_.outerIndexPtr()[3 * fb] + 3 * position, 3 * static_cast<int>(rows.size())};
 }
 
+HessianAssembly::Slot HessianAssembly::lower_block_slot(int row_vertex, int col_vertex) const {
+  const int fa = free_index_[row_vertex], fb = free_index_[col_vertex];
+  if (fa < 0 || fb < 0 || fb > fa) return {};
+  const auto& columns = column_rows_[fa];  // those below fa first: their rank is the block's place
+  const int rank = static_cast<int>(std::lower_bound(columns.begin(), columns.end(), fb) - columns.begin());
+  return {9 * (lower_start_[fa] + rank), 3};
+}
+
 void HessianAssembly::add_vertex_diagonal(int v, double value) {
-  const Slot& slot = diagonal_[v];
+  const Slot& slot = (target_ == Target::Matrix ? diagonal_ : lower_diagonal_)[v];
   if (slot.base < 0) return;
-  double* values = matrix_.valuePtr();
+  double* values = target_values();
   for (int c = 0; c < 3; ++c) values[slot.base + c * slot.stride + c] += value;
 }
 

@@ -5,8 +5,13 @@
 // array are computed once. Each Newton iteration then only zeroes the values and scatters the
 // per-stencil matrices: no triplets, no sorting, no allocation.
 // Rows and columns are the free (non-handle) dofs: free vertex f owns rows 3f, 3f+1, 3f+2.
+// The values go to one of two targets: the whole CSC matrix (matrix()), or only its lower triangle
+// of 3x3 blocks (lower_blocks(), for products: a stencil block above the diagonal is skipped,
+// since its transpose below it is added too), the same sums in the same order.
 #include <Eigen/Sparse>
 #include <vector>
+
+#include <fnopt/cloth/symmetric_block_matrix.hpp>
 
 namespace fnopt {
 
@@ -21,13 +26,15 @@ class HessianAssembly {
   // Builds the pattern and the slot tables.
   void finalize();
 
-  void set_zero() { matrix_.coeffs().setZero(); }
-  // Adds the 3n x 3n matrix of stencil s of the stencil set `handle`; blocks of fixed vertices
-  // are skipped (Dirichlet elimination).
+  enum class Target { Matrix, LowerBlocks };
+  // Zeroes the target and sends the following scatters there.
+  void set_zero(Target target = Target::Matrix);
+  // Adds the 3n x 3n matrix of stencil s of the stencil set `handle` to the target; blocks of fixed
+  // vertices are skipped (Dirichlet elimination).
   template <int N>
   void scatter(int handle, std::size_t s, const Eigen::Matrix<double, 3 * N, 3 * N>& local) {
-    const Slot* slot = &slots_[set_offset_[handle] + s * N * N];
-    double* values = matrix_.valuePtr();
+    const Slot* slot = &target_slots()[set_offset_[handle] + s * N * N];
+    double* values = target_values();
     for (int a = 0; a < N; ++a)
       for (int b = 0; b < N; ++b, ++slot) {
         if (slot->base < 0) continue;
@@ -37,13 +44,14 @@ class HessianAssembly {
   }
   // Adds value * I_3 to the diagonal block of vertex v (no-op for a fixed vertex).
   void add_vertex_diagonal(int v, double value);
-  // Multiplies every stored value by `factor`.
-  void scale(double factor) { matrix_.coeffs() *= factor; }
+  // Multiplies every value of the target by `factor`.
+  void scale(double factor);
 
   const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }
+  const SymmetricBlockMatrix& lower_blocks() const { return lower_; }
 
  private:
-  // Position of a 3x3 block in the value array: entry (r, c) is at base + c*stride + r.
+  // Position of a 3x3 block in a target's value array: entry (r, c) is at base + c*stride + r.
   struct Slot {
     int base = -1;
     int stride = 0;
@@ -55,6 +63,10 @@ class HessianAssembly {
   };
 
   Slot block_slot(int row_vertex, int col_vertex) const;
+  // Its place in lower_ (block k at 9k, stride 3); none above the diagonal.
+  Slot lower_block_slot(int row_vertex, int col_vertex) const;
+  const Slot* target_slots() const { return target_ == Target::Matrix ? slots_.data() : lower_slots_.data(); }
+  double* target_values() { return target_ == Target::Matrix ? matrix_.valuePtr() : lower_.values(); }
 
   std::vector<int> free_index_;
   int free_count_ = 0;
@@ -64,6 +76,10 @@ class HessianAssembly {
   std::vector<std::vector<int>> column_rows_;  // per free vertex: sorted free row vertices
   std::vector<Slot> diagonal_;
   Eigen::SparseMatrix<double> matrix_;
+  std::vector<int> lower_start_;  // per free vertex: lower_'s first block of its row
+  std::vector<Slot> lower_slots_, lower_diagonal_;
+  SymmetricBlockMatrix lower_;
+  Target target_ = Target::Matrix;
 };
 
 }  // namespace fnopt

@@ -1,7 +1,7 @@
 #pragma once
 // The 3x3 block pattern of a symmetric sparse matrix stored with both triangles, 3 dofs per vertex
 // (as HessianAssembly builds it), read once for the solvers that keep it in blocks
-// (BlockMultigrid, SymmetricBlockMatrix).
+// (BlockMultigrid).
 #include <Eigen/Sparse>
 #include <string>
 #include <vector>
