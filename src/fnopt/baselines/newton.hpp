@@ -43,8 +43,8 @@ struct NewtonParams {
   // Eisenstat & Walker 1996: the forcing term shrinking like ||g|| keeps convergence quadratic).
   double forcing_cap = 1e-2;
   // The reference's stop, residual acceleration in m/s^2 (1e-2 g; the earlier stop, 1e-3 m/s^2, gives
-  // the same 390-frame rollouts to e_CD x 10^3 <= 0.006, 35x below the smallest error a compared method
-  // reaches, docs/results.md "The stop, at 0.1"). Also the floor of the forcing term: CG is not asked
+  // the same 390-frame rollouts to e_CD x 10^3 <= 0.008, 28x below the smallest error a compared method
+  // reaches, docs/results.md "The stop at 0.1, and H's lower blocks"). Also the floor of the forcing term: CG is not asked
   // to reduce the residual below a tenth of what the stop needs.
   double acceleration_tolerance = 0.1;
   int max_cg_iterations = 200;
