@@ -51,9 +51,7 @@ void HessianAssembly::finalize() {
   // Lower blocks: row fa holds the columns fb < fa of column_rows_[fa] (the pattern is symmetric),
   // then its diagonal.
   std::vector<int> row_start(1, 0), column;
-  lower_start_.assign(free_count_, 0);
   for (int fa = 0; fa < free_count_; ++fa) {
-    lower_start_[fa] = static_cast<int>(column.size());
     for (int fb : column_rows_[fa])
       if (fb < fa) column.push_back(fb);
     column.push_back(fa);
@@ -112,7 +110,7 @@ HessianAssembly::Slot HessianAssembly::lower_block_slot(int row_vertex, int col_
   if (fa < 0 || fb < 0 || fb > fa) return {};
   const auto& columns = column_rows_[fa];  // those below fa first: their rank is the block's place
   const int rank = static_cast<int>(std::lower_bound(columns.begin(), columns.end(), fb) - columns.begin());
-  return {9 * (lower_start_[fa] + rank), 3};
+  return {9 * (lower_.row_begin(fa) + rank), 3};
 }
 
 void HessianAssembly::add_vertex_diagonal(int v, double value) {

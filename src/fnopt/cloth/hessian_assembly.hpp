@@ -76,7 +76,6 @@ class HessianAssembly {
   std::vector<std::vector<int>> column_rows_;  // per free vertex: sorted free row vertices
   std::vector<Slot> diagonal_;
   Eigen::SparseMatrix<double> matrix_;
-  std::vector<int> lower_start_;  // per free vertex: lower_'s first block of its row
   std::vector<Slot> lower_slots_, lower_diagonal_;
   SymmetricBlockMatrix lower_;
   Target target_ = Target::Matrix;

@@ -17,6 +17,8 @@ class SymmetricBlockMatrix {
   // Row i's blocks are [row_start[i], row_start[i + 1]): its columns j < i in increasing order
   // (column[k]), then its diagonal block. Values zeroed. Throws Error on a malformed pattern.
   void set_pattern(std::vector<int> row_start, std::vector<int> column);
+  // The index of row i's first block.
+  int row_begin(int i) const { return row_start_[i]; }
   // Block k's 3x3 values, column by column, at values()[9k].
   double* values() { return values_.data(); }
   void set_zero() { std::fill(values_.begin(), values_.end(), 0.0); }
