@@ -1,6 +1,7 @@
 // Steihaug–Toint CG against dense linear algebra: the Newton step inside the region, the
 // boundary in the region's diagonal metric W, a negative-curvature direction followed to the boundary, a symmetric
-// saddle solved like Newton's, and the tracked model value against m(d) computed directly.
+// saddle solved like Newton's, the tracked model value against m(d) computed directly, and a
+// smaller region's step read off a kept path equal to CG run again, bit for bit.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -21,11 +22,12 @@ struct Problem {
 
   double model(const VecX& d) const { return g.dot(d) + 0.5 * d.dot(H * d); }
   double w_norm(const VecX& d) const { return std::sqrt((d.array().square() * w.array()).sum()); }
-  SteihaugResult solve(double radius, double tolerance, VecX& d, int max_iterations = 100) const {
+  SteihaugResult solve(double radius, double tolerance, VecX& d, int max_iterations = 100,
+                       SteihaugPath* path = nullptr) const {
     SteihaugScratch scratch;
     return steihaug_cg(
         g, radius, tolerance, max_iterations, [&](const VecX& p, VecX& out) { out = H * p; },
-        [&](VecX& r) { r = P_factor.solve(r); }, w, d, scratch);
+        [&](VecX& r) { r = P_factor.solve(r); }, w, d, scratch, path);
   }
 };
 
@@ -127,6 +129,60 @@ TEST(SteihaugCg, StopsAtTheRelativeResidual) {
   EXPECT_EQ(limited.end, SteihaugEnd::IterationLimit);
   EXPECT_EQ(limited.iterations, 2);
   EXPECT_LT(limited.model, 0.0);
+}
+
+// Shrinking the region after a rejected trial (the Newton reference's loop): every smaller radius
+// read off the larger run's path gives what CG run again gives, to the last bit, on a convex, an
+// indefinite and an iteration-capped subproblem; a radius the path never leaves, a larger radius or
+// another tolerance are declined (CG must run).
+TEST(SteihaugCg, ASmallerRegionOnTheKeptPathIsCgRunAgain) {
+  VecX convex = VecX::LinSpaced(30, 0.05, 80.0), indefinite = VecX::LinSpaced(30, 0.5, 60.0);
+  indefinite[0] = -4.0;
+  indefinite[1] = -0.3;
+  struct Case {
+    VecX eigenvalues;
+    double radius;
+    int max_iterations;
+    SteihaugEnd end;
+  };
+  for (const Case& c :
+       {Case{convex, 1e6, 100, SteihaugEnd::Converged}, Case{convex, 1e6, 4, SteihaugEnd::IterationLimit},
+        Case{convex, 0.6, 100, SteihaugEnd::Boundary}, Case{indefinite, 50.0, 100, SteihaugEnd::NegativeCurvature}}) {
+    const Problem q = make_problem(30, c.eigenvalues, 17);
+    SteihaugPath path;
+    VecX first;
+    const SteihaugResult run = q.solve(c.radius, 1e-8, first, c.max_iterations, &path);
+    ASSERT_EQ(run.end, c.end);
+    ASSERT_GT(path.segments.size(), 2u);
+    int read_off = 0;
+    for (double shrink = 0.999; shrink > 1e-4; shrink *= 0.55) {
+      const double radius = shrink * run.step_norm;
+      VecX again, within = VecX::Constant(30, 7.0);
+      const SteihaugResult fresh = q.solve(radius, 1e-8, again, c.max_iterations);
+      SteihaugResult kept;
+      ASSERT_TRUE(steihaug_cg_within(path, radius, 1e-8, within, kept)) << "radius " << radius;
+      EXPECT_EQ(kept.iterations, 0);
+      EXPECT_EQ(kept.end, fresh.end);
+      EXPECT_EQ(kept.step_norm, fresh.step_norm);
+      EXPECT_EQ(kept.model, fresh.model);
+      EXPECT_TRUE(within == again) << "radius " << radius << ": " << (within - again).norm();
+      ++read_off;
+    }
+    EXPECT_GT(read_off, 10);
+  }
+  // Declined: the converged run's path stays inside any region larger than its step, and a run
+  // cannot answer for a larger region or another tolerance.
+  const Problem q = make_problem(30, convex, 17);
+  SteihaugPath path;
+  VecX d, untouched = VecX::Constant(30, 7.0);
+  const SteihaugResult run = q.solve(1e6, 1e-8, d, 100, &path);
+  SteihaugResult result;
+  result.iterations = 99;
+  EXPECT_FALSE(steihaug_cg_within(path, 1.01 * run.step_norm, 1e-8, untouched, result));
+  EXPECT_FALSE(steihaug_cg_within(path, 2e6, 1e-8, untouched, result));
+  EXPECT_FALSE(steihaug_cg_within(path, 0.5 * run.step_norm, 1e-6, untouched, result));
+  EXPECT_EQ(result.iterations, 99);
+  EXPECT_TRUE(untouched == VecX::Constant(30, 7.0));
 }
 
 }  // namespace

@@ -163,8 +163,11 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
   const double rounding = 1e-12 * (std::abs(value) + std::abs(start_value_));
   last_cg_iterations_ = 0;
   for (int trial = 0; trial < params_.max_trials; ++trial) {
-    const SteihaugResult sub =
-        steihaug_cg(rhs_, radius_, forcing, params_.max_cg_iterations, multiply, precondition, metric_, step_, cg_);
+    // A trial after a rejected one solves the same subproblem in a smaller region: on CG's path.
+    SteihaugResult sub;
+    if (trial == 0 || !steihaug_cg_within(cg_path_, radius_, forcing, step_, sub))
+      sub = steihaug_cg(rhs_, radius_, forcing, params_.max_cg_iterations, multiply, precondition, metric_, step_, cg_,
+                        &cg_path_);
     counters_.cg_iterations += sub.iterations;
     // A V-cycle built at this iterate that leaves CG at its cap does not precondition this cloth (on very
     // stiff stretch, docs/results.md "A multigrid preconditioner on fine grids"): P's factor from the next

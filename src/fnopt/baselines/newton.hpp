@@ -44,8 +44,8 @@ struct NewtonParams {
   double forcing_cap = 1e-2;
   // The reference's stop, residual acceleration in m/s^2 (1e-2 g; the earlier stop, 1e-3 m/s^2, gives
   // the same 390-frame rollouts to e_CD x 10^3 <= 0.008, 28x below the smallest error a compared method
-  // reaches, docs/results.md "The stop at 0.1, and H's lower blocks"). Also the floor of the forcing term: CG is not asked
-  // to reduce the residual below a tenth of what the stop needs.
+  // reaches, docs/results.md "The stop at 0.1, and H's lower blocks"). Also the floor of the forcing term: CG is not
+  // asked to reduce the residual below a tenth of what the stop needs.
   double acceleration_tolerance = 0.1;
   int max_cg_iterations = 200;
   // P is refactorized at the current iterate when the last subproblem needed more products
@@ -134,7 +134,8 @@ class NewtonOptimizer final : public InnerOptimizer {
   double radius_ = 0.0;  // 0: set at the step's first iteration
   int escapes_ = 0;      // saddle escapes in this time step
   SteihaugScratch cg_;
-  VecX metric_;  // the trust region's: the inertia weights dt^2 m (1 + c dt) of the free dofs
+  SteihaugPath cg_path_;  // the iterate's last CG run, for the trials after a rejected one
+  VecX metric_;           // the trust region's: the inertia weights dt^2 m (1 + c dt) of the free dofs
   VecX rhs_, step_, full_step_, trial_, trial_gradient_;
 };
 

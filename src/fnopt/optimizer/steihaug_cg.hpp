@@ -14,8 +14,13 @@
 // buckling directions a compressed cloth must take (docs/design.md §6). In W the norm of the
 // path is not monotone, so CG stops where it first leaves the region (Gould et al. 1999, §2).
 // The model's value is tracked by CG's recurrence, m(d + a p) = m(d) - a r.y + a^2 p.H p / 2.
+// A rejected trial asks for the same subproblem in a smaller region. With the same g, H, P and
+// tolerance CG runs the same iterations until it first leaves the smaller region, so the answer
+// lies on the path the larger region's run took: CG can keep that path (SteihaugPath) and
+// steihaug_cg_within reads the answer off it, the same bits, without a product.
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <fnopt/util/types.hpp>
 
@@ -36,6 +41,17 @@ struct SteihaugScratch {
   VecX residual, preconditioned, search, product;
 };
 
+// CG's path: segment k runs from d_k along p_k; the scalars are those CG computed there.
+struct SteihaugPath {
+  struct Segment {
+    double ry = 0.0, curvature = 0.0, zz = 0.0, zp = 0.0, pp = 0.0;  // r.y, p.H p, ||d||_W^2, d.W p, p.W p
+  };
+  std::vector<Segment> segments;
+  std::vector<VecX> directions;  // p_k for the segments kept (more may be allocated)
+  double tolerance = 0.0;        // the run's tolerance, and its region's radius
+  double radius = 0.0;
+};
+
 // The tau >= 0 with ||z + tau p||_W = radius, from zz = ||z||_W^2 <= radius^2, zp = z.W p, pp = p.W p.
 inline double boundary_step(double zz, double zp, double pp, double radius) {
   const double slack = std::max(0.0, radius * radius - zz);
@@ -43,11 +59,17 @@ inline double boundary_step(double zz, double zp, double pp, double radius) {
 }
 
 // multiply(p, out): out = H p.  precondition(r): r <- P^-1 r in place.  metric: W's diagonal.
-// d: the step (resized).
+// d: the step (resized). path: where to keep CG's path, or nullptr.
 template <class Multiply, class Precondition>
 SteihaugResult steihaug_cg(const VecX& g, double radius, double tolerance, int max_iterations, Multiply&& multiply,
-                           Precondition&& precondition, const VecX& metric, VecX& d, SteihaugScratch& s) {
+                           Precondition&& precondition, const VecX& metric, VecX& d, SteihaugScratch& s,
+                           SteihaugPath* path = nullptr) {
   SteihaugResult result;
+  if (path) {
+    path->segments.clear();
+    path->tolerance = tolerance;
+    path->radius = radius;
+  }
   d.setZero(g.size());
   VecX& r = s.residual;  // r = -(g + H d)
   VecX& y = s.preconditioned;
@@ -73,6 +95,11 @@ SteihaugResult steihaug_cg(const VecX& g, double radius, double tolerance, int m
     ++result.iterations;
     multiply(p, s.product);
     const double curvature = p.dot(s.product);
+    if (path) {
+      path->segments.push_back({ry, curvature, zz, zp, pp});
+      if (path->directions.size() < path->segments.size()) path->directions.emplace_back();
+      path->directions[path->segments.size() - 1] = p;
+    }
     if (!(curvature > 0.0)) return to_boundary(curvature, SteihaugEnd::NegativeCurvature);
     const double alpha = ry / curvature;
     const double zz_next = zz + 2.0 * alpha * zp + alpha * alpha * pp;
@@ -97,6 +124,38 @@ SteihaugResult steihaug_cg(const VecX& g, double radius, double tolerance, int m
   }
   result.step_norm = std::sqrt(zz);
   return result;
+}
+
+// The step steihaug_cg(g, radius, tolerance, ...) returns, read off the path of a run with the same
+// g, H, P and tolerance in a region at least as large (products: 0). Returns false, leaving d and
+// result as they were, where that path does not leave the smaller region: then CG must run.
+inline bool steihaug_cg_within(const SteihaugPath& path, double radius, double tolerance, VecX& d,
+                               SteihaugResult& result) {
+  if (!(radius <= path.radius) || tolerance != path.tolerance) return false;
+  for (std::size_t k = 0; k < path.segments.size(); ++k) {
+    const SteihaugPath::Segment& seg = path.segments[k];
+    const bool negative = !(seg.curvature > 0.0);
+    const double alpha = negative ? 0.0 : seg.ry / seg.curvature;
+    if (!negative && seg.zz + 2.0 * alpha * seg.zp + alpha * alpha * seg.pp < radius * radius) continue;
+    // CG leaves the region on segment k: d_k, then to the boundary, as steihaug_cg's sums run.
+    SteihaugResult within;
+    d.setZero(path.directions[0].size());
+    for (std::size_t i = 0; i < k; ++i) {
+      const SteihaugPath::Segment& before = path.segments[i];
+      const double a = before.ry / before.curvature;
+      d += a * path.directions[i];
+      within.model -= 0.5 * a * before.ry;
+    }
+    const double tau = boundary_step(seg.zz, seg.zp, seg.pp, radius);
+    d += tau * path.directions[k];
+    within.model += -tau * seg.ry + 0.5 * tau * tau * seg.curvature;
+    within.step_norm = radius;
+    within.end = negative ? SteihaugEnd::NegativeCurvature : SteihaugEnd::Boundary;
+    within.iterations = 0;
+    result = within;
+    return true;
+  }
+  return false;
 }
 
 }  // namespace fnopt
