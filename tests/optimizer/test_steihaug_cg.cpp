@@ -22,12 +22,12 @@ struct Problem {
 
   double model(const VecX& d) const { return g.dot(d) + 0.5 * d.dot(H * d); }
   double w_norm(const VecX& d) const { return std::sqrt((d.array().square() * w.array()).sum()); }
-  SteihaugResult solve(double radius, double tolerance, VecX& d, int max_iterations = 100,
-                       SteihaugPath* path = nullptr) const {
+  SteihaugResult solve(double radius, double tolerance, VecX& d, int max_iterations = 100, SteihaugPath* path = nullptr,
+                       const VecX* preconditioned_gradient = nullptr) const {
     SteihaugScratch scratch;
     return steihaug_cg(
         g, radius, tolerance, max_iterations, [&](const VecX& p, VecX& out) { out = H * p; },
-        [&](VecX& r) { r = P_factor.solve(r); }, w, d, scratch, path);
+        [&](VecX& r) { r = P_factor.solve(r); }, w, d, scratch, path, preconditioned_gradient);
   }
 };
 
@@ -129,6 +129,24 @@ TEST(SteihaugCg, StopsAtTheRelativeResidual) {
   EXPECT_EQ(limited.end, SteihaugEnd::IterationLimit);
   EXPECT_EQ(limited.iterations, 2);
   EXPECT_LT(limited.model, 0.0);
+}
+
+// P^-1 g handed in (the Newton reference has it from sizing the region) starts the same run: -P^-1 g
+// is P^-1 (-g) to the last bit, the preconditioner being linear.
+TEST(SteihaugCg, AGivenPreconditionedGradientStartsTheSameRun) {
+  VecX eigenvalues = VecX::LinSpaced(30, 0.5, 60.0);
+  eigenvalues[0] = -2.0;
+  const Problem q = make_problem(30, eigenvalues, 23);
+  const VecX preconditioned = q.P_factor.solve(q.g);
+  for (const double radius : {0.05, 1.0, 1e6}) {
+    VecX own, given;
+    const SteihaugResult a = q.solve(radius, 1e-8, own),
+                         b = q.solve(radius, 1e-8, given, 100, nullptr, &preconditioned);
+    EXPECT_EQ(a.end, b.end);
+    EXPECT_EQ(a.iterations, b.iterations);
+    EXPECT_EQ(a.model, b.model);
+    EXPECT_TRUE(own == given) << "radius " << radius;
+  }
 }
 
 // Shrinking the region after a rejected trial (the Newton reference's loop): every smaller radius

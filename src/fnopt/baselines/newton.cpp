@@ -145,11 +145,12 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
     else
       factor_.solve_in_place(r.data(), static_cast<int>(r.size()), 1);
   };
-  if (radius_ == 0.0) {  // the step's first iteration: the metric, the preconditioned gradient step's length
+  const bool first = radius_ == 0.0;
+  if (first) {  // the step's first iteration: the metric, the preconditioned gradient step's length
     set_metric(problem);
-    step_ = rhs_;
-    precondition(step_);
-    radius_ = params_.initial_radius * std::sqrt((step_.array().square() * metric_.array()).sum());
+    preconditioned_gradient_ = rhs_;
+    precondition(preconditioned_gradient_);
+    radius_ = params_.initial_radius * std::sqrt((preconditioned_gradient_.array().square() * metric_.array()).sum());
     if (!(radius_ > 0.0)) return SolveStatus::PrecisionLimit;  // g = 0 to the last bit
   }
   // H at this iterate, for CG's products (valid until the objective's next Hessian).
@@ -167,7 +168,7 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
     SteihaugResult sub;
     if (trial == 0 || !steihaug_cg_within(cg_path_, radius_, forcing, step_, sub))
       sub = steihaug_cg(rhs_, radius_, forcing, params_.max_cg_iterations, multiply, precondition, metric_, step_, cg_,
-                        &cg_path_);
+                        &cg_path_, first ? &preconditioned_gradient_ : nullptr);
     counters_.cg_iterations += sub.iterations;
     // A V-cycle built at this iterate that leaves CG at its cap does not precondition this cloth (on very
     // stiff stretch, docs/results.md "A multigrid preconditioner on fine grids"): P's factor from the next

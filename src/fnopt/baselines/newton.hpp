@@ -137,6 +137,7 @@ class NewtonOptimizer final : public InnerOptimizer {
   SteihaugPath cg_path_;  // the iterate's last CG run, for the trials after a rejected one
   VecX metric_;           // the trust region's: the inertia weights dt^2 m (1 + c dt) of the free dofs
   VecX rhs_, step_, full_step_, trial_, trial_gradient_;
+  VecX preconditioned_gradient_;  // P^-1 g at the step's first iteration, which sizes the region and starts CG
 };
 
 }  // namespace fnopt

@@ -2,8 +2,11 @@
 // The one generic assembly of every per-stencil energy (ipc-toolkit style): a Kernel evaluates
 // energy, gradient and Hessian of one stencil on fixed-size Eigen types; StencilTerm gathers
 // each stencil's coordinates, evaluates all stencils in parallel (OpenMP) into per-stencil
-// buffers, and scatters serially (stencils share vertices, so a parallel scatter would race).
-// The buffers are allocated once; a StencilTerm is not safe to evaluate from two threads.
+// buffers, and scatters serially (stencils share vertices, so a parallel scatter would race); on
+// one thread it scatters each stencil as it is evaluated. The buffers are allocated once; a
+// StencilTerm is not safe to evaluate from two threads.
+#include <omp.h>
+
 #include <array>
 #include <string>
 #include <vector>
@@ -23,11 +26,7 @@ class StencilTerm final : public EnergyTerm {
   using LocalMat = typename Kernel::Mat;
 
   StencilTerm(std::string name, Kernel kernel, std::vector<Stencil> stencils)
-      : name_(std::move(name)),
-        kernel_(kernel),
-        stencils_(std::move(stencils)),
-        gradients_(stencils_.size()),
-        hessians_(stencils_.size()) {}
+      : name_(std::move(name)), kernel_(kernel), stencils_(std::move(stencils)) {}
 
   const std::string& name() const override { return name_; }
   const std::vector<Stencil>& stencils() const { return stencils_; }
@@ -44,7 +43,16 @@ class StencilTerm final : public EnergyTerm {
   double accumulate_gradient(const VecX& x, VecX& grad) const override {
     const long count = static_cast<long>(stencils_.size());
     double total = 0.0;
-#pragma omp parallel for reduction(+ : total) schedule(static) if (count >= kParallelThreshold)
+    if (serial(count)) {
+      LocalVec local;
+      for (long s = 0; s < count; ++s) {
+        total += kernel_.gradient(gather(x, stencils_[s]), local);
+        for (int i = 0; i < N; ++i) grad.segment<3>(3 * stencils_[s][i]) += local.template segment<3>(3 * i);
+      }
+      return total;
+    }
+    if (gradients_.size() != stencils_.size()) gradients_.resize(stencils_.size());
+#pragma omp parallel for reduction(+ : total) schedule(static)
     for (long s = 0; s < count; ++s) total += kernel_.gradient(gather(x, stencils_[s]), gradients_[s]);
     for (long s = 0; s < count; ++s)
       for (int i = 0; i < N; ++i) grad.segment<3>(3 * stencils_[s][i]) += gradients_[s].template segment<3>(3 * i);
@@ -57,12 +65,26 @@ class StencilTerm final : public EnergyTerm {
 
   void accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly, int handle) const override {
     const long count = static_cast<long>(stencils_.size());
-#pragma omp parallel for schedule(static) if (count >= kParallelThreshold)
+    if (serial(count)) {
+      LocalMat local;
+      for (long s = 0; s < count; ++s) {
+        kernel_.hessian(gather(x, stencils_[s]), local, project);
+        assembly.scatter<N>(handle, s, local);
+      }
+      return;
+    }
+    if (hessians_.size() != stencils_.size()) hessians_.resize(stencils_.size());
+#pragma omp parallel for schedule(static)
     for (long s = 0; s < count; ++s) kernel_.hessian(gather(x, stencils_[s]), hessians_[s], project);
     for (long s = 0; s < count; ++s) assembly.scatter<N>(handle, s, hessians_[s]);
   }
 
  private:
+  // On one thread each stencil's gradient or matrix is added while it is in registers and L1:
+  // through the per-stencil buffers a 100^2 cloth's angle stencils write and read back 38 MB per
+  // Hessian (20 % of its time). The sums run in the same order either way.
+  static bool serial(long count) { return count < kParallelThreshold || omp_get_max_threads() == 1; }
+
   static LocalVec gather(const VecX& x, const Stencil& stencil) {
     LocalVec local;
     for (int i = 0; i < N; ++i) local.template segment<3>(3 * i) = x.segment<3>(3 * stencil[i]);
@@ -72,7 +94,7 @@ class StencilTerm final : public EnergyTerm {
   std::string name_;
   Kernel kernel_;
   std::vector<Stencil> stencils_;
-  mutable std::vector<LocalVec> gradients_;
+  mutable std::vector<LocalVec> gradients_;  // the buffers of the parallel loops, allocated at their first use
   mutable std::vector<LocalMat> hessians_;
 };
 

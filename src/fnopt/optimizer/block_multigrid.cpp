@@ -248,16 +248,23 @@ bool BlockMultigrid::assign(const Eigen::SparseMatrix<double>& A, const Grid& gr
 
 void BlockMultigrid::forward_sweep(Level& level, bool from_zero) {
   // x_i <- D_i^-1 (b_i - sum_{j < i} A_ij x_j - upper_i), upper = U x before the sweep (0 from x = 0).
+  // From x = 0 the residual after the sweep is -U x (cycle()): scattered from each row as soon as its
+  // x_i is known, so that the one read of row i serves both (as in backward_sweep).
   const int* column = level.lower_column.data();
   const float* lower = level.lower_values.data();
   float* x = level.x.data();
+  float* upper = level.upper.data();
+  if (from_zero) std::fill(level.upper.begin(), level.upper.end(), 0.0f);
   for (int i = 0; i < level.unknowns; ++i) {
+    const int begin = level.lower_start[i], end = level.lower_start[i + 1];
     const float* b = &level.b[3 * i];
-    Lanes s =
-        Lanes(b[0], b[1], b[2], 0.0f) - row_product(column, lower, level.lower_start[i], level.lower_start[i + 1], x);
-    if (!from_zero) s -= Lanes(level.upper[3 * i], level.upper[3 * i + 1], level.upper[3 * i + 2], 0.0f);
+    Lanes s = Lanes(b[0], b[1], b[2], 0.0f) - row_product(column, lower, begin, end, x);
+    if (!from_zero) s -= Lanes(upper[3 * i], upper[3 * i + 1], upper[3 * i + 2], 0.0f);
     const Lanes next = block_times(&level.diagonal_inverse[9 * i], s.data());
     std::copy_n(next.data(), 3, x + 3 * i);
+    if (from_zero)
+      for (int k = begin; k < end; ++k)
+        add_transpose_times(lower + 9 * k, -next[0], -next[1], -next[2], upper + 3 * column[k]);
   }
 }
 
@@ -304,22 +311,24 @@ void BlockMultigrid::cycle(std::size_t l) {
   // The smoother reads only the blocks left of the diagonal (A is symmetric): a forward sweep gathers
   // them row by row; the blocks right of the diagonal, U, are their transposes, scattered. The first
   // sweep starts from x = 0, where U x = 0. Each forward sweep leaves row i's equation exact for the
-  // x_j (j > i) before it, x_j - dx_j with dx_j its change, so the residual is b - A x = -U dx: one
-  // scattered pass. A cycle is bound by memory traffic (at 100^2 a level's floats do not stay in the
-  // cache between CG's products), and reads half the matrix three times where it read all of it three
-  // times: 2x faster (docs/results.md, "The reference's kernels").
+  // x_j (j > i) before it, x_j - dx_j with dx_j its change, so the residual is b - A x = -U dx: after
+  // the first sweep -U x, scattered by the sweep itself. A cycle is bound by memory traffic (at 100^2 a
+  // level's floats do not stay in the cache between CG's products); with one sweep each way it reads
+  // half the matrix twice where it read all of it three times (docs/results.md, "The reference's
+  // kernels").
   float* x = level.x.data();
-  forward_sweep(level, true);
+  forward_sweep(level, true);  // and upper = -U x, the residual
   for (int s = 1; s < params_.smoothing_sweeps; ++s) {
     level.change.assign(level.x.begin(), level.x.end());
     std::fill(level.upper.begin(), level.upper.end(), 0.0f);
     add_upper_product(level, x, level.upper.data(), 1.0f);
     forward_sweep(level, false);
   }
-  if (params_.smoothing_sweeps > 1)
+  if (params_.smoothing_sweeps > 1) {
     for (int e = 0; e < 3 * level.unknowns; ++e) level.change[e] = level.x[e] - level.change[e];
-  std::fill(level.upper.begin(), level.upper.end(), 0.0f);
-  add_upper_product(level, params_.smoothing_sweeps > 1 ? level.change.data() : x, level.upper.data(), -1.0f);
+    std::fill(level.upper.begin(), level.upper.end(), 0.0f);
+    add_upper_product(level, level.change.data(), level.upper.data(), -1.0f);
+  }
   // b_c = R^T r.
   Level& coarse = levels_[l + 1];
   std::fill(coarse.b.begin(), coarse.b.end(), 0.0f);

@@ -86,7 +86,8 @@ class BlockMultigrid {
   void copy_fine_values(const Eigen::SparseMatrix<double>& A);
   bool prepare_smoother(Level& level);
   // Block Gauss–Seidel sweeps on level.x for level.b: forward, with level.upper = U x (U the blocks
-  // right of the diagonal) unless from_zero (x = 0); backward.
+  // right of the diagonal) unless from_zero (x = 0), where it leaves level.upper = -U x, the residual;
+  // backward.
   static void forward_sweep(Level& level, bool from_zero);
   static void backward_sweep(Level& level);
   // out += sign x U y, scattered from the blocks left of the diagonal (U = L^T).

@@ -59,11 +59,12 @@ inline double boundary_step(double zz, double zp, double pp, double radius) {
 }
 
 // multiply(p, out): out = H p.  precondition(r): r <- P^-1 r in place.  metric: W's diagonal.
-// d: the step (resized). path: where to keep CG's path, or nullptr.
+// d: the step (resized). path: where to keep CG's path, or nullptr. preconditioned_gradient: P^-1 g
+// where the caller has it (CG's first preconditioner application is then -P^-1 g), or nullptr.
 template <class Multiply, class Precondition>
 SteihaugResult steihaug_cg(const VecX& g, double radius, double tolerance, int max_iterations, Multiply&& multiply,
                            Precondition&& precondition, const VecX& metric, VecX& d, SteihaugScratch& s,
-                           SteihaugPath* path = nullptr) {
+                           SteihaugPath* path = nullptr, const VecX* preconditioned_gradient = nullptr) {
   SteihaugResult result;
   if (path) {
     path->segments.clear();
@@ -75,8 +76,12 @@ SteihaugResult steihaug_cg(const VecX& g, double radius, double tolerance, int m
   VecX& y = s.preconditioned;
   VecX& p = s.search;
   r = -g;
-  y = r;
-  precondition(y);
+  if (preconditioned_gradient) {
+    y = -*preconditioned_gradient;
+  } else {
+    y = r;
+    precondition(y);
+  }
   p = y;
   double ry = r.dot(y);
   double zz = 0.0, zp = 0.0;  // ||d||_W^2, d.W p
