@@ -54,9 +54,8 @@ std::string NewtonOptimizer::settings() const {
   return out.str();
 }
 
-bool NewtonOptimizer::factorize_preconditioner(StepProblem& problem, const VecX& a) {
-  BackwardEulerObjective& objective = problem.objective();
-  const Eigen::SparseMatrix<double>& projected = objective.hessian(a, problem.dirichlet().free_index(), true);
+bool NewtonOptimizer::factorize_preconditioner(StepProblem& problem, const Eigen::SparseMatrix<double>& projected) {
+  const BackwardEulerObjective& objective = problem.objective();
   ++counters_.factorizations;
   if (use_multigrid_) {
     have_factor_ =
@@ -136,7 +135,17 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
   }
   const bool stale =
       !have_factor_ || preconditioner_rows() != rhs_.size() || last_cg_iterations_ > params_.refactor_cg_iterations;
-  if (stale && !factorize_preconditioner(problem, a)) return SolveStatus::FactorizationFailed;
+  // H at this iterate, for CG's products (valid until the objective's next Hessian), and P from the
+  // same evaluation of the stencils where it is rebuilt.
+  BackwardEulerObjective& objective = problem.objective();
+  const SymmetricBlockMatrix* exact_hessian = nullptr;
+  if (stale) {
+    const BackwardEulerObjective::HessianPair pair = objective.hessian_pair(a, dirichlet.free_index());
+    exact_hessian = &pair.exact;
+    if (!factorize_preconditioner(problem, pair.projected)) return SolveStatus::FactorizationFailed;
+  } else {
+    exact_hessian = &objective.hessian_blocks(a, dirichlet.free_index(), false);
+  }
   auto precondition = [&](VecX& r) {
     if (use_multigrid_)
       multigrid_.solve_in_place(r);
@@ -153,11 +162,9 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
     radius_ = params_.initial_radius * std::sqrt((preconditioned_gradient_.array().square() * metric_.array()).sum());
     if (!(radius_ > 0.0)) return SolveStatus::PrecisionLimit;  // g = 0 to the last bit
   }
-  // H at this iterate, for CG's products (valid until the objective's next Hessian).
-  const SymmetricBlockMatrix& exact_hessian = problem.objective().hessian_blocks(a, dirichlet.free_index(), false);
-  auto multiply = [&](const VecX& p, VecX& out) { exact_hessian.multiply(p, out); };
+  auto multiply = [&](const VecX& p, VecX& out) { exact_hessian->multiply(p, out); };
   // The forcing term, but no finer than the stop needs (the residual acceleration scales with g).
-  const double needed = 0.1 * params_.acceleration_tolerance / problem.objective().residual_acceleration(gradient);
+  const double needed = 0.1 * params_.acceleration_tolerance / objective.residual_acceleration(gradient);
   const double forcing = std::min(params_.forcing_cap, std::max(gradient_norm / initial_gradient_norm_, needed));
   // L sums terms larger than itself (inertia, gravity, elastic), so its rounding error is a few
   // hundred ulps of |L| (10^4 stencils); below it a change of L says nothing.

@@ -113,9 +113,9 @@ class NewtonOptimizer final : public InnerOptimizer {
  private:
   // The trust region's metric on the free dofs, the inertia weights dt^2 m (1 + c dt).
   void set_metric(const StepProblem& problem);
-  // Builds P's preconditioner at a (its factor, or its multigrid levels); false if CHOLMOD fails (P is
-  // positive definite by construction).
-  bool factorize_preconditioner(StepProblem& problem, const VecX& a);
+  // Builds the preconditioner from P, the projected Hessian (its factor, or its multigrid levels);
+  // false if CHOLMOD fails (P is positive definite by construction).
+  bool factorize_preconditioner(StepProblem& problem, const Eigen::SparseMatrix<double>& projected);
   // The multigrid does not serve this rollout: P's factor from the next build on (counted once).
   void hand_over_to_factor();
   Eigen::Index preconditioner_rows() const { return use_multigrid_ ? multigrid_.rows() : factor_.rows(); }

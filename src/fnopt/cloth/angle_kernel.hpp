@@ -53,6 +53,29 @@ struct AngleKernel {
   void hessian(const Vec& x, Mat& H, bool project) const {
     const Eigen::Vector3d u = edge(x, u_coeff), w = edge(x, w_coeff);
     const Local l = local(u, w);
+    Eigen::Matrix<double, 6, 6> Huw = edge_hessian(l);
+    if (project) project_edge_hessian(u, w, l, Huw);
+    to_vertices(Huw, H);
+  }
+
+  // hessian(x, exact, false) and hessian(x, projected, true) from one evaluation.
+  void hessian_pair(const Vec& x, Mat& exact, Mat& projected) const {
+    const Eigen::Vector3d u = edge(x, u_coeff), w = edge(x, w_coeff);
+    const Local l = local(u, w);
+    Eigen::Matrix<double, 6, 6> Huw = edge_hessian(l);
+    to_vertices(Huw, exact);
+    project_edge_hessian(u, w, l, Huw);
+    to_vertices(Huw, projected);
+  }
+
+ private:
+  struct Local {
+    double cos, delta, dE_dc, d2E_dc2, inv_u, inv_w;
+    Eigen::Vector3d uh, wh, dc_du, dc_dw;
+  };
+
+  // The Hessian in (u, w).
+  Eigen::Matrix<double, 6, 6> edge_hessian(const Local& l) const {
     const double c = l.cos;
     const Eigen::Vector3d& uh = l.uh;
     const Eigen::Vector3d& wh = l.wh;
@@ -70,8 +93,16 @@ struct AngleKernel {
         Huw(p, 3 + q) = cross;
         Huw(3 + q, p) = cross;
       }
-    if (project && !project_angle_hessian(u, w, stiffness, l.delta, Huw)) Huw = project_psd<6>(Huw);
-    // H = T Huw T^T, T = [u_coeff (x) I, w_coeff (x) I]: columns of vertex j first, then rows.
+    return Huw;
+  }
+
+  void project_edge_hessian(const Eigen::Vector3d& u, const Eigen::Vector3d& w, const Local& l,
+                            Eigen::Matrix<double, 6, 6>& Huw) const {
+    if (!project_angle_hessian(u, w, stiffness, l.delta, Huw)) Huw = project_psd<6>(Huw);
+  }
+
+  // H = T Huw T^T, T = [u_coeff (x) I, w_coeff (x) I]: columns of vertex j first, then rows.
+  void to_vertices(const Eigen::Matrix<double, 6, 6>& Huw, Mat& H) const {
     Eigen::Matrix<double, 6, 3> R[3];
     for (int j = 0; j < 3; ++j) R[j] = u_coeff[j] * Huw.leftCols<3>() + w_coeff[j] * Huw.rightCols<3>();
     for (int j = 0; j < 3; ++j)
@@ -81,12 +112,6 @@ struct AngleKernel {
         if (i != j) H.block<3, 3>(3 * j, 3 * i) = B.transpose();
       }
   }
-
- private:
-  struct Local {
-    double cos, delta, dE_dc, d2E_dc2, inv_u, inv_w;
-    Eigen::Vector3d uh, wh, dc_du, dc_dw;
-  };
 
   static Eigen::Vector3d edge(const Vec& x, const Eigen::Vector3d& coeff) {
     return coeff[0] * x.segment<3>(0) + coeff[1] * x.segment<3>(3) + coeff[2] * x.segment<3>(6);

@@ -85,6 +85,12 @@ const SymmetricBlockMatrix& BackwardEulerObjective::hessian_blocks(const VecX& a
   return assemble_hessian(a, free_index, project, HessianAssembly::Target::LowerBlocks).lower_blocks();
 }
 
+BackwardEulerObjective::HessianPair BackwardEulerObjective::hessian_pair(const VecX& a,
+                                                                         const std::vector<int>& free_index) {
+  const HessianAssembly& assembly = assemble_hessian(a, free_index, true, HessianAssembly::Target::ExactAndProjected);
+  return {assembly.lower_blocks(), assembly.matrix()};
+}
+
 const HessianAssembly& BackwardEulerObjective::assemble_hessian(const VecX& a, const std::vector<int>& free_index,
                                                                 bool project, HessianAssembly::Target target) {
   const long generation = repulsion_ ? repulsion_->pattern_generation() : 0;
@@ -99,8 +105,13 @@ const HessianAssembly& BackwardEulerObjective::assemble_hessian(const VecX& a, c
   }
   trial_positions(a, x_trial_);
   assembly_->set_zero(target);
-  for (std::size_t t = 0; t < terms_.size(); ++t)
-    if (term_handles_[t] >= 0) terms_[t]->accumulate_hessian(x_trial_, project, *assembly_, term_handles_[t]);
+  for (std::size_t t = 0; t < terms_.size(); ++t) {
+    if (term_handles_[t] < 0) continue;
+    if (target == HessianAssembly::Target::ExactAndProjected)
+      terms_[t]->accumulate_hessian_pair(x_trial_, *assembly_, term_handles_[t]);
+    else
+      terms_[t]->accumulate_hessian(x_trial_, project, *assembly_, term_handles_[t]);
+  }
   const double dt2 = dt_ * dt_;
   assembly_->scale(dt2 * dt2);
   for (Eigen::Index k = 0; k < masses_.size(); ++k)

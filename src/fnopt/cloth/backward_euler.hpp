@@ -65,6 +65,14 @@ class BackwardEulerObjective {
   // The same matrix as its lower triangle of 3x3 blocks, for products: half of hessian()'s writes
   // (the Newton reference's exact Hessian at every iteration). Valid until the next hessian call.
   const SymmetricBlockMatrix& hessian_blocks(const VecX& a, const std::vector<int>& free_index, bool project);
+  // hessian_blocks(a, free_index, false) and hessian(a, free_index, true), the same values, from one
+  // evaluation of each stencil (the Newton reference's iterations that rebuild its preconditioner).
+  // Both valid until the next hessian call.
+  struct HessianPair {
+    const SymmetricBlockMatrix& exact;
+    const Eigen::SparseMatrix<double>& projected;
+  };
+  HessianPair hessian_pair(const VecX& a, const std::vector<int>& free_index);
 
   // The potential P(x) (elastic + gravity, zero at height 0) and the kinetic energy of v.
   double potential(const VecX& x) const;

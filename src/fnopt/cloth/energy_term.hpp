@@ -18,8 +18,17 @@ class EnergyTerm {
   // Registers the term's stencils with the Hessian pattern; returns the handle that
   // accumulate_hessian takes (-1 when the term has no Hessian).
   virtual int register_hessian(HessianAssembly& assembly) const = 0;
-  // Adds hess E(x) into the assembly, each stencil's matrix projected to PSD if `project`.
+  // Adds hess E(x) into the assembly's target, each stencil's matrix projected to PSD if `project`.
   virtual void accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly, int handle) const = 0;
+  // With the assembly's target ExactAndProjected: hess E(x) to its lower blocks and the projected one
+  // to its matrix. Here by evaluating each stencil twice; a term that can evaluates each once.
+  virtual void accumulate_hessian_pair(const VecX& x, HessianAssembly& assembly, int handle) const {
+    assembly.select(HessianAssembly::Target::LowerBlocks);
+    accumulate_hessian(x, false, assembly, handle);
+    assembly.select(HessianAssembly::Target::Matrix);
+    accumulate_hessian(x, true, assembly, handle);
+    assembly.select(HessianAssembly::Target::ExactAndProjected);
+  }
 };
 
 }  // namespace fnopt

@@ -82,17 +82,13 @@ void HessianAssembly::finalize() {
 
 void HessianAssembly::set_zero(Target target) {
   target_ = target;
-  if (target_ == Target::Matrix)
-    matrix_.coeffs().setZero();
-  else
-    lower_.set_zero();
+  if (to_matrix()) matrix_.coeffs().setZero();
+  if (to_lower_blocks()) lower_.set_zero();
 }
 
 void HessianAssembly::scale(double factor) {
-  if (target_ == Target::Matrix)
-    matrix_.coeffs() *= factor;
-  else
-    lower_.scale(factor);
+  if (to_matrix()) matrix_.coeffs() *= factor;
+  if (to_lower_blocks()) lower_.scale(factor);
 }
 
 HessianAssembly::Slot HessianAssembly::block_slot(int row_vertex, int col_vertex) const {
@@ -114,10 +110,12 @@ HessianAssembly::Slot HessianAssembly::lower_block_slot(int row_vertex, int col_
 }
 
 void HessianAssembly::add_vertex_diagonal(int v, double value) {
-  const Slot& slot = (target_ == Target::Matrix ? diagonal_ : lower_diagonal_)[v];
-  if (slot.base < 0) return;
-  double* values = target_values();
-  for (int c = 0; c < 3; ++c) values[slot.base + c * slot.stride + c] += value;
+  auto add = [&](const Slot& slot, double* values) {
+    if (slot.base >= 0)
+      for (int c = 0; c < 3; ++c) values[slot.base + c * slot.stride + c] += value;
+  };
+  if (to_matrix()) add(diagonal_[v], matrix_.valuePtr());
+  if (to_lower_blocks()) add(lower_diagonal_[v], lower_.values());
 }
 
 }  // namespace fnopt

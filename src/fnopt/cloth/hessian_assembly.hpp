@@ -7,7 +7,9 @@
 // Rows and columns are the free (non-handle) dofs: free vertex f owns rows 3f, 3f+1, 3f+2.
 // The values go to one of two targets: the whole CSC matrix (matrix()), or only its lower triangle
 // of 3x3 blocks (lower_blocks(), for products: a stencil block above the diagonal is skipped,
-// since its transpose below it is added too), the same sums in the same order.
+// since its transpose below it is added too), the same sums in the same order; or to both at once,
+// a stencil's exact matrix to the blocks and its projection to the matrix (the Newton reference's
+// iterations that rebuild its preconditioner: one evaluation of each stencil for the two).
 #include <Eigen/Sparse>
 #include <vector>
 
@@ -26,21 +28,28 @@ class HessianAssembly {
   // Builds the pattern and the slot tables.
   void finalize();
 
-  enum class Target { Matrix, LowerBlocks };
-  // Zeroes the target and sends the following scatters there.
+  // ExactAndProjected: the lower blocks take scatter_pair()'s exact matrices, the matrix its
+  // projected ones.
+  enum class Target { Matrix, LowerBlocks, ExactAndProjected };
+  // Zeroes the target (both for ExactAndProjected) and sends the following calls there.
   void set_zero(Target target = Target::Matrix);
-  // Adds the 3n x 3n matrix of stencil s of the stencil set `handle` to the target; blocks of fixed
-  // vertices are skipped (Dirichlet elimination).
+  // Sends the following calls to the target without zeroing it.
+  void select(Target target) { target_ = target; }
+  Target target() const { return target_; }
+  // Adds the 3n x 3n matrix of stencil s of the stencil set `handle` to the target (Matrix or
+  // LowerBlocks); blocks of fixed vertices are skipped (Dirichlet elimination).
   template <int N>
   void scatter(int handle, std::size_t s, const Eigen::Matrix<double, 3 * N, 3 * N>& local) {
-    const Slot* slot = &target_slots()[set_offset_[handle] + s * N * N];
-    double* values = target_values();
-    for (int a = 0; a < N; ++a)
-      for (int b = 0; b < N; ++b, ++slot) {
-        if (slot->base < 0) continue;
-        for (int c = 0; c < 3; ++c)
-          for (int r = 0; r < 3; ++r) values[slot->base + c * slot->stride + r] += local(3 * a + r, 3 * b + c);
-      }
+    const bool matrix = target_ == Target::Matrix;
+    add_stencil<N>(matrix ? slots_ : lower_slots_, matrix ? matrix_.valuePtr() : lower_.values(), handle, s, local);
+  }
+  // With the target ExactAndProjected: stencil s's exact matrix to the lower blocks, its
+  // projection to the matrix.
+  template <int N>
+  void scatter_pair(int handle, std::size_t s, const Eigen::Matrix<double, 3 * N, 3 * N>& exact,
+                    const Eigen::Matrix<double, 3 * N, 3 * N>& projected) {
+    add_stencil<N>(lower_slots_, lower_.values(), handle, s, exact);
+    add_stencil<N>(slots_, matrix_.valuePtr(), handle, s, projected);
   }
   // Adds value * I_3 to the diagonal block of vertex v (no-op for a fixed vertex).
   void add_vertex_diagonal(int v, double value);
@@ -62,11 +71,22 @@ class HessianAssembly {
     int n;
   };
 
+  template <int N>
+  void add_stencil(const std::vector<Slot>& slots, double* values, int handle, std::size_t s,
+                   const Eigen::Matrix<double, 3 * N, 3 * N>& local) const {
+    const Slot* slot = &slots[set_offset_[handle] + s * N * N];
+    for (int a = 0; a < N; ++a)
+      for (int b = 0; b < N; ++b, ++slot) {
+        if (slot->base < 0) continue;
+        for (int c = 0; c < 3; ++c)
+          for (int r = 0; r < 3; ++r) values[slot->base + c * slot->stride + r] += local(3 * a + r, 3 * b + c);
+      }
+  }
   Slot block_slot(int row_vertex, int col_vertex) const;
   // Its place in lower_ (block k at 9k, stride 3); none above the diagonal.
   Slot lower_block_slot(int row_vertex, int col_vertex) const;
-  const Slot* target_slots() const { return target_ == Target::Matrix ? slots_.data() : lower_slots_.data(); }
-  double* target_values() { return target_ == Target::Matrix ? matrix_.valuePtr() : lower_.values(); }
+  bool to_matrix() const { return target_ != Target::LowerBlocks; }
+  bool to_lower_blocks() const { return target_ != Target::Matrix; }
 
   std::vector<int> free_index_;
   int free_count_ = 0;

@@ -79,6 +79,23 @@ class StencilTerm final : public EnergyTerm {
     for (long s = 0; s < count; ++s) assembly.scatter<N>(handle, s, hessians_[s]);
   }
 
+  void accumulate_hessian_pair(const VecX& x, HessianAssembly& assembly, int handle) const override {
+    const long count = static_cast<long>(stencils_.size());
+    if (serial(count)) {
+      LocalMat exact, projected;
+      for (long s = 0; s < count; ++s) {
+        kernel_.hessian_pair(gather(x, stencils_[s]), exact, projected);
+        assembly.scatter_pair<N>(handle, s, exact, projected);
+      }
+      return;
+    }
+    if (hessians_.size() != stencils_.size()) hessians_.resize(stencils_.size());
+    if (projected_.size() != stencils_.size()) projected_.resize(stencils_.size());
+#pragma omp parallel for schedule(static)
+    for (long s = 0; s < count; ++s) kernel_.hessian_pair(gather(x, stencils_[s]), hessians_[s], projected_[s]);
+    for (long s = 0; s < count; ++s) assembly.scatter_pair<N>(handle, s, hessians_[s], projected_[s]);
+  }
+
  private:
   // On one thread each stencil's gradient or matrix is added while it is in registers and L1:
   // through the per-stencil buffers a 100^2 cloth's angle stencils write and read back 38 MB per
@@ -95,7 +112,7 @@ class StencilTerm final : public EnergyTerm {
   Kernel kernel_;
   std::vector<Stencil> stencils_;
   mutable std::vector<LocalVec> gradients_;  // the buffers of the parallel loops, allocated at their first use
-  mutable std::vector<LocalMat> hessians_;
+  mutable std::vector<LocalMat> hessians_, projected_;
 };
 
 }  // namespace fnopt

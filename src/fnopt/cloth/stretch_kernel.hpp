@@ -6,6 +6,7 @@
 // whose only possibly negative eigenvalue is the transverse k (1 - h/|e|) of a compressed edge:
 // the projection (psd_projection.hpp) replaces it with its absolute value, in closed form.
 #include <Eigen/Core>
+#include <cmath>
 
 namespace fnopt {
 
@@ -35,8 +36,25 @@ struct StretchKernel {
     const Eigen::Vector3d e = x.tail<3>() - x.head<3>();
     const double length = e.norm();
     const Eigen::Matrix3d axial = e * e.transpose() / (length * length);
-    double transverse = 1.0 - rest_length / length;
-    if (project && transverse < 0.0) transverse = -transverse;
+    const double transverse = 1.0 - rest_length / length;
+    fill(axial, project ? std::abs(transverse) : transverse, H);
+  }
+
+  // hessian(x, exact, false) and hessian(x, projected, true) from one evaluation.
+  void hessian_pair(const Vec& x, Mat& exact, Mat& projected) const {
+    const Eigen::Vector3d e = x.tail<3>() - x.head<3>();
+    const double length = e.norm();
+    const Eigen::Matrix3d axial = e * e.transpose() / (length * length);
+    const double transverse = 1.0 - rest_length / length;
+    fill(axial, transverse, exact);
+    if (transverse < 0.0)
+      fill(axial, -transverse, projected);
+    else
+      projected = exact;
+  }
+
+ private:
+  void fill(const Eigen::Matrix3d& axial, double transverse, Mat& H) const {
     const Eigen::Matrix3d He = stiffness * (transverse * (Eigen::Matrix3d::Identity() - axial) + axial);
     H << He, -He, -He, He;
   }

@@ -21,6 +21,7 @@ class SymmetricBlockMatrix {
   int row_begin(int i) const { return row_start_[i]; }
   // Block k's 3x3 values, column by column, at values()[9k].
   double* values() { return values_.data(); }
+  const std::vector<double>& value_array() const { return values_; }
   void set_zero() { std::fill(values_.begin(), values_.end(), 0.0); }
   void scale(double factor) {
     for (double& v : values_) v *= factor;
