@@ -166,6 +166,48 @@ TEST(Kernels, ProjectedHessiansArePositiveSemidefinite) {
   check_projection(bend(), hinge_rest(), 10);
 }
 
+// hessian_pair (the Newton reference's rebuilds of P) gives hessian(x, false) and hessian(x, true),
+// the same bits, from one evaluation; compressed edges and stencils far from rest included.
+template <class Kernel>
+void check_pair(const Kernel& kernel, const typename Kernel::Vec& rest, unsigned seed) {
+  std::mt19937 rng(seed);
+  for (int trial = 0; trial < 50; ++trial) {
+    const typename Kernel::Vec x = perturbed<Kernel>(rest, 0.4 * kH, rng);
+    typename Kernel::Mat exact, projected, pair_exact, pair_projected;
+    kernel.hessian(x, exact, false);
+    kernel.hessian(x, projected, true);
+    kernel.hessian_pair(x, pair_exact, pair_projected);
+    EXPECT_TRUE(pair_exact == exact) << "trial " << trial;
+    EXPECT_TRUE(pair_projected == projected) << "trial " << trial;
+  }
+}
+
+TEST(Kernels, TheHessianPairIsTheTwoHessians) {
+  check_pair(stretch(), stretch_rest(), 21);
+  check_pair(shear(), corner_rest(), 22);
+  check_pair(bend(), hinge_rest(), 23);
+}
+
+// shear() and bend() map the 6x6 Hessian in (u, w) to the vertices by sums of its blocks; the general
+// map's products with their coefficients give the same values.
+TEST(AngleKernel, TheCornerAndHingeLayoutsAreTheGeneralMap) {
+  std::mt19937 rng(31);
+  for (const auto& [kernel, rest] : {std::pair{shear(), corner_rest()}, std::pair{bend(), hinge_rest()}}) {
+    ASSERT_NE(kernel.layout, AngleKernel::Layout::General);
+    AngleKernel general = kernel;
+    general.layout = AngleKernel::Layout::General;
+    for (int trial = 0; trial < 50; ++trial) {
+      const AngleKernel::Vec x = perturbed<AngleKernel>(rest, 0.4 * kH, rng);
+      for (const bool project : {false, true}) {
+        AngleKernel::Mat laid_out, mapped;
+        kernel.hessian(x, laid_out, project);
+        general.hessian(x, mapped, project);
+        EXPECT_TRUE(laid_out == mapped) << "trial " << trial << (project ? ", projected" : "");
+      }
+    }
+  }
+}
+
 TEST(PsdProjection, FlipsOnlyNegativeEigenvalues) {
   Eigen::Matrix3d Q = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
   const Eigen::Matrix3d H = Q * Eigen::Vector3d(2.0, -1.0, 0.5).asDiagonal() * Q.transpose();
