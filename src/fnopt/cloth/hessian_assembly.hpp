@@ -35,7 +35,6 @@ class HessianAssembly {
   void set_zero(Target target = Target::Matrix);
   // Sends the following calls to the target without zeroing it.
   void select(Target target) { target_ = target; }
-  Target target() const { return target_; }
   // Adds the 3n x 3n matrix of stencil s of the stencil set `handle` to the target (Matrix or
   // LowerBlocks); blocks of fixed vertices are skipped (Dirichlet elimination).
   template <int N>
