@@ -9,6 +9,7 @@
 
 #include <array>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <fnopt/cloth/energy_term.hpp>
@@ -41,22 +42,12 @@ class StencilTerm final : public EnergyTerm {
   }
 
   double accumulate_gradient(const VecX& x, VecX& grad) const override {
-    const long count = static_cast<long>(stencils_.size());
-    double total = 0.0;
-    if (serial(count)) {
-      LocalVec local;
-      for (long s = 0; s < count; ++s) {
-        total += kernel_.gradient(gather(x, stencils_[s]), local);
-        for (int i = 0; i < N; ++i) grad.segment<3>(3 * stencils_[s][i]) += local.template segment<3>(3 * i);
-      }
-      return total;
-    }
-    if (gradients_.size() != stencils_.size()) gradients_.resize(stencils_.size());
-#pragma omp parallel for reduction(+ : total) schedule(static)
-    for (long s = 0; s < count; ++s) total += kernel_.gradient(gather(x, stencils_[s]), gradients_[s]);
-    for (long s = 0; s < count; ++s)
-      for (int i = 0; i < N; ++i) grad.segment<3>(3 * stencils_[s][i]) += gradients_[s].template segment<3>(3 * i);
-    return total;
+    return evaluate_and_add([&](long s, LocalVec& local) { return kernel_.gradient(gather(x, stencils_[s]), local); },
+                            [&](long s, const LocalVec& local) {
+                              for (int i = 0; i < N; ++i)
+                                grad.segment<3>(3 * stencils_[s][i]) += local.template segment<3>(3 * i);
+                            },
+                            gradients_);
   }
 
   int register_hessian(HessianAssembly& assembly) const override {
@@ -64,36 +55,24 @@ class StencilTerm final : public EnergyTerm {
   }
 
   void accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly, int handle) const override {
-    const long count = static_cast<long>(stencils_.size());
-    if (serial(count)) {
-      LocalMat local;
-      for (long s = 0; s < count; ++s) {
-        kernel_.hessian(gather(x, stencils_[s]), local, project);
-        assembly.scatter<N>(handle, s, local);
-      }
-      return;
-    }
-    if (hessians_.size() != stencils_.size()) hessians_.resize(stencils_.size());
-#pragma omp parallel for schedule(static)
-    for (long s = 0; s < count; ++s) kernel_.hessian(gather(x, stencils_[s]), hessians_[s], project);
-    for (long s = 0; s < count; ++s) assembly.scatter<N>(handle, s, hessians_[s]);
+    evaluate_and_add(
+        [&](long s, LocalMat& local) {
+          kernel_.hessian(gather(x, stencils_[s]), local, project);
+          return 0.0;
+        },
+        [&](long s, const LocalMat& local) { assembly.scatter<N>(handle, s, local); }, hessians_);
   }
 
   void accumulate_hessian_pair(const VecX& x, HessianAssembly& assembly, int handle) const override {
-    const long count = static_cast<long>(stencils_.size());
-    if (serial(count)) {
-      LocalMat exact, projected;
-      for (long s = 0; s < count; ++s) {
-        kernel_.hessian_pair(gather(x, stencils_[s]), exact, projected);
-        assembly.scatter_pair<N>(handle, s, exact, projected);
-      }
-      return;
-    }
-    if (hessians_.size() != stencils_.size()) hessians_.resize(stencils_.size());
-    if (projected_.size() != stencils_.size()) projected_.resize(stencils_.size());
-#pragma omp parallel for schedule(static)
-    for (long s = 0; s < count; ++s) kernel_.hessian_pair(gather(x, stencils_[s]), hessians_[s], projected_[s]);
-    for (long s = 0; s < count; ++s) assembly.scatter_pair<N>(handle, s, hessians_[s], projected_[s]);
+    evaluate_and_add(
+        [&](long s, LocalMat& exact, LocalMat& projected) {
+          kernel_.hessian_pair(gather(x, stencils_[s]), exact, projected);
+          return 0.0;
+        },
+        [&](long s, const LocalMat& exact, const LocalMat& projected) {
+          assembly.scatter_pair<N>(handle, s, exact, projected);
+        },
+        hessians_, projected_);
   }
 
  private:
@@ -101,6 +80,31 @@ class StencilTerm final : public EnergyTerm {
   // through the per-stencil buffers a 100^2 cloth's angle stencils write and read back 38 MB per
   // Hessian (20 % of its time). The sums run in the same order either way.
   static bool serial(long count) { return count < kParallelThreshold || omp_get_max_threads() == 1; }
+
+  // evaluate(s, locals...) fills stencil s's results and returns its energy; add(s, locals...) adds them
+  // to the sums, in stencil order. In parallel the results go through the buffers (one per result).
+  // Returns the energies' total.
+  template <class Evaluate, class Add, class... Local>
+  double evaluate_and_add(Evaluate evaluate, Add add, std::vector<Local>&... buffers) const {
+    const long count = static_cast<long>(stencils_.size());
+    double total = 0.0;
+    if (serial(count)) {
+      std::tuple<Local...> locals;
+      for (long s = 0; s < count; ++s)
+        std::apply(
+            [&](Local&... local) {
+              total += evaluate(s, local...);
+              add(s, local...);
+            },
+            locals);
+      return total;
+    }
+    (buffers.resize(stencils_.size()), ...);
+#pragma omp parallel for reduction(+ : total) schedule(static)
+    for (long s = 0; s < count; ++s) total += evaluate(s, buffers[s]...);
+    for (long s = 0; s < count; ++s) add(s, buffers[s]...);
+    return total;
+  }
 
   static LocalVec gather(const VecX& x, const Stencil& stencil) {
     LocalVec local;

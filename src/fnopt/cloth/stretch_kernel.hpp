@@ -7,6 +7,7 @@
 // the projection (psd_projection.hpp) replaces it with its absolute value, in closed form.
 #include <Eigen/Core>
 #include <cmath>
+#include <utility>
 
 namespace fnopt {
 
@@ -33,19 +34,13 @@ struct StretchKernel {
   }
 
   void hessian(const Vec& x, Mat& H, bool project) const {
-    const Eigen::Vector3d e = x.tail<3>() - x.head<3>();
-    const double length = e.norm();
-    const Eigen::Matrix3d axial = e * e.transpose() / (length * length);
-    const double transverse = 1.0 - rest_length / length;
+    const auto [axial, transverse] = axial_and_transverse(x);
     fill(axial, project ? std::abs(transverse) : transverse, H);
   }
 
   // hessian(x, exact, false) and hessian(x, projected, true) from one evaluation.
   void hessian_pair(const Vec& x, Mat& exact, Mat& projected) const {
-    const Eigen::Vector3d e = x.tail<3>() - x.head<3>();
-    const double length = e.norm();
-    const Eigen::Matrix3d axial = e * e.transpose() / (length * length);
-    const double transverse = 1.0 - rest_length / length;
+    const auto [axial, transverse] = axial_and_transverse(x);
     fill(axial, transverse, exact);
     if (transverse < 0.0)
       fill(axial, -transverse, projected);
@@ -54,6 +49,13 @@ struct StretchKernel {
   }
 
  private:
+  // e e^T / |e|^2 and the transverse factor 1 - h/|e| of the Hessian above.
+  std::pair<Eigen::Matrix3d, double> axial_and_transverse(const Vec& x) const {
+    const Eigen::Vector3d e = x.tail<3>() - x.head<3>();
+    const double length = e.norm();
+    return {e * e.transpose() / (length * length), 1.0 - rest_length / length};
+  }
+
   void fill(const Eigen::Matrix3d& axial, double transverse, Mat& H) const {
     const Eigen::Matrix3d He = stiffness * (transverse * (Eigen::Matrix3d::Identity() - axial) + axial);
     H << He, -He, -He, He;

@@ -74,7 +74,14 @@ SteihaugResult steihaug_cg(const VecX& g, double radius, double tolerance, int m
   d.setZero(g.size());
   VecX& r = s.residual;  // r = -(g + H d)
   VecX& y = s.preconditioned;
-  VecX& p = s.search;
+  // The search direction p_k: in the scratch, or where a path is kept, in the path's k-th direction
+  // (written there as it is formed, never copied).
+  VecX* p = &s.search;
+  if (path) {
+    path->directions.reserve(max_iterations + 1);  // so that the pointer into it stays valid
+    if (path->directions.empty()) path->directions.emplace_back();
+    p = &path->directions[0];
+  }
   r = -g;
   if (preconditioned_gradient) {
     y = -*preconditioned_gradient;
@@ -82,15 +89,15 @@ SteihaugResult steihaug_cg(const VecX& g, double radius, double tolerance, int m
     y = r;
     precondition(y);
   }
-  p = y;
+  *p = y;
   double ry = r.dot(y);
   double zz = 0.0, zp = 0.0;  // ||d||_W^2, d.W p
   auto w_dot = [&](const VecX& u, const VecX& v) { return (u.array() * metric.array() * v.array()).sum(); };
-  double pp = w_dot(p, p);
+  double pp = w_dot(*p, *p);
   const double target = tolerance * g.norm();
   auto to_boundary = [&](double curvature, SteihaugEnd end) {
     const double tau = boundary_step(zz, zp, pp, radius);
-    d += tau * p;
+    d += tau * *p;
     result.model += -tau * ry + 0.5 * tau * tau * curvature;  // m(d + tau p) - m(d); r.p = r.y
     result.step_norm = radius;
     result.end = end;
@@ -98,18 +105,14 @@ SteihaugResult steihaug_cg(const VecX& g, double radius, double tolerance, int m
   };
   for (int k = 0; k < max_iterations; ++k) {
     ++result.iterations;
-    multiply(p, s.product);
-    const double curvature = p.dot(s.product);
-    if (path) {
-      path->segments.push_back({ry, curvature, zz, zp, pp});
-      if (path->directions.size() < path->segments.size()) path->directions.emplace_back();
-      path->directions[path->segments.size() - 1] = p;
-    }
+    multiply(*p, s.product);
+    const double curvature = p->dot(s.product);
+    if (path) path->segments.push_back({ry, curvature, zz, zp, pp});
     if (!(curvature > 0.0)) return to_boundary(curvature, SteihaugEnd::NegativeCurvature);
     const double alpha = ry / curvature;
     const double zz_next = zz + 2.0 * alpha * zp + alpha * alpha * pp;
     if (zz_next >= radius * radius) return to_boundary(curvature, SteihaugEnd::Boundary);
-    d += alpha * p;
+    d += alpha * *p;
     result.model -= 0.5 * alpha * ry;
     zz = zz_next;
     r -= alpha * s.product;
@@ -122,9 +125,15 @@ SteihaugResult steihaug_cg(const VecX& g, double radius, double tolerance, int m
     precondition(y);
     const double ry_next = r.dot(y);
     const double beta = ry_next / ry;
-    p = y + beta * p;
-    zp = w_dot(d, p);
-    pp = w_dot(p, p);
+    VecX* next = p;
+    if (path) {
+      if (path->directions.size() < static_cast<std::size_t>(k) + 2) path->directions.emplace_back();
+      next = &path->directions[k + 1];
+    }
+    *next = y + beta * *p;
+    p = next;
+    zp = w_dot(d, *p);
+    pp = w_dot(*p, *p);
     ry = ry_next;
   }
   result.step_norm = std::sqrt(zz);
