@@ -29,7 +29,7 @@ int line_weights(int i, int n, int* k, double* w) {
 // The smoother's kernels work on four float lanes, the fourth ignored: a 3x3 block stored column by
 // column is three overlapping 4-float columns (the last reads one float past the block: the next
 // block's first, or the padding at the end of the array), so that B y is three broadcasts, products
-// and sums instead of nine scalar ones.
+// and sums instead of nine scalar ones. B^T y is the same kernel on B stored row by row.
 using Lanes = Eigen::Array4f;
 
 inline Lanes block_times(const float* B, const float* y) {
@@ -37,11 +37,9 @@ inline Lanes block_times(const float* B, const float* y) {
          Eigen::Map<const Lanes>(B + 6) * y[2];
 }
 
-// target += B^T y for a block B stored column by column: its columns' dot products with y.
-inline void add_transpose_times(const float* B, float y0, float y1, float y2, float* target) {
-  target[0] += B[0] * y0 + B[1] * y1 + B[2] * y2;
-  target[1] += B[3] * y0 + B[4] * y1 + B[5] * y2;
-  target[2] += B[6] * y0 + B[7] * y1 + B[8] * y2;
+// target[0..2] += B^T y, B stored row by row; target[3] is a slot of padding (Level::upper).
+inline void add_transpose_times(const float* B_rows, const float* y, float* target) {
+  Eigen::Map<Lanes>(target) += block_times(B_rows, y);
 }
 
 // sum_k A_ik x_k over the blocks [begin, end) of a row (block k at values + 9k, in column column[k]).
@@ -107,10 +105,11 @@ void BlockMultigrid::build_hierarchy(const Eigen::SparseMatrix<double>& A, const
     }
     // + the padding the kernels' last column reads.
     level.lower_values.assign(9 * level.lower_column.size() + 1, 0.0f);
+    level.lower_rows.assign(9 * level.lower_column.size() + 1, 0.0f);
     level.diagonal_inverse.assign(9 * static_cast<std::size_t>(n) + 1, 0.0f);
     level.x.resize(3 * n);
     level.b.resize(3 * n);
-    level.upper.resize(3 * n);
+    level.upper.resize(4 * static_cast<std::size_t>(n));
   }
 }
 
@@ -197,12 +196,16 @@ void BlockMultigrid::copy_fine_values(const Eigen::SparseMatrix<double>& A) {
 }
 
 bool BlockMultigrid::prepare_smoother(Level& level) {
-  // The blocks left of the diagonal, column by column (values holds each block row by row).
+  // The blocks left of the diagonal, column by column and row by row (values holds each block row by row).
   float* lower = level.lower_values.data();
+  float* rows = level.lower_rows.data();
   for (int i = 0; i < level.unknowns; ++i)
-    for (int k = level.row_start[i]; k < level.diagonal[i]; ++k, lower += 9)
+    for (int k = level.row_start[i]; k < level.diagonal[i]; ++k, lower += 9, rows += 9)
       for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) lower[3 * c + r] = static_cast<float>(level.values[9 * k + 3 * r + c]);
+        for (int c = 0; c < 3; ++c) {
+          lower[3 * c + r] = static_cast<float>(level.values[9 * k + 3 * r + c]);
+          rows[3 * r + c] = lower[3 * c + r];
+        }
   for (int i = 0; i < level.unknowns; ++i) {
     const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> block(&level.values[9 * level.diagonal[i]]);
     const Eigen::LLT<Mat3> llt(block);
@@ -252,6 +255,7 @@ void BlockMultigrid::forward_sweep(Level& level, bool from_zero) {
   // x_i is known, so that the one read of row i serves both (as in backward_sweep).
   const int* column = level.lower_column.data();
   const float* lower = level.lower_values.data();
+  const float* rows = level.lower_rows.data();
   float* x = level.x.data();
   float* upper = level.upper.data();
   if (from_zero) std::fill(level.upper.begin(), level.upper.end(), 0.0f);
@@ -259,23 +263,24 @@ void BlockMultigrid::forward_sweep(Level& level, bool from_zero) {
     const int begin = level.lower_start[i], end = level.lower_start[i + 1];
     const float* b = &level.b[3 * i];
     Lanes s = Lanes(b[0], b[1], b[2], 0.0f) - row_product(column, lower, begin, end, x);
-    if (!from_zero) s -= Lanes(upper[3 * i], upper[3 * i + 1], upper[3 * i + 2], 0.0f);
+    if (!from_zero) s -= Lanes(upper[4 * i], upper[4 * i + 1], upper[4 * i + 2], 0.0f);
     const Lanes next = block_times(&level.diagonal_inverse[9 * i], s.data());
     std::copy_n(next.data(), 3, x + 3 * i);
-    if (from_zero)
-      for (int k = begin; k < end; ++k)
-        add_transpose_times(lower + 9 * k, -next[0], -next[1], -next[2], upper + 3 * column[k]);
+    if (from_zero) {
+      const float minus_next[3] = {-next[0], -next[1], -next[2]};
+      for (int k = begin; k < end; ++k) add_transpose_times(rows + 9 * k, minus_next, upper + 4 * column[k]);
+    }
   }
 }
 
 void BlockMultigrid::add_upper_product(const Level& level, const float* y, float* out, float sign) {
   // (U y)_j = sum_{i > j} A_ji y_i = sum_{i > j} A_ij^T y_i: row i of the lower triangle, scattered.
   const int* column = level.lower_column.data();
-  const float* lower = level.lower_values.data();
+  const float* rows = level.lower_rows.data();
   for (int i = 0; i < level.unknowns; ++i) {
-    const float y0 = sign * y[3 * i], y1 = sign * y[3 * i + 1], y2 = sign * y[3 * i + 2];
+    const float signed_y[3] = {sign * y[3 * i], sign * y[3 * i + 1], sign * y[3 * i + 2]};
     for (int k = level.lower_start[i]; k < level.lower_start[i + 1]; ++k)
-      add_transpose_times(lower + 9 * k, y0, y1, y2, out + 3 * column[k]);
+      add_transpose_times(rows + 9 * k, signed_y, out + 4 * column[k]);
   }
 }
 
@@ -285,18 +290,18 @@ void BlockMultigrid::backward_sweep(Level& level) {
   // that the one read of row i serves both sums.
   const int* column = level.lower_column.data();
   const float* lower = level.lower_values.data();
+  const float* rows = level.lower_rows.data();
   float* x = level.x.data();
   float* upper = level.upper.data();
   std::fill(level.upper.begin(), level.upper.end(), 0.0f);
   for (int i = level.unknowns - 1; i >= 0; --i) {
     const int begin = level.lower_start[i], end = level.lower_start[i + 1];
     const float* b = &level.b[3 * i];
-    const Lanes s = Lanes(b[0] - upper[3 * i], b[1] - upper[3 * i + 1], b[2] - upper[3 * i + 2], 0.0f) -
+    const Lanes s = Lanes(b[0] - upper[4 * i], b[1] - upper[4 * i + 1], b[2] - upper[4 * i + 2], 0.0f) -
                     row_product(column, lower, begin, end, x);
     const Lanes next = block_times(&level.diagonal_inverse[9 * i], s.data());
     std::copy_n(next.data(), 3, x + 3 * i);
-    for (int k = begin; k < end; ++k)
-      add_transpose_times(lower + 9 * k, next[0], next[1], next[2], upper + 3 * column[k]);
+    for (int k = begin; k < end; ++k) add_transpose_times(rows + 9 * k, next.data(), upper + 4 * column[k]);
   }
 }
 
@@ -312,10 +317,11 @@ void BlockMultigrid::cycle(std::size_t l) {
   // them row by row; the blocks right of the diagonal, U, are their transposes, scattered. The first
   // sweep starts from x = 0, where U x = 0. Each forward sweep leaves row i's equation exact for the
   // x_j (j > i) before it, x_j - dx_j with dx_j its change, so the residual is b - A x = -U dx: after
-  // the first sweep -U x, scattered by the sweep itself. A cycle is bound by memory traffic (at 100^2 a
-  // level's floats do not stay in the cache between CG's products); with one sweep each way it reads
-  // half the matrix twice where it read all of it three times (docs/results.md, "The reference's
-  // kernels").
+  // the first sweep -U x, scattered by the sweep itself. With one sweep each way a cycle reads the
+  // blocks left of the diagonal twice where it read all of A three times, and it scatters from their
+  // copy stored row by row, so that each transpose's product is one four-lane kernel like the gather's
+  // instead of three dot products (docs/results.md, "The reference's kernels", "The smoother's scatter
+  // in four lanes").
   float* x = level.x.data();
   forward_sweep(level, true);  // and upper = -U x, the residual
   for (int s = 1; s < params_.smoothing_sweeps; ++s) {
@@ -333,7 +339,7 @@ void BlockMultigrid::cycle(std::size_t l) {
   Level& coarse = levels_[l + 1];
   std::fill(coarse.b.begin(), coarse.b.end(), 0.0f);
   for (int i = 0; i < level.unknowns; ++i) {
-    const float* r = &level.upper[3 * i];
+    const float* r = &level.upper[4 * i];
     for (int e = level.prolong_start[i]; e < level.prolong_start[i + 1]; ++e) {
       float* target = &coarse.b[3 * level.prolong_index[e]];
       const float w = level.prolong_weight[e];

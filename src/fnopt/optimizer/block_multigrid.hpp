@@ -64,9 +64,10 @@ class BlockMultigrid {
     std::vector<int> row_start, column, diagonal;  // diagonal[i]: row i's diagonal block
     std::vector<double> values;
     // The smoother's: the blocks left of the diagonal, row by row (lower_start, lower_column as row_start,
-    // column), and D_i^-1, in floats, each block column by column, one float of padding.
+    // column), and D_i^-1, in floats, each block column by column, one float of padding. lower_rows holds
+    // the same blocks row by row, for the products with their transposes (U = L^T).
     std::vector<int> lower_start, lower_column;
-    std::vector<float> lower_values, diagonal_inverse;
+    std::vector<float> lower_values, lower_rows, diagonal_inverse;
     // Prolongation from the next coarser level: unknown i = sum of weight * coarse unknown over
     // [prolong_start[i], prolong_start[i + 1]).
     std::vector<int> prolong_start, prolong_index;
@@ -75,8 +76,10 @@ class BlockMultigrid {
     // block galerkin_slot over [galerkin_start[k], galerkin_start[k + 1]).
     std::vector<int> galerkin_start, galerkin_slot;
     std::vector<double> galerkin_weight;
-    std::vector<float> x, b;    // the cycle's solution and right-hand side
-    std::vector<float> upper;   // products with the blocks right of the diagonal (the smoother's), the residual
+    std::vector<float> x, b;  // the cycle's solution and right-hand side
+    // Products with the blocks right of the diagonal (the smoother's), the residual: four floats per
+    // unknown, the fourth unused, so that each block's product is added as four lanes.
+    std::vector<float> upper;
     std::vector<float> change;  // the last forward sweep's change of x, with more than one sweep
   };
 
