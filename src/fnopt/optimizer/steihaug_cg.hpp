@@ -78,8 +78,9 @@ SteihaugResult steihaug_cg(const VecX& g, double radius, double tolerance, int m
   // (written there as it is formed, never copied).
   VecX* p = &s.search;
   if (path) {
-    path->directions.reserve(max_iterations + 1);  // so that the pointer into it stays valid
-    if (path->directions.empty()) path->directions.emplace_back();
+    // A slot for every direction this run can form, so that the pointers into them stay valid.
+    if (path->directions.size() < static_cast<std::size_t>(max_iterations) + 1)
+      path->directions.resize(max_iterations + 1);
     p = &path->directions[0];
   }
   r = -g;
@@ -125,11 +126,7 @@ SteihaugResult steihaug_cg(const VecX& g, double radius, double tolerance, int m
     precondition(y);
     const double ry_next = r.dot(y);
     const double beta = ry_next / ry;
-    VecX* next = p;
-    if (path) {
-      if (path->directions.size() < static_cast<std::size_t>(k) + 2) path->directions.emplace_back();
-      next = &path->directions[k + 1];
-    }
+    VecX* next = path ? &path->directions[k + 1] : p;
     *next = y + beta * *p;
     p = next;
     zp = w_dot(d, *p);
