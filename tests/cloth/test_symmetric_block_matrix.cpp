@@ -1,8 +1,9 @@
 // The lower-triangle block matrix the assembly fills against the whole CSC matrix of the same
 // Hessian: the same blocks bit for bit (the same sums in the same order) and the same products, on a
 // cloth's exact (indefinite) and projected Hessians with handles and self-repulsion; a kept pattern
-// with new values; a malformed pattern.
+// with new values; a malformed pattern; the product on several threads the same bit for bit.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <fnopt/boundary/dirichlet.hpp>
 #include <fnopt/cloth/backward_euler.hpp>
@@ -49,6 +50,32 @@ TEST(SymmetricBlockMatrix, HoldsTheAssembledHessianExactly) {
       lower.multiply(x, y);
       EXPECT_LT((y - whole * x).norm(), 1e-14 * (whole * x).norm());
     }
+}
+
+TEST(SymmetricBlockMatrix, ProductIsTheSameOnAnyNumberOfThreads) {
+  // 48 x 48 vertices, two held: 2302 block rows, enough for the parallel path.
+  const Grid grid = Grid::make(48, 48, 1.0);
+  BackwardEulerObjective objective(grid, Material{}, 1.0 / 60.0, Vec3(0, 0, -9.81));
+  objective.begin_step(grid.rest_positions(), VecX::Zero(grid.dof_count()));
+  const DirichletSet handles(grid.vertex_count(), {0, grid.cols - 1});
+  const VecX a = crumpled_step(grid, 5.0);
+  const Eigen::SparseMatrix<double> whole = objective.hessian(a, handles.free_index(), false);
+  const SymmetricBlockMatrix& lower = objective.hessian_blocks(a, handles.free_index(), false);
+  ASSERT_GE(lower.rows() / 3, SymmetricBlockMatrix::kParallelRows);
+  const VecX x = VecX::Random(lower.rows());
+  const int threads_before = omp_get_max_threads();
+  omp_set_num_threads(1);
+  VecX serial;
+  lower.multiply(x, serial);
+  EXPECT_LT((serial - whole * x).norm(), 1e-14 * (whole * x).norm());
+  for (const int threads : {2, 3, 4, 7, 2}) {
+    omp_set_num_threads(threads);
+    VecX parallel = VecX::Constant(lower.rows(), 1.0);  // not zero: the product must set every entry
+    lower.multiply(x, parallel);
+    EXPECT_TRUE(parallel == serial) << threads << " threads: max difference "
+                                    << (parallel - serial).cwiseAbs().maxCoeff();
+  }
+  omp_set_num_threads(threads_before);
 }
 
 TEST(SymmetricBlockMatrix, FollowsNewValuesAndRepulsionPairs) {
