@@ -5,9 +5,12 @@
 // products are needed (the Newton reference's CG): half the values to write, and a product reads
 // a third of the bytes of Eigen's with the whole CSC matrix, whose every entry carries its row
 // index (docs/results.md, "The reference's kernels"). With several OpenMP threads and enough rows
-// each thread takes a band of rows, scattering only into its own band; the scatters into earlier
-// bands are added after a barrier, per column in increasing row order: every y_j is the same sum in
-// the same order as on one thread, so the product is the same bit for bit on any number of threads.
+// the rows are cut into one band per thread asked for (a smaller team takes them in turn); a band's
+// rows scatter only into the band, and the scatters into earlier bands are added after a barrier,
+// per column in increasing row order: every y_j is the same sum in the same order as on one thread,
+// so the product is the same bit for bit on any number of threads. The bands are made on the first
+// product with a new thread count and kept (like StencilTerm's buffers): a matrix is not safe to
+// multiply from two threads at once.
 #include <algorithm>
 #include <utility>
 #include <vector>
