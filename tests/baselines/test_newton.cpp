@@ -270,6 +270,22 @@ TEST(NewtonSolver, AFloatPreconditionerGivesTheSameSteps) {
     EXPECT_LE(std::abs(iterations.other[k] - iterations.reference[k]), 1) << "step " << k;
 }
 
+// The factor's float copy in bfloat16 (large factors' default, forced here on a small one) is a
+// coarser preconditioner: CG takes a few more products, the steps are the same to the tolerance.
+TEST(NewtonSolver, ABfloat16FactorGivesTheSameSteps) {
+  NewtonParams in_floats, in_bfloat16;
+  in_floats.bfloat16_factor_from_entries = 1L << 40;
+  in_bfloat16.bfloat16_factor_from_entries = 0;
+  NewtonOptimizer floats(in_floats), bfloat16(in_bfloat16);
+  const SideBySide iterations = solve_side_by_side(16, floats, bfloat16);
+  for (std::size_t k = 0; k < iterations.reference.size(); ++k)
+    EXPECT_LE(std::abs(iterations.other[k] - iterations.reference[k]), 1) << "step " << k;
+  const long float_products = floats.counters().cg_iterations;
+  const long bfloat16_products = bfloat16.counters().cg_iterations;
+  std::printf("CG products over 20 steps: float factor %ld, bfloat16 factor %ld\n", float_products, bfloat16_products);
+  EXPECT_LT(bfloat16_products, 1.5 * float_products);
+}
+
 // A multigrid V-cycle in place of P's factor (fine grids' default) changes CG's path, not the
 // steps: the same accelerations to the tolerance, without a factorisation of P.
 TEST(NewtonSolver, AMultigridPreconditionerGivesTheSameSteps) {
@@ -314,6 +330,7 @@ TEST(NewtonParams, EveryParameterChangesTheSettingsString) {
       [](NewtonParams& p) { p.refactor_cg_iterations = 10; },
       [](NewtonParams& p) { p.reuse_factor_across_steps = false; },
       [](NewtonParams& p) { p.single_precision_preconditioner = false; },
+      [](NewtonParams& p) { p.bfloat16_factor_from_entries = 0; },
       [](NewtonParams& p) { p.multigrid_from_dofs = 0; },
       [](NewtonParams& p) { p.multigrid.smoothing_sweeps = 2; },
       [](NewtonParams& p) { p.multigrid.coarsest_dofs = 100; },
@@ -339,6 +356,7 @@ TEST(NewtonParams, RejectsInvalidValues) {
       {[](NewtonParams& p) { p.refactor_cg_iterations = -1; }, "newton.refactor_cg_iterations"},
       {[](NewtonParams& p) { p.max_saddle_escapes = -1; }, "newton.max_saddle_escapes"},
       {[](NewtonParams& p) { p.multigrid_from_dofs = -1; }, "newton.multigrid_from_dofs"},
+      {[](NewtonParams& p) { p.bfloat16_factor_from_entries = -1; }, "newton.bfloat16_factor_from_entries"},
       {[](NewtonParams& p) { p.multigrid.smoothing_sweeps = 0; }, "multigrid.smoothing_sweeps"}};
   for (const auto& [change, field] : bad) {
     NewtonParams p;

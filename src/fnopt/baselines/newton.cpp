@@ -24,6 +24,7 @@ void NewtonParams::validate() const {
   require(refactor_cg_iterations >= 0, "newton.refactor_cg_iterations", "must not be negative");
   require(max_saddle_escapes >= 0, "newton.max_saddle_escapes", "must not be negative");
   require(multigrid_from_dofs >= 0, "newton.multigrid_from_dofs", "must not be negative");
+  require(bfloat16_factor_from_entries >= 0, "newton.bfloat16_factor_from_entries", "must not be negative");
   multigrid.validate();
 }
 
@@ -49,7 +50,8 @@ std::string NewtonOptimizer::settings() const {
       << " multigrid_from_dofs=" << params_.multigrid_from_dofs
       << " multigrid_sweeps=" << params_.multigrid.smoothing_sweeps
       << " multigrid_coarsest_dofs=" << params_.multigrid.coarsest_dofs;
-  if (params_.single_precision_preconditioner) out << " single_precision_preconditioner=1";
+  if (params_.single_precision_preconditioner)
+    out << " single_precision_preconditioner=1 bfloat16_factor_from_entries=" << params_.bfloat16_factor_from_entries;
   if (params_.escape_saddles) out << " escape_saddles=1 max_saddle_escapes=" << params_.max_saddle_escapes;
   return out.str();
 }
@@ -67,7 +69,11 @@ bool NewtonOptimizer::factorize_preconditioner(StepProblem& problem, const Eigen
     use_multigrid_ = false;
   }
   have_factor_ = factor_.factorize_matrix(projected, objective.hessian_pattern_id());
-  if (have_factor_ && params_.single_precision_preconditioner) single_factor_.assign(factor_);
+  if (have_factor_ && params_.single_precision_preconditioner)
+    single_factor_.assign(
+        factor_, static_cast<long>(factor_.cholmod_factor_pointer()->xsize) >= params_.bfloat16_factor_from_entries
+                     ? SinglePrecisionFactor::Storage::BFloat16
+                     : SinglePrecisionFactor::Storage::Float);
   return have_factor_;
 }
 

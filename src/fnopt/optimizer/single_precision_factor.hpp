@@ -5,6 +5,12 @@
 // the time (docs/results.md, "The Newton reference"). The solution differs from the double
 // solve by about 1e-7 of its norm, far below what a preconditioner must resolve (the Newton
 // reference's CG stops at relative residuals of 1e-2 to 1e-6).
+// A factor too large for the caches may keep its values in bfloat16 (float's upper 16 bits, 8
+// significant bits; the pivots stay floats, the arithmetic is float): half the bytes again, a
+// 64^2 solve 1.4x faster, and a solution about 3e-3 of its norm from the double one, which costs
+// CG about 1.5 % more products (docs/results.md, "The factor's solves are bound by this core's
+// memory bandwidth").
+#include <cstdint>
 #include <vector>
 
 #include <fnopt/optimizer/sparse_cholesky.hpp>
@@ -14,22 +20,34 @@ namespace fnopt {
 
 class SinglePrecisionFactor {
  public:
-  // Copies the supernodal LL^T factor of `cholesky` and its fill-reducing permutation; throws
-  // Error if it holds no factor or a simplicial one.
-  void assign(const SparseCholesky& cholesky);
+  enum class Storage { Float, BFloat16 };
+
+  // Copies the supernodal LL^T factor of `cholesky` and its fill-reducing permutation, its values
+  // rounded to `storage`; throws Error if it holds no factor or a simplicial one.
+  void assign(const SparseCholesky& cholesky, Storage storage = Storage::Float);
   int rows() const { return rows_; }
+  Storage storage() const { return storage_; }
   // r <- A^-1 r = P^T L^-T L^-1 P r, the triangular solves in floats; no allocation.
   void solve_in_place(VecX& r);
 
  private:
+  // The solves on float values (OpenBLAS's triangular solves and products per supernode), and on
+  // bfloat16 values (the same per column, with each value widened as it is read).
+  void solve_float();
+  void solve_bfloat16();
+
+  Storage storage_ = Storage::Float;
   int rows_ = 0;
   std::vector<int> first_column_;  // supernode s holds columns [first_column_[s], first_column_[s + 1])
   std::vector<int> row_start_;     // its row indices: rows_of_[row_start_[s] .. row_start_[s + 1])
   std::vector<int> rows_of_;
   std::vector<long> value_start_;  // its dense column-major block (rows x columns) at values_[value_start_[s]]
-  std::vector<float> values_;
-  std::vector<int> permutation_;  // (P r)_i = r[permutation_[i]]
-  std::vector<float> work_, below_;
+  std::vector<float> values_;      // Float
+  std::vector<std::uint16_t> compact_values_;  // BFloat16: the same layout
+  std::vector<float> pivots_;                  // BFloat16: L's diagonal, by column
+  std::vector<int> permutation_;               // (P r)_i = r[permutation_[i]]
+  std::vector<float> work_,
+      below_;  // below_: a supernode's rows below its diagonal block (Float), all its rows (BFloat16)
 };
 
 }  // namespace fnopt
