@@ -1,5 +1,6 @@
 // The single-precision copy of a supernodal factor solves the same system as CHOLMOD's double
-// solve, to float round-off, on a cloth's projected Hessian large enough for many supernodes.
+// solve, to float round-off, on a cloth's projected Hessian large enough for many supernodes; its
+// bfloat16 values solve it to a few 1e-3 and still precondition CG to convergence in a few products.
 #include <gtest/gtest.h>
 
 #include <fnopt/boundary/dirichlet.hpp>
