@@ -13,6 +13,7 @@
 #include <fnopt/cloth/backward_euler.hpp>
 #include <fnopt/optimizer/block_multigrid.hpp>
 #include "tests/util/error_message.hpp"
+#include "tests/util/preconditioned_cg.hpp"
 
 namespace fnopt {
 namespace {
@@ -130,28 +131,6 @@ TEST(BlockMultigrid, IsASymmetricPositiveDefiniteOperator) {
   }
 }
 
-// Preconditioned CG iterations to ||A x - b|| <= 1e-6 ||b||.
-template <class Precondition>
-int pcg_iterations(const Eigen::SparseMatrix<double>& A, const VecX& b, Precondition&& precondition) {
-  VecX x = VecX::Zero(b.size()), r = b, z = r;
-  precondition(z);
-  VecX p = z;
-  double rz = r.dot(z);
-  for (int k = 1; k <= 2000; ++k) {
-    const VecX Ap = A * p;
-    const double alpha = rz / p.dot(Ap);
-    x += alpha * p;
-    r -= alpha * Ap;
-    if (r.norm() <= 1e-6 * b.norm()) return k;
-    z = r;
-    precondition(z);
-    const double rz_next = r.dot(z);
-    p = z + (rz_next / rz) * p;
-    rz = rz_next;
-  }
-  return 2001;
-}
-
 TEST(BlockMultigrid, PreconditionsAClothHessianAlikeOnEveryGrid) {
   int previous = 0;
   for (int n : {24, 48, 96}) {
@@ -159,8 +138,10 @@ TEST(BlockMultigrid, PreconditionsAClothHessianAlikeOnEveryGrid) {
     BlockMultigrid multigrid;
     ASSERT_TRUE(multigrid.assign(m.A, m.grid, m.handles.free_index()));
     const VecX b = VecX::Random(m.A.rows());
-    const int with = pcg_iterations(m.A, b, [&](VecX& r) { multigrid.solve_in_place(r); });
-    const int jacobi = pcg_iterations(m.A, b, [&](VecX& r) { r.array() /= VecX(m.A.diagonal()).array(); });
+    const int with = testing::pcg_iterations(
+        m.A, b, [&](VecX& r) { multigrid.solve_in_place(r); }, 1e-6, 2000);
+    const int jacobi = testing::pcg_iterations(
+        m.A, b, [&](VecX& r) { r.array() /= VecX(m.A.diagonal()).array(); }, 1e-6, 2000);
     std::printf("%d^2: CG iterations to 1e-6, V-cycle %d, Jacobi %d\n", n, with, jacobi);
     EXPECT_LT(4 * with, jacobi);
     if (previous > 0) {

@@ -8,6 +8,7 @@
 #include <fnopt/optimizer/single_precision_factor.hpp>
 #include <fnopt/optimizer/sparse_cholesky.hpp>
 #include "tests/util/error_message.hpp"
+#include "tests/util/preconditioned_cg.hpp"
 
 namespace fnopt {
 namespace {
@@ -42,7 +43,7 @@ TEST(SinglePrecisionFactor, SolvesTheSystemOfTheDoubleFactor) {
 
 // In bfloat16 (8 significant bits) the solution is a few 1e-3 of its norm from the double one, and
 // as CG's preconditioner on the same matrix it still converges in a few products (the float copy:
-// one); the float copy's solve is unchanged by the other storage's existence.
+// one).
 TEST(SinglePrecisionFactor, InBfloat16PreconditionsTheSameSystem) {
   const Eigen::SparseMatrix<double> A = cloth_hessian();
   SparseCholesky cholesky;
@@ -60,23 +61,9 @@ TEST(SinglePrecisionFactor, InBfloat16PreconditionsTheSameSystem) {
   EXPECT_LT(distance, 2e-2);
   EXPECT_GT(distance, 1e-5);  // really the coarser values: float's copy is 1e-7 away
   // Preconditioned CG on A x = b to 1e-8.
-  VecX x = VecX::Zero(b.size()), r = b, z = r;
-  compact.solve_in_place(z);
-  VecX p = z;
-  double rz = r.dot(z);
-  int products = 0;
-  while (r.norm() > 1e-8 * b.norm() && products < 50) {
-    const VecX Ap = A * p;
-    ++products;
-    const double alpha = rz / p.dot(Ap);
-    x += alpha * p;
-    r -= alpha * Ap;
-    z = r;
-    compact.solve_in_place(z);
-    const double rz_next = r.dot(z);
-    p = z + (rz_next / rz) * p;
-    rz = rz_next;
-  }
+  VecX x;
+  const int products = testing::pcg_iterations(
+      A, b, [&](VecX& r) { compact.solve_in_place(r); }, 1e-8, 50, &x);
   EXPECT_LE(products, 8);
   EXPECT_LT((A * x - b).norm(), 1e-7 * b.norm());
 }

@@ -44,8 +44,7 @@ class SymmetricBlockMatrix {
  private:
   int block_rows() const { return row_start_.empty() ? 0 : static_cast<int>(row_start_.size()) - 1; }
   // Rows [begin, end) of the product: each row's gather, and the scatters into columns from
-  // `scatter_from` on (the band's own; earlier bands' are added after
-  // multiply's barrier).
+  // `scatter_from` on (the band's own; earlier bands' are added after multiply's barrier).
   void multiply_rows(const VecX& x, VecX& y, int begin, int end, int scatter_from) const;
   // The bands for `threads` threads, balanced by blocks, and each band's blocks in later rows.
   void make_bands(int threads) const;

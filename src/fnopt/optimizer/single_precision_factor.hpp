@@ -46,8 +46,9 @@ class SinglePrecisionFactor {
   std::vector<std::uint16_t> compact_values_;  // BFloat16: the same layout
   std::vector<float> pivots_;                  // BFloat16: L's diagonal, by column
   std::vector<int> permutation_;               // (P r)_i = r[permutation_[i]]
-  std::vector<float> work_,
-      below_;  // below_: a supernode's rows below its diagonal block (Float), all its rows (BFloat16)
+  std::vector<float> work_;
+  // One supernode's rows: those below its diagonal block (Float), or all of them (BFloat16).
+  std::vector<float> below_;
 };
 
 }  // namespace fnopt
