@@ -1,7 +1,11 @@
 // The single-precision copy of a supernodal factor solves the same system as CHOLMOD's double
 // solve, to float round-off, on a cloth's projected Hessian large enough for many supernodes; its
 // bfloat16 values solve it to a few 1e-3 and still precondition CG to convergence in a few products.
+// The solves go four columns of a supernode at a time and the last one to three columns one by one;
+// this factor has supernodes of every width modulo four, so every path is checked.
 #include <gtest/gtest.h>
+
+#include <set>
 
 #include <fnopt/boundary/dirichlet.hpp>
 #include <fnopt/cloth/backward_euler.hpp>
@@ -24,10 +28,20 @@ Eigen::SparseMatrix<double> cloth_hessian() {
   return objective.hessian(VecX::Zero(grid.dof_count()), handles.free_index(), true);
 }
 
+// The widths modulo 4 of the supernodes that hold at least one panel of four columns.
+std::set<int> panel_remainders(const cholmod_factor* L) {
+  const int* super = static_cast<const int*>(L->super);
+  std::set<int> remainders;
+  for (std::size_t s = 0; s < L->nsuper; ++s)
+    if (const int columns = super[s + 1] - super[s]; columns >= 4) remainders.insert(columns % 4);
+  return remainders;
+}
+
 TEST(SinglePrecisionFactor, SolvesTheSystemOfTheDoubleFactor) {
   const Eigen::SparseMatrix<double> A = cloth_hessian();
   SparseCholesky cholesky;
   ASSERT_TRUE(cholesky.factorize_matrix(A));
+  EXPECT_EQ(panel_remainders(cholesky.cholmod_factor_pointer()), (std::set<int>{0, 1, 2, 3}));
   SinglePrecisionFactor single;
   single.assign(cholesky);
   ASSERT_EQ(single.rows(), A.rows());

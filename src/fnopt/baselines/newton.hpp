@@ -57,10 +57,11 @@ struct NewtonParams {
   // Apply P^-1 with a float copy of its factor (optimizer/single_precision_factor.hpp): half the
   // memory traffic of the solves that dominate an iteration at 100^2, the same convergence.
   bool single_precision_preconditioner = true;
-  // From this many entries the float copy keeps its values in bfloat16: a solve with a factor that
-  // does not stay in the caches reads half the bytes (64^2, 2.2 million entries: 1.47x per frame,
-  // 1-1.5 % more CG products); below (32^2: 0.41 million) it is no faster, so floats.
-  long bfloat16_factor_from_entries = 1000000;
+  // From this many entries the float copy keeps its values in bfloat16: a factor whose floats do not
+  // stay in the caches is read at memory bandwidth, and bfloat16 halves the bytes (100^2, 6.6 million
+  // entries: a solve 2.0 against 3.8 ms); 64^2's 2.2 million (8.6 MB of floats) solve as fast in floats,
+  // with 1 % fewer CG products (docs/results.md, "The factor's solves in panels of four columns").
+  long bfloat16_factor_from_entries = 4000000;
   // On steps with at least this many free dofs, P^-1 is applied approximately, by one V-cycle of a
   // geometric multigrid on P (optimizer/block_multigrid.hpp), instead of with P's Cholesky factor:
   // no factorisation and a cheaper product, for more CG iterations: 1.4x faster at 100^2, as fast

@@ -7,9 +7,10 @@
 // reference's CG stops at relative residuals of 1e-2 to 1e-6).
 // A factor too large for the caches may keep its values in bfloat16 (float's upper 16 bits, 8
 // significant bits; the pivots stay floats, the arithmetic is float): half the bytes again, a
-// 64^2 solve 1.4x faster, and a solution about 3e-3 of its norm from the double one, which costs
+// 100^2 solve 1.9x faster, and a solution about 3e-3 of its norm from the double one, which costs
 // CG about 1.5 % more products (docs/results.md, "The factor's solves are bound by this core's
-// memory bandwidth").
+// memory bandwidth"). Both storages run one written-out solve, four columns of a supernode at a
+// time ("The factor's solves in panels of four columns").
 #include <cstdint>
 #include <vector>
 
@@ -31,10 +32,10 @@ class SinglePrecisionFactor {
   void solve_in_place(VecX& r);
 
  private:
-  // The solves on float values (OpenBLAS's triangular solves and products per supernode), and on
-  // bfloat16 values (the same per column, with each value widened as it is read).
-  void solve_float();
-  void solve_bfloat16();
+  // The forward and back solves on the values in either storage (float, or uint16_t holding
+  // bfloat16, each value widened to a float as it is read), the arithmetic in floats.
+  template <class Value>
+  void solve(const Value* values);
 
   Storage storage_ = Storage::Float;
   int rows_ = 0;
@@ -44,11 +45,10 @@ class SinglePrecisionFactor {
   std::vector<long> value_start_;  // its dense column-major block (rows x columns) at values_[value_start_[s]]
   std::vector<float> values_;      // Float
   std::vector<std::uint16_t> compact_values_;  // BFloat16: the same layout
-  std::vector<float> pivots_;                  // BFloat16: L's diagonal, by column
+  std::vector<float> pivots_;                  // L's diagonal, by column
   std::vector<int> permutation_;               // (P r)_i = r[permutation_[i]]
   std::vector<float> work_;
-  // One supernode's rows: those below its diagonal block (Float), or all of them (BFloat16).
-  std::vector<float> below_;
+  std::vector<float> supernode_rows_;  // one supernode's rows of the solution: its own columns, then those below
 };
 
 }  // namespace fnopt
