@@ -59,7 +59,7 @@ struct NewtonParams {
   bool single_precision_preconditioner = true;
   // From this many entries the float copy keeps its values in bfloat16: a factor whose floats do not
   // stay in the caches is read at memory bandwidth, and bfloat16 halves the bytes (100^2, 6.6 million
-  // entries: a solve 2.0 against 3.8 ms); 64^2's 2.2 million (8.6 MB of floats) solve as fast in floats,
+  // entries: a solve 1.7 against 3.2 ms); 64^2's 2.2 million (8.6 MB of floats) solve as fast in floats,
   // with 1 % fewer CG products (docs/results.md, "The factor's solves in panels of four columns").
   long bfloat16_factor_from_entries = 4000000;
   // On steps with at least this many free dofs, P^-1 is applied approximately, by one V-cycle of a
