@@ -7,26 +7,14 @@
 
 #include <set>
 
-#include <fnopt/boundary/dirichlet.hpp>
-#include <fnopt/cloth/backward_euler.hpp>
 #include <fnopt/optimizer/single_precision_factor.hpp>
 #include <fnopt/optimizer/sparse_cholesky.hpp>
 #include "tests/util/error_message.hpp"
 #include "tests/util/preconditioned_cg.hpp"
+#include "tests/util/swinging_cloth_hessian.hpp"
 
 namespace fnopt {
 namespace {
-
-// The projected step Hessian of a 40^2 cloth swinging sideways (3 dofs per vertex, 4800 rows).
-Eigen::SparseMatrix<double> cloth_hessian() {
-  const Grid grid = Grid::make(40, 40, 1.0);
-  BackwardEulerObjective objective(grid, Material{}, 1.0 / 60.0, Vec3(0, 0, -9.81));
-  VecX v = VecX::Zero(grid.dof_count());
-  for (int k = 0; k < grid.vertex_count(); ++k) v[3 * k] = 1.5 * (k % grid.cols) / grid.cols;
-  objective.begin_step(grid.rest_positions(), v);
-  const DirichletSet handles(grid.vertex_count(), {0, grid.cols - 1});
-  return objective.hessian(VecX::Zero(grid.dof_count()), handles.free_index(), true);
-}
 
 // The widths modulo 4 of the supernodes that hold at least one panel of four columns.
 std::set<int> panel_remainders(const cholmod_factor* L) {
@@ -38,7 +26,7 @@ std::set<int> panel_remainders(const cholmod_factor* L) {
 }
 
 TEST(SinglePrecisionFactor, SolvesTheSystemOfTheDoubleFactor) {
-  const Eigen::SparseMatrix<double> A = cloth_hessian();
+  const Eigen::SparseMatrix<double> A = testing::swinging_cloth_hessian();
   SparseCholesky cholesky;
   ASSERT_TRUE(cholesky.factorize_matrix(A));
   EXPECT_EQ(panel_remainders(cholesky.cholmod_factor_pointer()), (std::set<int>{0, 1, 2, 3}));
@@ -59,7 +47,7 @@ TEST(SinglePrecisionFactor, SolvesTheSystemOfTheDoubleFactor) {
 // as CG's preconditioner on the same matrix it still converges in a few products (the float copy:
 // one).
 TEST(SinglePrecisionFactor, InBfloat16PreconditionsTheSameSystem) {
-  const Eigen::SparseMatrix<double> A = cloth_hessian();
+  const Eigen::SparseMatrix<double> A = testing::swinging_cloth_hessian();
   SparseCholesky cholesky;
   ASSERT_TRUE(cholesky.factorize_matrix(A));
   SinglePrecisionFactor compact, single;
@@ -84,7 +72,7 @@ TEST(SinglePrecisionFactor, InBfloat16PreconditionsTheSameSystem) {
 
 TEST(SinglePrecisionFactor, NeedsASupernodalFactor) {
   SparseCholesky none, simplicial(SparseCholesky::Method::Simplicial);
-  ASSERT_TRUE(simplicial.factorize_matrix(cloth_hessian()));
+  ASSERT_TRUE(simplicial.factorize_matrix(testing::swinging_cloth_hessian()));
   SinglePrecisionFactor single;
   EXPECT_TRUE(testing::throws_error([&] { single.assign(none); }, "needs a supernodal LL^T factor"));
   EXPECT_TRUE(testing::throws_error([&] { single.assign(simplicial); }, "needs a supernodal LL^T factor"));

@@ -19,12 +19,19 @@ SparseCholesky::~SparseCholesky() {
 
 bool SparseCholesky::factorize_matrix(const Eigen::SparseMatrix<double>& A, long pattern) {
   SerialOpenMpScope serial;
-  if (pattern < 0 || pattern != analysed_pattern_ || rows() != A.rows()) {
+  const bool analyse = pattern < 0 || pattern != analysed_pattern_ || rows() != A.rows();
+  if (analyse) {
     analyzePattern(A);
     analysed_pattern_ = pattern;
   }
-  factorize(A);
-  return info() == Eigen::Success;
+  if (!m_cholmodFactor->is_super) {
+    factorize(A);
+    return info() == Eigen::Success;
+  }
+  if (analyse) supernodal_.analyse(A, m_cholmodFactor, &cholmod());
+  m_info = supernodal_.factorize(A, m_cholmodFactor) ? Eigen::Success : Eigen::NumericalIssue;
+  m_factorizationIsOk = true;
+  return m_info == Eigen::Success;
 }
 
 void SparseCholesky::solve_in_place(double* data, int rows, int cols) {

@@ -8,7 +8,10 @@
 // (100^2: 364 against 1511 ms) and solves as fast; simplicial solves a scalar grid matrix
 // (one row per vertex, 3 right-hand sides) 2x faster (100^2: 2.2 against 4.3 ms). So a factor
 // used once per solve is supernodal, a factor kept for a whole rollout is simplicial.
+// CHOLMOD analyses both; the supernodal numeric phase is supernodal_factorization.hpp's.
 #include <Eigen/CholmodSupport>
+
+#include <fnopt/optimizer/supernodal_factorization.hpp>
 
 namespace fnopt {
 
@@ -33,6 +36,7 @@ class SparseCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<do
 
  private:
   long analysed_pattern_ = -1;
+  SupernodalFactorization supernodal_;
   cholmod_dense* solution_ = nullptr;
   cholmod_dense* workspace_y_ = nullptr;
   cholmod_dense* workspace_e_ = nullptr;
