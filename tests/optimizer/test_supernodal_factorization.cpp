@@ -1,10 +1,11 @@
 // The supernodal numeric phase gives CHOLMOD's own factor bit for bit (the same blocks, BLAS calls
 // and order of updates), on a cloth Hessian of many supernodes: after a fresh analysis, for new
 // values on the analysed pattern, and after an indefinite matrix, which it reports at CHOLMOD's
-// column.
+// column; a matrix of another pattern under the analysed one's id is refused.
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <stdexcept>
 
 #include <fnopt/optimizer/sparse_cholesky.hpp>
 #include <fnopt/util/serial_openmp_scope.hpp>
@@ -86,6 +87,18 @@ TEST(SupernodalFactorization, ReportsAnIndefiniteMatrixAtCholmodsColumnAndRecove
   ASSERT_TRUE(ours.factorize_matrix(A, 7));
   EXPECT_EQ(ours.info(), Eigen::Success);
   EXPECT_TRUE(same_factor(ours.cholmod_factor_pointer(), CholmodFactor(A).factor()));
+}
+
+TEST(SupernodalFactorization, RefusesAMatrixOfAnotherPattern) {
+  const Eigen::SparseMatrix<double> A = testing::swinging_cloth_hessian(12);
+  Eigen::SparseMatrix<double> fewer = A;
+  fewer.prune([](Eigen::Index i, Eigen::Index j, double) { return i != j + 1; });
+  ASSERT_LT(fewer.nonZeros(), A.nonZeros());
+  SparseCholesky ours;
+  ASSERT_TRUE(ours.factorize_matrix(A, 7));
+  // A caller's mistake, not a user's: std::logic_error rather than fnopt::Error.
+  EXPECT_THROW(ours.factorize_matrix(fewer, 7), std::logic_error);
+  EXPECT_TRUE(ours.factorize_matrix(fewer, 8));  // a new pattern id: analysed again
 }
 
 }  // namespace

@@ -22,12 +22,14 @@ class SupernodalFactorization {
   // Prepares to factorize matrices of A's pattern (its lower triangle is read) into L, a supernodal
   // factor that cholmod_analyze made for that pattern; gives L room for its values.
   void analyse(const Eigen::SparseMatrix<double>& A, cholmod_factor* L, cholmod_common* common);
-  // L <- the Cholesky factor of A(p,p), p = L's permutation; A has the analysed pattern. False if A
-  // is not positive definite; then L->minor is the column whose pivot failed, and L's values are
-  // not a factor.
+  // L <- the Cholesky factor of A(p,p), p = L's permutation; A has the analysed pattern (a matrix of
+  // another size or count of entries throws std::logic_error). False if A is not positive definite;
+  // then L->minor is the column whose pivot failed, and L's values are not a factor.
   bool factorize(const Eigen::SparseMatrix<double>& A, cholmod_factor* L);
 
  private:
+  Eigen::Index analysed_rows_ = -1;
+  Eigen::Index analysed_entries_ = -1;
   // Where an entry of A's lower triangle lands in L's values.
   struct Placement {
     int source;  // index in A's values
