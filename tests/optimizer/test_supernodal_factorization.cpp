@@ -4,6 +4,7 @@
 // column; a matrix of another pattern under the analysed one's id is refused.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 

@@ -74,7 +74,6 @@ void SupernodalFactorization::analyse(const Eigen::SparseMatrix<double>& A, chol
     }
     placement_start_[s + 1] = column_start[super[s + 1]];
   }
-  analysed_rows_ = A.rows();
   analysed_entries_ = A.nonZeros();
   relative_map_.resize(n);
   head_.resize(supernodes);
@@ -84,7 +83,7 @@ void SupernodalFactorization::analyse(const Eigen::SparseMatrix<double>& A, chol
 }
 
 bool SupernodalFactorization::factorize(const Eigen::SparseMatrix<double>& A, cholmod_factor* L) {
-  if (A.rows() != analysed_rows_ || A.nonZeros() != analysed_entries_)
+  if (A.rows() != static_cast<Eigen::Index>(L->n) || A.nonZeros() != analysed_entries_)
     throw std::logic_error("supernodal factorization: the matrix's pattern is not the analysed one");
   const int supernodes = static_cast<int>(L->nsuper);
   const int* super = static_cast<const int*>(L->super);

@@ -5,7 +5,7 @@
 // each of a supernode's copy and assembly loops (`if` clauses make them inactive on small ones), and
 // libgomp runs even an inactive region as a team of one, whose closing barrier makes a futex system
 // call: about 1.2 us each, some 7500 regions per factorization at 64^2, a quarter of its time
-// (docs/results.md, "The factorization without OpenMP regions"). This is the same left-looking
+// (docs/results.md, "The factorisation without OpenMP regions"). This is the same left-looking
 // algorithm (CHOLMOD's t_cholmod_super_numeric; Ng and Peyton 1993) without those regions: the same
 // BLAS and LAPACK calls on the same blocks, descendants taken in the same order, so L is the same bit
 // for bit. What it adds: A's entries go straight to their places in L (a scatter computed once per
@@ -28,8 +28,7 @@ class SupernodalFactorization {
   bool factorize(const Eigen::SparseMatrix<double>& A, cholmod_factor* L);
 
  private:
-  Eigen::Index analysed_rows_ = -1;
-  Eigen::Index analysed_entries_ = -1;
+  Eigen::Index analysed_entries_ = -1;  // A's stored entries (both triangles), for factorize's check
   // Where an entry of A's lower triangle lands in L's values.
   struct Placement {
     int source;  // index in A's values
