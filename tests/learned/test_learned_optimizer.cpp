@@ -117,11 +117,14 @@ TEST(LearnedOptimizer, LineSearchEndsEachUpdateNearTheMinimumAlongIt) {
 
 TEST(LearnedOptimizer, SubspaceStepLeavesLessErrorThanTheSecantStepAlongANewtonTrajectory) {
   // Along the Newton rollout of the 32^2 benchmark scene, each step solved with N = 10 from the
-  // same start: the subspace step (fnopt-ss) leaves less of the remaining error
-  // (L_N - L*) / (L_0 - L*) than the secant step (fnopt-ls), and carrying its pairs across
-  // steps leaves less than clearing them. Near rest (steps 19-29, L_0 - L* ~ 1e-6) the carried
-  // subspace ends below Newton's L*, in another local minimum of the buckling cloth: counted
-  // as no error, not as negative error.
+  // same start: the subspace step (fnopt-ss) leaves less of the energy the steps had to remove,
+  // sum_t (L_N - L*) / sum_t (L_0 - L*), than the secant step (fnopt-ls), and carrying its pairs
+  // across steps leaves less than clearing them. The sums weight each step by its own decrease:
+  // in the first 30 steps the cloth settles towards rest (L_0 - L* down to 1e-7), the methods
+  // often end below Newton's L* in another local minimum of the buckling cloth (counted as no
+  // error, not as negative error), and a plain mean of per-step ratios there followed the BLAS's
+  // rounding (OpenBLAS's Haswell and AVX-512 kernels ranked fnopt-ss-pqn and fnopt-ss in opposite
+  // orders over 40 steps). The 50 steps after it, with the handles moving, decide.
   const std::string path = std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt";
   LearnedParams secant, carried, cleared, with_pqn;
   secant.line_search = true;
@@ -135,28 +138,29 @@ TEST(LearnedOptimizer, SubspaceStepLeavesLessErrorThanTheSecantStepAlongANewtonT
   Shadows shadows(newton, {&ls, &ss, &ss_cleared, &ss_pqn}, {10, 0.0});
   Scene scene;
   scene.rows = scene.cols = 32;
-  scene.frames = 40;
+  scene.frames = 80;
   RolloutOptions options;
   options.solve = NewtonOptimizer::reference_solve_options();
   const RolloutResult r = run_rollout(resolve(scene), shadows, options);
-  ASSERT_EQ(r.steps.size(), 40u);
-  double mean[4] = {0.0, 0.0, 0.0, 0.0};
+  ASSERT_EQ(r.steps.size(), 80u);
+  double left[4] = {0.0, 0.0, 0.0, 0.0}, to_remove = 0.0;
   for (std::size_t t = 0; t < r.steps.size(); ++t) {
-    const double gap = r.steps[t].initial_loss - r.steps[t].loss;
+    to_remove += r.steps[t].initial_loss - r.steps[t].loss;
     for (int k = 0; k < 4; ++k) {
       ASSERT_LE(shadows.values[k][t], r.steps[t].initial_loss) << "step " << t << ": the safeguard lets no step rise";
-      mean[k] += std::max(0.0, (shadows.values[k][t] - r.steps[t].loss) / gap) / r.steps.size();
+      left[k] += std::max(0.0, shadows.values[k][t] - r.steps[t].loss);
     }
   }
+  for (double& l : left) l /= to_remove;
   std::printf(
-      "mean remaining error over %zu steps: fnopt-ls %.4f, fnopt-ss %.4f, fnopt-ss without carrying %.4f, "
+      "share of the energy left over %zu steps: fnopt-ls %.4f, fnopt-ss %.4f, fnopt-ss without carrying %.4f, "
       "fnopt-ss-pqn %.4f\n",
-      r.steps.size(), mean[0], mean[1], mean[2], mean[3]);
-  EXPECT_LT(mean[1], mean[0]);
-  EXPECT_LT(mean[1], mean[2]);
+      r.steps.size(), left[0], left[1], left[2], left[3]);
+  EXPECT_LT(left[1], left[0]);
+  EXPECT_LT(left[1], left[2]);
   // pqn's direction in the subspace: the FNO's directions and A's together do better than the
   // FNO's alone.
-  EXPECT_LT(mean[3], mean[1]);
+  EXPECT_LT(left[3], left[1]);
 }
 
 TEST(LearnedOptimizer, PqnDirectionNeedsTheSubspaceStepAndNeverMovesHandles) {
