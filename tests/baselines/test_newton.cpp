@@ -5,10 +5,12 @@
 // and newton-min leaving it here.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,7 @@
 #include <fnopt/cloth/backward_euler.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
 #include <fnopt/optimizer/sparse_cholesky.hpp>
+#include <fnopt/scenes/scene.hpp>
 #include <fnopt/simulation/rollout.hpp>
 
 namespace fnopt {
@@ -44,7 +47,7 @@ struct SideBySide {
 // `other` to a residual acceleration of 1e-7 m/s^2, the cloth advanced by the reference's steps.
 // Every step must converge in both and end at the same acceleration (within 1e-6 of its norm: each
 // solver stops at its own point inside the tolerance).
-SideBySide solve_side_by_side(int n, NewtonOptimizer& reference, NewtonOptimizer& other) {
+SideBySide solve_side_by_side(int n, InnerOptimizer& reference, InnerOptimizer& other) {
   const Grid grid = Grid::make(n, n, 1.0);
   BackwardEulerObjective objective(grid, Material{}, 1.0 / 60.0, Vec3(0, 0, -9.81));
   const DirichletSet handles(grid.vertex_count(), {0, grid.cols - 1});
@@ -146,6 +149,59 @@ TEST(NewtonSolver, AKeptFactorGivesTheSameStepsWithFewerFactorizations) {
   }
   EXPECT_LT(kept.counters().factorizations, kept_iterations / 4);
   EXPECT_EQ(fresh.counters().factorizations, fresh_iterations);
+}
+
+// The most CG products of one iteration that reused a preconditioner built at an earlier iterate
+// (no build in it) and took its first trial.
+class ReusedPreconditionerProducts final : public InnerOptimizer {
+ public:
+  explicit ReusedPreconditionerProducts(NewtonOptimizer& newton) : newton_(newton) {}
+  std::string name() const override { return newton_.name(); }
+  std::string settings() const override { return newton_.settings(); }
+  void begin_step(StepProblem& p, const VecX& a, double value, const VecX& g) override {
+    newton_.begin_step(p, a, value, g);
+  }
+  std::optional<SolveStatus> iterate(StepProblem& p, VecX& a, double& value, VecX& g) override {
+    const NewtonCounters before = newton_.counters();
+    const auto status = newton_.iterate(p, a, value, g);
+    const NewtonCounters& after = newton_.counters();
+    if (after.factorizations == before.factorizations && after.rejected_trials == before.rejected_trials)
+      most = std::max(most, after.cg_iterations - before.cg_iterations);
+    return status;
+  }
+  long most = 0;
+
+ private:
+  NewtonOptimizer& newton_;
+};
+
+// CG on P's factor from an earlier iterate stops once it is stale (refactor_cg_iterations + 1
+// products) and takes the truncated step. On the benchmark scene at 24^2 (its handles start moving at
+// frame 30, where the previous step's factor needs more): every step converges, the two rollouts end
+// in the same state, and CG takes fewer products.
+TEST(NewtonSolver, CgStopsOnAStaleFactorAndTheRolloutStaysTheSame) {
+  NewtonParams untruncated;
+  untruncated.truncate_cg_on_stale_factor = false;
+  NewtonOptimizer full(untruncated), stopped;
+  ReusedPreconditionerProducts full_probe(full), stopped_probe(stopped);
+  Scene scene;
+  scene.rows = scene.cols = 24;
+  scene.frames = 70;
+  RolloutOptions options;
+  options.solve = NewtonOptimizer::reference_solve_options();
+  const RolloutResult a = run_rollout(resolve(scene), full_probe, options);
+  const RolloutResult b = run_rollout(resolve(scene), stopped_probe, options);
+  std::printf("CG products over %zu steps: %ld untruncated, %ld truncated; most on a reused preconditioner %ld, %ld\n",
+              a.steps.size(), full.counters().cg_iterations, stopped.counters().cg_iterations, full_probe.most,
+              stopped_probe.most);
+  const long cap = NewtonParams{}.refactor_cg_iterations + 1;
+  EXPECT_GT(full_probe.most, cap) << "the test must have stale preconditioners for the truncation to mean anything";
+  EXPECT_LE(stopped_probe.most, cap);
+  EXPECT_LT(stopped.counters().cg_iterations, full.counters().cg_iterations);
+  EXPECT_EQ(a.converged_steps(), static_cast<int>(a.steps.size()));
+  EXPECT_EQ(b.converged_steps(), static_cast<int>(b.steps.size()));
+  // The same state to well below a millimetre on a 1 m cloth.
+  EXPECT_LT((a.positions.back() - b.positions.back()).cwiseAbs().maxCoeff(), 1e-4f);
 }
 
 TEST(NewtonSolver, LeavesHandleAccelerationsUntouched) {
@@ -329,6 +385,7 @@ TEST(NewtonParams, EveryParameterChangesTheSettingsString) {
       [](NewtonParams& p) { p.max_cg_iterations = 100; },
       [](NewtonParams& p) { p.refactor_cg_iterations = 10; },
       [](NewtonParams& p) { p.reuse_factor_across_steps = false; },
+      [](NewtonParams& p) { p.truncate_cg_on_stale_factor = false; },
       [](NewtonParams& p) { p.single_precision_preconditioner = false; },
       [](NewtonParams& p) { p.bfloat16_factor_from_entries = 0; },
       [](NewtonParams& p) { p.multigrid_from_dofs = 0; },

@@ -47,6 +47,7 @@ std::string NewtonOptimizer::settings() const {
       << " max_cg_iterations=" << params_.max_cg_iterations
       << " refactor_cg_iterations=" << params_.refactor_cg_iterations
       << " reuse_factor_across_steps=" << params_.reuse_factor_across_steps
+      << " truncate_cg_on_stale_factor=" << params_.truncate_cg_on_stale_factor
       << " multigrid_from_dofs=" << params_.multigrid_from_dofs
       << " multigrid_sweeps=" << params_.multigrid.smoothing_sweeps
       << " multigrid_coarsest_dofs=" << params_.multigrid.coarsest_dofs;
@@ -175,12 +176,16 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
   // L sums terms larger than itself (inertia, gravity, elastic), so its rounding error is a few
   // hundred ulps of |L| (10^4 stencils); below it a change of L says nothing.
   const double rounding = 1e-12 * (std::abs(value) + std::abs(start_value_));
+  // P's factor reused from an earlier iterate is stale once CG needs more than refactor_cg_iterations products.
+  const int max_cg_iterations = !stale && !use_multigrid_ && params_.truncate_cg_on_stale_factor
+                                    ? std::min(params_.max_cg_iterations, params_.refactor_cg_iterations + 1)
+                                    : params_.max_cg_iterations;
   last_cg_iterations_ = 0;
   for (int trial = 0; trial < params_.max_trials; ++trial) {
     // A trial after a rejected one solves the same subproblem in a smaller region: on CG's path.
     SteihaugResult sub;
     if (trial == 0 || !steihaug_cg_within(cg_path_, radius_, forcing, step_, sub))
-      sub = steihaug_cg(rhs_, radius_, forcing, params_.max_cg_iterations, multiply, precondition, metric_, step_, cg_,
+      sub = steihaug_cg(rhs_, radius_, forcing, max_cg_iterations, multiply, precondition, metric_, step_, cg_,
                         &cg_path_, first ? &preconditioned_gradient_ : nullptr);
     counters_.cg_iterations += sub.iterations;
     // A V-cycle built at this iterate that leaves CG at its cap does not precondition this cloth (on very

@@ -54,6 +54,14 @@ struct NewtonParams {
   // whatever came before, as meta-training's resumable pool needs).
   int refactor_cg_iterations = 20;
   bool reuse_factor_across_steps = true;
+  // On P's factor from an earlier iterate, CG stops after refactor_cg_iterations + 1 products and its step so far is
+  // taken (a truncated Steihaug step, still a descent step inside the region): the factor is stale by then and is
+  // rebuilt at the next iterate, so further products would be spent on a preconditioner about to be replaced. The
+  // first iteration of a moving step took 41-58 products on the previous step's factor (64², xy_v2); per step 68.3
+  // -> 56.9 products for 4.86 -> 5.00 Newton iterations. Not on the multigrid (fine grids): at 100² it saved 16 % of
+  // the products but took another path through a buckling step of xy_v2, whose rollout then moved by e_CD x 10^3
+  // 0.021 (docs/results.md, "CG stops on a stale factor").
+  bool truncate_cg_on_stale_factor = true;
   // Apply P^-1 with a float copy of its factor (optimizer/single_precision_factor.hpp): half the
   // memory traffic of the solves that dominate an iteration at 100^2, the same convergence.
   bool single_precision_preconditioner = true;
