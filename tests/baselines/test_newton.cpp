@@ -1,8 +1,8 @@
 // The Newton reference: quadratic convergence on a stiff step, the residual-acceleration stop it
-// promises, the same step with a factor kept across iterations and steps as with a fresh one,
-// handles never moved, and a buckling step where the Hessian is indefinite (negative curvature
-// followed to a minimum). The symmetric saddle is tested on the subproblem (test_steihaug_cg.cpp),
-// and newton-min leaving it here.
+// promises, the same step with a factor kept across iterations and steps as with a fresh one, CG
+// stopped on a stale factor with the same rollout, handles never moved, and a buckling step where the Hessian is
+// indefinite (negative curvature followed to a minimum). The symmetric saddle is tested on the subproblem
+// (test_steihaug_cg.cpp), and newton-min leaving it here.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -47,7 +47,7 @@ struct SideBySide {
 // `other` to a residual acceleration of 1e-7 m/s^2, the cloth advanced by the reference's steps.
 // Every step must converge in both and end at the same acceleration (within 1e-6 of its norm: each
 // solver stops at its own point inside the tolerance).
-SideBySide solve_side_by_side(int n, InnerOptimizer& reference, InnerOptimizer& other) {
+SideBySide solve_side_by_side(int n, NewtonOptimizer& reference, NewtonOptimizer& other) {
   const Grid grid = Grid::make(n, n, 1.0);
   BackwardEulerObjective objective(grid, Material{}, 1.0 / 60.0, Vec3(0, 0, -9.81));
   const DirichletSet handles(grid.vertex_count(), {0, grid.cols - 1});
@@ -151,11 +151,11 @@ TEST(NewtonSolver, AKeptFactorGivesTheSameStepsWithFewerFactorizations) {
   EXPECT_EQ(fresh.counters().factorizations, fresh_iterations);
 }
 
-// The most CG products of one iteration that reused a preconditioner built at an earlier iterate
-// (no build in it) and took its first trial.
-class ReusedPreconditionerProducts final : public InnerOptimizer {
+// The most CG products of one iteration that reused P's factor from an earlier iterate (no build in
+// it) and took its first trial.
+class ReusedFactorProducts final : public InnerOptimizer {
  public:
-  explicit ReusedPreconditionerProducts(NewtonOptimizer& newton) : newton_(newton) {}
+  explicit ReusedFactorProducts(NewtonOptimizer& newton) : newton_(newton) {}
   std::string name() const override { return newton_.name(); }
   std::string settings() const override { return newton_.settings(); }
   void begin_step(StepProblem& p, const VecX& a, double value, const VecX& g) override {
@@ -183,7 +183,7 @@ TEST(NewtonSolver, CgStopsOnAStaleFactorAndTheRolloutStaysTheSame) {
   NewtonParams untruncated;
   untruncated.truncate_cg_on_stale_factor = false;
   NewtonOptimizer full(untruncated), stopped;
-  ReusedPreconditionerProducts full_probe(full), stopped_probe(stopped);
+  ReusedFactorProducts full_probe(full), stopped_probe(stopped);
   Scene scene;
   scene.rows = scene.cols = 24;
   scene.frames = 70;
@@ -191,11 +191,11 @@ TEST(NewtonSolver, CgStopsOnAStaleFactorAndTheRolloutStaysTheSame) {
   options.solve = NewtonOptimizer::reference_solve_options();
   const RolloutResult a = run_rollout(resolve(scene), full_probe, options);
   const RolloutResult b = run_rollout(resolve(scene), stopped_probe, options);
-  std::printf("CG products over %zu steps: %ld untruncated, %ld truncated; most on a reused preconditioner %ld, %ld\n",
+  std::printf("CG products over %zu steps: %ld untruncated, %ld truncated; most on a reused factor %ld, %ld\n",
               a.steps.size(), full.counters().cg_iterations, stopped.counters().cg_iterations, full_probe.most,
               stopped_probe.most);
   const long cap = NewtonParams{}.refactor_cg_iterations + 1;
-  EXPECT_GT(full_probe.most, cap) << "the test must have stale preconditioners for the truncation to mean anything";
+  EXPECT_GT(full_probe.most, cap) << "the test must have stale factors for the truncation to mean anything";
   EXPECT_LE(stopped_probe.most, cap);
   EXPECT_LT(stopped.counters().cg_iterations, full.counters().cg_iterations);
   EXPECT_EQ(a.converged_steps(), static_cast<int>(a.steps.size()));
