@@ -1,5 +1,6 @@
 // fnopt bench: timing tables measured in one run (docs/design.md §9): the Newton reference step at
 // several resolutions, and the FNO's forward/backward passes.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
@@ -30,6 +31,7 @@ struct BenchFlags {
   std::string keep;  // directory for the Newton rollouts, or empty
   std::string model;
   std::string preconditioner = "auto";
+  int repeat = 1;  // newton: timed runs per resolution, in rounds
 };
 
 std::vector<int> parse_resolutions(const std::string& list) {
@@ -57,8 +59,85 @@ NewtonParams bench_newton_params(const std::string& preconditioner) {
   return params;
 }
 
+// One timed Newton rollout: its times and the solver's work.
+struct NewtonBenchRun {
+  double ms_per_frame = 0.0, max_ms = 0.0;
+  int steps = 0, iterations = 0, max_iterations = 0, converged = 0;
+  NewtonCounters counters;
+
+  bool same_work(const NewtonBenchRun& other) const {
+    return iterations == other.iterations && counters.cg_iterations == other.counters.cg_iterations &&
+           counters.factorizations == other.counters.factorizations &&
+           counters.rejected_trials == other.counters.rejected_trials;
+  }
+};
+
+NewtonBenchRun time_newton_rollout(const BenchFlags& flags, const NewtonParams& params, int n, int round) {
+  Scene scene;
+  scene.rows = scene.cols = n;
+  scene.frames = flags.frames;
+  NewtonOptimizer newton(params);
+  RolloutOptions options;
+  options.solve = NewtonOptimizer::reference_solve_options();
+  options.warm_start = flags.warm_start;
+  std::string label = "bench " + std::to_string(n) + "^2";
+  if (flags.repeat > 1) label += " (" + std::to_string(round + 1) + "/" + std::to_string(flags.repeat) + ")";
+  ProgressBar bar(label, scene.frames);
+  const RolloutResult r =
+      run_rollout(resolve(scene), newton, options, [&](int done, int, const StepRecord&) { bar.update(done); });
+  bar.finish();
+  if (!flags.keep.empty() && round == 0)
+    write_rollout_file((std::filesystem::path(flags.keep) / ("newton_" + std::to_string(n) + ".h5")).string(), r,
+                       to_scene_text(scene), newton.settings());
+  NewtonBenchRun run;
+  run.ms_per_frame = r.mean_step_ms();
+  run.steps = static_cast<int>(r.steps.size());
+  run.iterations = r.total_iterations();
+  run.converged = r.converged_steps();
+  run.counters = newton.counters();
+  for (const auto& s : r.steps) {
+    run.max_iterations = std::max(run.max_iterations, s.iterations);
+    run.max_ms = std::max(run.max_ms, s.wall_ms);
+  }
+  return run;
+}
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t half = values.size() / 2;
+  return values.size() % 2 ? values[half] : 0.5 * (values[half - 1] + values[half]);
+}
+
+// A resolution's row: with several runs, the medians of ms/frame and max ms and ms/frame's range; the
+// work counts are the first run's (on one thread every run does the same work, and the row says so where not).
+void print_newton_row(int n, const std::vector<NewtonBenchRun>& runs) {
+  std::vector<double> ms, max_ms;
+  for (const NewtonBenchRun& run : runs) {
+    ms.push_back(run.ms_per_frame);
+    max_ms.push_back(run.max_ms);
+  }
+  const NewtonBenchRun& first = runs.front();
+  const double steps = first.steps;
+  const auto& c = first.counters;
+  const double iterations = std::max(1, first.iterations);
+  std::printf("%4d^2 %10.1f", n, median(ms));
+  if (runs.size() > 1) {
+    const auto [low, high] = std::minmax_element(ms.begin(), ms.end());
+    char range[64];
+    std::snprintf(range, sizeof range, "%.1f-%.1f", *low, *high);
+    std::printf(" %15s", range);
+  }
+  std::printf(" %10.1f %9.2f %9d %9.2f %10.2f %8.1f%% %9.2f %5d/%d\n", median(max_ms), first.iterations / steps,
+              first.max_iterations, c.factorizations / steps, c.cg_iterations / steps,
+              100.0 * c.negative_curvature / iterations, c.rejected_trials / steps, first.converged, first.steps);
+  if (std::any_of(runs.begin(), runs.end(), [&](const NewtonBenchRun& run) { return !run.same_work(first); }))
+    std::printf("       (the runs did different work; the counts are the first run's)\n");
+  if (c.multigrid_fallbacks > 0)
+    std::printf("       (the multigrid gave way to P's factor: a fresh V-cycle left CG at its cap)\n");
+  std::fflush(stdout);
+}
+
 void bench_newton(const BenchFlags& flags, int threads) {
-  const InnerSolveOptions solve = NewtonOptimizer::reference_solve_options();
   const NewtonParams params = bench_newton_params(flags.preconditioner);
   const std::string preconditioner =
       flags.preconditioner == "auto"
@@ -67,43 +146,26 @@ void bench_newton(const BenchFlags& flags, int threads) {
   std::printf(
       "Newton reference step (residual acceleration <= %g m/s^2), corner handles, motion xy_v2, %d frames, "
       "dt = 1/60, %d thread%s, warm start %s, preconditioner %s\n",
-      solve.acceleration_tolerance, flags.frames, threads, threads == 1 ? "" : "s", flags.warm_start ? "on" : "off",
-      preconditioner.c_str());
-  std::printf("%6s %10s %10s %9s %9s %9s %10s %9s %9s %9s\n", "res", "ms/frame", "max ms", "iters", "max it",
-              "builds/st", "cg it/st", "neg curv", "rejected", "converged");
-  for (int n : parse_resolutions(flags.resolutions)) {
-    Scene scene;
-    scene.rows = scene.cols = n;
-    scene.frames = flags.frames;
-    NewtonOptimizer newton(params);
-    RolloutOptions options;
-    options.solve = solve;
-    options.warm_start = flags.warm_start;
-    ProgressBar bar("bench " + std::to_string(n) + "^2", scene.frames);
-    const RolloutResult r =
-        run_rollout(resolve(scene), newton, options, [&](int done, int, const StepRecord&) { bar.update(done); });
-    bar.finish();
-    if (!flags.keep.empty())
-      write_rollout_file((std::filesystem::path(flags.keep) / ("newton_" + std::to_string(n) + ".h5")).string(), r,
-                         to_scene_text(scene), newton.settings());
-    const int converged = r.converged_steps();
-    int max_iterations = 0;
-    double max_ms = 0.0;
-    for (const auto& s : r.steps) {
-      max_iterations = std::max(max_iterations, s.iterations);
-      max_ms = std::max(max_ms, s.wall_ms);
+      NewtonOptimizer::reference_solve_options().acceleration_tolerance, flags.frames, threads, threads == 1 ? "" : "s",
+      flags.warm_start ? "on" : "off", preconditioner.c_str());
+  if (flags.repeat > 1)
+    std::printf(
+        "%d runs per resolution, in rounds: ms/frame and max ms are their medians, range is ms/frame's lowest to "
+        "highest\n",
+        flags.repeat);
+  std::printf("%6s %10s", "res", "ms/frame");
+  if (flags.repeat > 1) std::printf(" %15s", "range");
+  std::printf(" %10s %9s %9s %9s %10s %9s %9s %9s\n", "max ms", "iters", "max it", "builds/st", "cg it/st", "neg curv",
+              "rejected", "converged");
+  // Rounds over the resolutions rather than each resolution's runs back to back: a slow phase of the
+  // machine then touches every resolution's runs alike (docs/results.md, "The 64² goal and this machine").
+  const std::vector<int> resolutions = parse_resolutions(flags.resolutions);
+  std::vector<std::vector<NewtonBenchRun>> runs(resolutions.size());
+  for (int round = 0; round < flags.repeat; ++round)
+    for (std::size_t k = 0; k < resolutions.size(); ++k) {
+      runs[k].push_back(time_newton_rollout(flags, params, resolutions[k], round));
+      if (round + 1 == flags.repeat) print_newton_row(resolutions[k], runs[k]);
     }
-    const double steps = static_cast<double>(r.steps.size());
-    const auto& c = newton.counters();
-    const double iterations = std::max(1, r.total_iterations());
-    std::printf("%4d^2 %10.1f %10.1f %9.2f %9d %9.2f %10.2f %8.1f%% %9.2f %5d/%d\n", n, r.mean_step_ms(), max_ms,
-                r.total_iterations() / steps, max_iterations, c.factorizations / steps, c.cg_iterations / steps,
-                100.0 * c.negative_curvature / iterations, c.rejected_trials / steps, converged,
-                static_cast<int>(r.steps.size()));
-    if (c.multigrid_fallbacks > 0)
-      std::printf("       (the multigrid gave way to P's factor: a fresh V-cycle left CG at its cap)\n");
-    std::fflush(stdout);
-  }
 }
 
 void run_bench(const BenchFlags& flags) {
@@ -133,6 +195,12 @@ const RegisterCommand kRegister([](CLI::App& app) {
                    "newton: also write each rollout to DIR/newton_<res>.h5 (an existing directory)")
       ->check(CLI::ExistingDirectory);
   command->add_flag("--warm-start", flags->warm_start, "start each step from the previous acceleration");
+  command
+      ->add_option("--repeat", flags->repeat,
+                   "newton: time each resolution this many times, in rounds; the table gives the medians and "
+                   "ms/frame's range")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
   command
       ->add_option("--preconditioner", flags->preconditioner,
                    "newton: CG's preconditioner: auto (P's Cholesky factor, on fine grids a multigrid V-cycle), "

@@ -117,6 +117,7 @@ const std::vector<BadInput> kCases = {
     {"fit-material --reference {dir}/ref.h5 --cd-stride 0 --out {dir}/m.txt", "cd-stride: must be at least 1"},
     {"bench nope", "bench: unknown benchmark 'nope'"},
     {"bench newton --res 8 --preconditioner lu", "preconditioner: expected auto, factor or multigrid, got 'lu'"},
+    {"bench newton --res 8 --repeat 0", "--repeat: Value 0 not in range 1 to 100"},
     // The viewer: every file checked before it serves.
     {"view {dir}/missing.h5", "{dir}/missing.h5: no such file"},
     {"view {dir}/file", "{dir}/file: not an HDF5 file"},

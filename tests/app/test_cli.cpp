@@ -76,6 +76,27 @@ TEST(Cli, BenchNewtonKeepsTheRolloutItTimed) {
   std::filesystem::remove_all(dir);
 }
 
+// With --repeat the table gives each resolution's median over the runs and the range of ms/frame; on one
+// thread every run does the same work, so no row says otherwise.
+TEST(Cli, BenchNewtonRepeatsInRoundsAndGivesTheRange) {
+  const CommandResult r = run_fnopt("bench newton --res 8,9 --frames 4 --threads 1 --repeat 3");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("3 runs per resolution, in rounds"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("range"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(3/3)"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("did different work"), std::string::npos) << r.output;
+  // The rounds: 8, 9, 8, 9, 8, 9.
+  const std::size_t second_eight = r.output.find("bench 8^2 (2/3)"), first_nine = r.output.find("bench 9^2 (1/3)");
+  ASSERT_NE(second_eight, std::string::npos) << r.output;
+  ASSERT_NE(first_nine, std::string::npos) << r.output;
+  EXPECT_LT(first_nine, second_eight);
+  for (const char* row : {"   8^2 ", "   9^2 "}) {
+    const std::size_t at = r.output.find(row);
+    ASSERT_NE(at, std::string::npos) << row << r.output;
+    EXPECT_NE(r.output.find("4/4", at), std::string::npos) << row << r.output;
+  }
+}
+
 TEST(Cli, SimulateRunsPqnByDefaultAndTheShippedModelOneFlagAway) {
   const fnopt::testing::TempDir tmp;
   const auto out = (tmp.path() / "default.h5").string();
