@@ -191,8 +191,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--frames", flags->frames, "frames per resolution (newton)")->capture_default_str();
   add_threads_flag(*command, flags->threads);
   command
-      ->add_option("--keep", flags->keep,
-                   "newton: also write each rollout to DIR/newton_<res>.h5 (an existing directory)")
+      ->add_option(
+          "--keep", flags->keep,
+          "newton: also write each rollout to DIR/newton_<res>.h5 (an existing directory; with --repeat, the first "
+          "run's)")
       ->check(CLI::ExistingDirectory);
   command->add_flag("--warm-start", flags->warm_start, "start each step from the previous acceleration");
   command
