@@ -13,6 +13,7 @@
 #include <fnopt/methods/registry.hpp>
 #include <fnopt/simulation/rollout.hpp>
 #include <fnopt/util/error.hpp>
+#include <fnopt/util/median.hpp>
 #include <fnopt/util/parse_text.hpp>
 #include <fnopt/util/progress_bar.hpp>
 #include "app/commands.hpp"
@@ -100,12 +101,6 @@ NewtonBenchRun time_newton_rollout(const BenchFlags& flags, const NewtonParams& 
     run.max_ms = std::max(run.max_ms, s.wall_ms);
   }
   return run;
-}
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t half = values.size() / 2;
-  return values.size() % 2 ? values[half] : 0.5 * (values[half - 1] + values[half]);
 }
 
 // A resolution's row: with several runs, the medians of ms/frame and max ms and ms/frame's range; the

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/optimizer/matrix_inertia.hpp>
 #include <fnopt/util/error.hpp>
+#include <fnopt/util/median.hpp>
 
 namespace fnopt {
 
@@ -101,9 +103,7 @@ StepErrorSummary StepErrorBench::evaluate(InnerOptimizer& method, const InnerSol
   double sum = 0.0;
   for (double e : errors) sum += e;
   summary.mean = sum / errors.size();
-  std::sort(errors.begin(), errors.end());
-  const std::size_t n = errors.size();
-  summary.median = n % 2 ? errors[n / 2] : 0.5 * (errors[n / 2 - 1] + errors[n / 2]);
+  summary.median = median(std::move(errors));
   return summary;
 }
 
