@@ -8,7 +8,7 @@
 
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/io/csv_table.hpp>
-#include <fnopt/metrics/step_error.hpp>
+#include <fnopt/studies/step_error.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/studies/compare_study.hpp>
 #include <fnopt/util/error.hpp>

@@ -1,7 +1,7 @@
-// Whole rollouts from Python: run one, read and write rollout files (HDF5, io/rollout_file.hpp)
+// Whole rollouts from Python: run one, read and write rollout files (HDF5, simulation/rollout_file.hpp)
 // and compare trajectories (metrics/trajectory_error.hpp), with arrays shaped (frames, rows,
 // cols, 3).
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/simulation/rollout.hpp>
 #include <fnopt/util/error.hpp>

@@ -2,7 +2,7 @@
 // fnopt.Rollout, shared by the rollout functions and the evaluation of optimizers.
 #include <string>
 
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/simulation/rollout.hpp>
 
 #include "common.hpp"

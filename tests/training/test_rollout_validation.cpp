@@ -9,7 +9,7 @@
 
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/fno/fno_io.hpp>
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/training/rollout_validation.hpp>
 #include <fnopt/util/error.hpp>
 #include "tests/util/temp_dir.hpp"

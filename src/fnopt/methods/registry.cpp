@@ -12,7 +12,7 @@
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/learned/learned_optimizer.hpp>
 #include <fnopt/learned/learned_pqn.hpp>
-#include <fnopt/optimizer/interpolated_optimizer.hpp>
+#include <fnopt/baselines/interpolated_optimizer.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/flag_names.hpp>
 #include <fnopt/util/installed_data.hpp>
@@ -134,7 +134,7 @@ const std::vector<OptimizerEntry>& optimizer_table() {
   return table;
 }
 
-// The interpolation ablation (optimizer/interpolated_optimizer.hpp): "METHOD-interpK" solves each
+// The interpolation ablation (baselines/interpolated_optimizer.hpp): "METHOD-interpK" solves each
 // step with METHOD on the grid with K vertices along the longer edge and prolongs its answer.
 // The choice's budget, learning rate and model go to METHOD; the fine grid takes one iteration.
 constexpr const char* kInterpTag = "-interp";

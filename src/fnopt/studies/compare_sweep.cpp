@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include <fnopt/baselines/newton.hpp>
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/simulation/newton_reference.hpp>
 #include <fnopt/studies/compare_rows.hpp>
 #include <fnopt/util/error.hpp>
