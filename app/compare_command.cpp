@@ -104,12 +104,12 @@ struct Preset {
   int step_samples;
 };
 
-// The learned optimizer's variants that hold at fine grids (fnopt-ss, fnopt-ss-pqn), each against
-// its own interpolation from 32 vertices, fnopt-ss on the 32^2-only model (fnopt-ss-32: the zero-shot
-// study proper), and the exact coarse step interpolated. Every grid is finer than 32 along its longer
+// The learned optimizers (fnopt, fnopt-ss), each against its own interpolation from 32 vertices,
+// fnopt-ss on the 32^2-only model (fnopt-ss-32: the zero-shot study proper), and the exact coarse
+// step interpolated. Every grid is finer than 32 along its longer
 // edge: an interpolation from 32 is refused on the 32 x 32 grid.
 const Preset kSuperres = {"32x64,64x32,48,48x80,64,100,128",
-                          "fnopt-ss,fnopt-ss-32,fnopt-ss-pqn,fnopt-ss-interp32,fnopt-ss-pqn-interp32,newton-interp32",
+                          "fnopt,fnopt-ss,fnopt-ss-32,fnopt-interp32,fnopt-ss-interp32,newton-interp32",
                           "10",
                           "newton-interp32=300",
                           "xy_v2",
@@ -211,8 +211,8 @@ const RegisterCommand kRegister([](CLI::App& app) {
               " s of the motion at dt = 1/60, the handles' first swing; the fine-grid Newton references dominate the "
               "cost, ~1 s of CPU per frame at 100^2; for more frames give --frames and a new --out: --resume keeps "
               "rows by method, N, resolution and motion only); the "
-              "fine grid runs fnopt-ss (by default on the multi-resolution model), fnopt-ss-32 (on the 32^2-only "
-              "model) and fnopt-ss-pqn (the 32^2 model) against "
+              "fine grid runs fnopt (on the 32^2-only model), fnopt-ss (by default on the multi-resolution model) and "
+              "fnopt-ss-32 (on the 32^2-only model) against "
               "METHOD-interp32 (solve at 32 vertices along the longer edge, interpolate) and newton-interp32 (exact "
               "coarse step, interpolate); "
               "also writes superres.svg and a super-resolution table in report.md")

@@ -129,8 +129,8 @@ def test_another_python_thread_runs_while_a_rollout_does():
 
 
 def test_the_learned_optimizer_with_pqns_direction_runs_by_name_on_the_shipped_model():
-    rollout = fnopt.run_rollout(fnopt.Scene(res=16, frames=4), optimizer="fnopt-ss-pqn", iters=3)
-    assert "fnopt-ss-pqn" in rollout.optimizer_settings and "pqn_direction=isotropic" in rollout.optimizer_settings
+    rollout = fnopt.run_rollout(fnopt.Scene(res=16, frames=4), optimizer="fnopt", iters=3)
+    assert "fnopt:" in rollout.optimizer_settings and "pqn_direction=isotropic" in rollout.optimizer_settings
     assert rollout.positions.shape == (5, 16, 16, 3) and np.isfinite(rollout.positions).all()
     with pytest.raises(fnopt.Error, match="fnopt-ss-pqm"):
         fnopt.run_rollout(fnopt.Scene(res=8, frames=2), optimizer="fnopt-ss-pqm")

@@ -159,14 +159,14 @@ TEST(CompareCli, TheSuperResolutionTablesCoverEveryLearnedMethod) {
   const fnopt::testing::TempDir tmp;
   const auto dir = tmp.path() / "out";
   const CommandResult r = run_fnopt(
-      "compare --res 12,16 --frames 2 --optimizers fnopt-ss,fnopt-ss-32,fnopt-ss-pqn,fnopt-ss-pqn-interp8,pqn --iters "
+      "compare --res 12,16 --frames 2 --optimizers fnopt,fnopt-ss,fnopt-ss-32,fnopt-interp8,pqn --iters "
       "2 "
       "--threads 1 --step-samples 1 --cd-samples 100 --out " +
       dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string report = read_text(dir / "report.md");
   EXPECT_NE(report.find("## Zero-shot super-resolution"), std::string::npos) << report;
-  for (const std::string learned : {"fnopt-ss", "fnopt-ss-32", "fnopt-ss-pqn"}) {
+  for (const std::string learned : {"fnopt", "fnopt-ss", "fnopt-ss-32"}) {
     EXPECT_NE(report.find("### " + learned + " at N = 2"), std::string::npos) << learned << "\n" << report;
     EXPECT_NE(report.find("Super-evaluation (" + learned +
                           " N=2) has a lower e_CD than each interpolation method run "

@@ -211,7 +211,7 @@ TEST(RolloutValidation, NamesTheOptimizerItValidatesWith) {
   ValidationOptions v;
   EXPECT_EQ(v.optimizer(), "fnopt-ss");
   v.pqn_direction = true;
-  EXPECT_EQ(v.optimizer(), "fnopt-ss-pqn");
+  EXPECT_EQ(v.optimizer(), "fnopt");
   v.subspace = 4;
   EXPECT_EQ(v.optimizer(), "fnopt-ss-k4-pqn");
   v.pqn_direction = false;
