@@ -32,6 +32,7 @@ struct CompareFlags {
   OptimizerChoice settings;  // --model and the other per-method settings
   std::string out;
   std::string arcsim_dir;
+  std::string reference = "newton";
   std::string error_levels = "1,0.3,0.1";  // e_CD x 10^3
   std::string preset;
   int preset_frames = 0;  // the preset's frame count, where --frames was not given
@@ -154,6 +155,7 @@ void run_compare(const CompareFlags& flags) {
   study.learning_rates = {{"gd", number_list("lr-gd", flags.lr_gd)}, {"adam", number_list("lr-adam", flags.lr_adam)}};
   study.out = flags.out;
   study.arcsim_dir = flags.arcsim_dir;
+  study.reference = flags.reference;
   study.preset = flags.preset;
   study.resolutions_text = flags.resolutions;
   study.command_line = process_command_line("fnopt compare");
@@ -230,6 +232,12 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command
       ->add_option("--error-levels", flags->error_levels,
                    "e_CD x 10^3 levels at which the fastest method is printed (and in report.md)")
+      ->capture_default_str();
+  command
+      ->add_option("--reference", flags->reference,
+                   "the rollout every error is measured against: newton (the exact step), or newton-min, which "
+                   "leaves saddles and ends at minima: the reference off the corner presets (docs/design.md §6)")
+      ->check(CLI::IsMember({"newton", "newton-min"}))
       ->capture_default_str();
   command->add_option("--arcsim-dir", flags->arcsim_dir,
                       "also report e_CD against DIR/arcsim_N{res}_{motion}.h5 where it exists");

@@ -202,6 +202,33 @@ TEST(CompareCli, NewtonMinIsRunNotTakenFromTheReference) {
   EXPECT_GT(std::stod(fields[13]), 0.0) << "e_3D of newton-min against the reference: " << newton_min;
 }
 
+// --reference newton-min: every error is measured against the rollout that ends at minima, so the
+// newton-min run reproduces it (the same solver on the same scene) and Newton's saddles show as error.
+TEST(CompareCli, TheNewtonMinReferenceMeasuresAgainstMinima) {
+  const fnopt::testing::TempDir tmp;
+  const auto dir = tmp.path() / "out";
+  const CommandResult r = run_fnopt(
+      "compare --res 12 --motions xz_v2 --frames 50 --optimizers newton,newton-min --reference newton-min "
+      "--threads 1 --step-samples 2 --cd-samples 100 --out " +
+      dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::istringstream lines(read_text(dir / "compare.csv"));
+  std::string line, newton, newton_min;
+  while (std::getline(lines, line)) {
+    if (line.rfind("newton,", 0) == 0) newton = line;
+    if (line.rfind("newton-min,", 0) == 0) newton_min = line;
+  }
+  ASSERT_FALSE(newton.empty());
+  ASSERT_FALSE(newton_min.empty());
+  EXPECT_EQ(newton.find("the reference rollout itself"), std::string::npos) << newton;
+  EXPECT_EQ(std::stod(split_csv(newton_min)[13]), 0.0) << newton_min;
+  EXPECT_GT(std::stod(split_csv(newton)[13]), 0.0) << newton;
+  EXPECT_NE(read_text(dir / "report.md").find("newton-min (Newton that ends at minima)"), std::string::npos);
+  const CommandResult bad = run_fnopt("compare --res 12 --reference lbfgs --out " + (tmp.path() / "bad").string());
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.output.find("--reference"), std::string::npos) << bad.output;
+}
+
 TEST(CompareCli, AnUnknownPresetIsRejected) {
   const CommandResult r = run_fnopt("compare --preset nope --out /tmp/fnopt_never_written");
   EXPECT_NE(r.status, 0);
