@@ -92,11 +92,12 @@ def plan(args):
     p["stability"] = ({"cases": "baseline,stretch-x100", "frames": 3, "optimizers": "pqn,fnopt"} if quick else
                       {"cases": "all", "frames": None,
                        "optimizers": "newton,pqn,fnopt,fnopt-ss,implicit-euler,lbfgs,lbfgs-ls"})
-    # Rough CPU minutes per part on one idle core, for the ETA only.
-    p["estimate_min"] = ({} if quick else
-                         {"frontier-32": 150, "frontier-64": 240, "frontier-100": 600, "newton-cost": 25 * args.repeat,
-                          "superres": 180, "offcorner-32": 60, "offcorner-64": 400, "arcsim": 200,
-                          "stability": 60, "paper": 0})
+    # Rough seconds per part on one idle core, for the ETA only (scaled by how the finished parts went).
+    p["estimate_s"] = ({"frontier-12": 15, "frontier-16": 20, "newton-cost": 3, "superres": 20, "offcorner-12": 20,
+                        "arcsim": 10, "stability": 10, "paper": 0} if quick else
+                       {"frontier-32": 9000, "frontier-64": 14400, "frontier-100": 36000,
+                        "newton-cost": 1500 * args.repeat, "superres": 10800, "offcorner-32": 3600,
+                        "offcorner-64": 24000, "arcsim": 12000, "stability": 3600, "paper": 0})
     # Fewer samples where the grids are tiny: the per-step error's reference states, e_CD's points.
     p["compare_extra"] = ["--step-samples", "2", "--cd-samples", "2000"] if quick else []
     return p
@@ -135,8 +136,9 @@ def read_csv(path):
 
 
 def command_text(cmd):
-    """The command as docs show it: 'fnopt ...' with the output directory relative to --out."""
-    return " ".join(shlex.quote(c) for c in ["fnopt"] + cmd[1:])
+    """The command as docs show it: 'fnopt ...' with the output directory relative to --out (and without
+    --resume, which changes what is run, not what is measured)."""
+    return " ".join(shlex.quote(c) for c in ["fnopt"] + [c for c in cmd[1:] if c != "--resume"])
 
 
 class Names:
@@ -147,8 +149,7 @@ class Names:
 
     def __init__(self, binary):
         text = run_capture([binary, "compare", "--help"])
-        m = re.search(r"--optimizers.*?:\s*([a-z0-9, -]+)", text, re.S)
-        self.known = set(n.strip() for n in (m.group(1) if m else "").replace("\n", " ").split(",") if n.strip())
+        self.known = set(re.findall(r"[a-z][a-z0-9-]*[a-z0-9]", text))
         self.to_binary = {}
         if "fnopt-plain" not in self.known and "fnopt-ss-pqn" in self.known:
             self.to_binary = {"fnopt": "fnopt-ss-pqn", "fnopt-plain": "fnopt"}
@@ -398,7 +399,7 @@ def part_superres(ctx, part, sr):
     header = ["grid"] + ["%s%s" % (m, " (N = %s)" % n if n and n != "10" else "") for m, n in methods]
     table = []
     for g in grids:
-        line = [g]
+        line = [g if "x" in g else g + "²"]
         for m, n in methods:
             hit = [r for r in rows if r["resolution"] == g and r["method"] == m and r["N"] == n]
             if not hit:
@@ -585,11 +586,8 @@ def part_paper(ctx, part):
         r = ours.get((grid, method, n))
         return r[column] if r else "—"
 
-    differs = {"32": "", "64": "; ours: 3 of the 15 motions (ARCSim's 64² runs)",
-               "100": "; ours: xy_v2 only (ARCSim's one 100² run)"}
-    common = ("paper: its model per protocol, material in grid units, A100; ours: fnopt = FNO + pqn's direction "
-              "(32² model), fnopt-ss = the paper's method (multi-resolution model), physical material, one CPU "
-              "thread")
+    differs = {"32": "the same fifteen motions", "64": "ours: 3 of the 15 motions (ARCSim's 64² runs)",
+               "100": "ours: xy_v2 only (ARCSim's one 100² run); the paper's xy_v2 at N = 10: 4.2"}
     header = ["paper table", "grid", "N", "paper e_CD × 10³", "ours e_CD × 10³: fnopt / fnopt-ss",
               "paper ms/frame (A100)", "ours ms/frame (CPU): fnopt / fnopt-ss", "what differs"]
     table = []
@@ -601,7 +599,7 @@ def part_paper(ctx, part):
                           figure("6.7", "ms per frame (A100)", "FNOPT", grid, n),
                           "%s / %s" % (mine(grid, "fnopt", n, "ms/frame (CPU)"),
                                        mine(grid, "fnopt-ss", n, "ms/frame (CPU)")),
-                          common + differs[grid]])
+                          differs[grid]])
     table.append(["6.3, L-BFGS (step 1)", "100²", "120", figure("6.3", "e_CD x 1e3", "L-BFGS (step 1)", "100", "120"),
                   "lbfgs: %s" % mine("100", "lbfgs", "120", "e_CD × 10³ vs ARCSim"), "—",
                   "lbfgs: %s" % mine("100", "lbfgs", "120", "ms/frame (CPU)"),
@@ -610,7 +608,11 @@ def part_paper(ctx, part):
     write_csv(path, header, table)
     note = ("The paper's figures are `scripts/data/paper-tables.csv` (the FNOPT thesis, chapter 6; means ± standard "
             "deviation over the fifteen motions, against the paper's ARCSim runs). Ours: the ARCSim part's means "
-            "against ARCSim%s.\n\n" % ("" if ours else " (not run: no `--arcsim-dir`, so our columns are empty)"))
+            "against ARCSim%s. What differs on every row: the paper runs its model per protocol on an A100 with the "
+            "material held in grid units across resolutions; ours runs on one CPU thread with the physical material "
+            "fitted to ARCSim; our fnopt is the FNO update with pqn's direction in its subspace (32² model), our "
+            "fnopt-ss the paper's method on the multi-resolution model. The last column says what differs besides."
+            "\n\n" % ("" if ours else " (not run: no `--arcsim-dir`, so our columns are empty)"))
     return section("The paper's tables beside ours", [], note + markdown_table(header, table)), [path]
 
 
@@ -655,15 +657,18 @@ def hms(seconds):
     return "%d:%02d:%02d" % (seconds // 3600, seconds % 3600 // 60, seconds % 60)
 
 
-def progress(parts, index, done, elapsed, estimates, state):
-    left = [p.name for p in parts[index:]]
-    eta = ""
-    if estimates:
-        remaining = sum(estimates.get(p.name, 0) for p in parts[index:] if p.name not in state) * 60
-        eta = ", ETA ~%s of one core (estimate)" % hms(remaining)
-    print("[%d/%d] %s: running; done: %s; left: %s; elapsed %s%s" %
-          (index + 1, len(parts), parts[index].name, ", ".join(done) or "none", ", ".join(left[1:]) or "none",
-           hms(elapsed), eta), flush=True)
+def progress(parts, index, done, elapsed, estimates, measured):
+    """One line: the part starting, the parts done and left, the time so far and the ETA. The ETA is the
+    estimates of the parts left, scaled by measured/estimated over the parts this run has finished."""
+    left = [p.name for p in parts[index + 1:]]
+    scale = 1.0
+    est_done = sum(estimates.get(name, 0) for name in measured)
+    if est_done > 0:
+        scale = sum(measured.values()) / est_done
+    remaining = scale * sum(estimates.get(p.name, 0) for p in parts[index:] if p.name not in measured)
+    print("[%d/%d] %s: running; done: %s; left: %s; elapsed %s, ETA ~%s" %
+          (index + 1, len(parts), parts[index].name, ", ".join(done) or "none", ", ".join(left) or "none",
+           hms(elapsed), hms(remaining)), flush=True)
 
 
 def assemble(ctx, sections, state):
@@ -697,7 +702,8 @@ def main(argv=None):
     parser.add_argument("--arcsim-dir", help="directory of the ARCSim runs (arcsim_N{res}_{motion}.h5); "
                                              "without it the ARCSim part is skipped with a note")
     parser.add_argument("--repeat", type=int, default=5, help="newton-cost: timed runs per grid (default 5)")
-    parser.add_argument("--only", help="run only these parts, comma-separated (the rest are kept as they are)")
+    parser.add_argument("--only", help="run only these parts, comma-separated; the other parts' finished sections are "
+                                       "kept in results.md (with --resume, compare keeps the parts' finished rows)")
     args = parser.parse_args(argv)
 
     if not os.access(args.binary, os.X_OK):
@@ -725,14 +731,17 @@ def main(argv=None):
     state["_quick"] = ctx.quick
     start = time.time()
     done = []
+    measured = {}  # seconds of the parts this run finished
     for i, part in enumerate(parts):
-        kept = part.name in state and (args.resume or (only and part.name not in only))
-        if only and part.name not in only and part.name not in state:
+        if only and part.name not in only:
+            if part.name in state:
+                done.append(part.name + " (kept)")
             continue
+        kept = args.resume and not only and part.name in state
         if kept:
             done.append(part.name + " (kept)")
             continue
-        progress(parts, i, done, time.time() - start, ctx.plan["estimate_min"], state)
+        progress(parts, i, done, time.time() - start, ctx.plan["estimate_s"], measured)
         t0 = time.time()
         try:
             text, files = part.func(ctx, part.name, *part.fargs)
@@ -747,6 +756,7 @@ def main(argv=None):
                             "seconds": round(time.time() - t0, 1)}
         write_atomic(state_path, json.dumps(state, indent=1))
         done.append(part.name)
+        measured[part.name] = time.time() - t0
         print("    %s finished in %s" % (part.name, hms(time.time() - t0)), flush=True)
     sections = [state[p.name]["section"] for p in parts if p.name in state]
     assemble(ctx, sections, state)
