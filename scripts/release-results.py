@@ -198,7 +198,8 @@ class Runner:
             f.write(r.stdout)
         if r.returncode != 0:
             with open(log, encoding="utf-8", errors="replace") as f:
-                lines = [l.strip() for l in f.read().replace("\r", "\n").splitlines() if l.strip()]
+                lines = [l.strip() for l in f.read().replace("\r", "\n").splitlines()
+                         if l.strip() and not l.startswith("$ ")]
             raise PartFailed("'%s' exited with %d (%s; log %s)" %
                              (command_text(cmd), r.returncode, lines[-1] if lines else "no output", log))
         return r.stdout
@@ -290,7 +291,7 @@ def summarise_compare(rows, with_arcsim=False):
 
 
 # ---------------------------------------------------------------------------------------------
-# The parts. Each returns (a section of results.md, the CSV files it wrote).
+# The parts. Each returns (a section of results.md, the CSV files it wrote; None where it was skipped).
 
 
 class Part:
@@ -485,7 +486,7 @@ def part_arcsim(ctx, part, runs):
     if not ctx.arcsim_dir:
         print("note: part arcsim skipped: no --arcsim-dir (the ARCSim runs are not in the repository)", flush=True)
         return section("Against ARCSim", [], "Skipped: no `--arcsim-dir` given (the ARCSim runs are not in the "
-                                              "repository).\n"), []
+                                              "repository).\n"), None
     header = ["grid", "motions", "method", "N", "e_CD × 10³ vs ARCSim", "e_CD × 10³ vs Newton", "ms/frame (CPU)",
               "max strain %", "diverged"]
     table, commands, files = [], [], []
@@ -737,7 +738,10 @@ def main(argv=None):
             if part.name in state:
                 done.append(part.name + " (kept)")
             continue
-        kept = args.resume and not only and part.name in state
+        # Kept with --resume: a finished part, but not one skipped for want of --arcsim-dir when it is given
+        # now, nor the paper's table, which is assembled from the others' outputs.
+        kept = (args.resume and not only and part.name in state and part.name != "paper" and
+                not (state[part.name].get("skipped") and ctx.arcsim_dir))
         if kept:
             done.append(part.name + " (kept)")
             continue
@@ -752,8 +756,8 @@ def main(argv=None):
             print("release-results: part %s failed: %s: %s" % (part.name, type(e).__name__, e), file=sys.stderr,
                   flush=True)
             return 1
-        state[part.name] = {"section": text, "files": [os.path.relpath(f, ctx.out) for f in files],
-                            "seconds": round(time.time() - t0, 1)}
+        state[part.name] = {"section": text, "files": [os.path.relpath(f, ctx.out) for f in files or []],
+                            "skipped": files is None, "seconds": round(time.time() - t0, 1)}
         write_atomic(state_path, json.dumps(state, indent=1))
         done.append(part.name)
         measured[part.name] = time.time() - t0
