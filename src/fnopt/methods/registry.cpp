@@ -160,9 +160,14 @@ std::unique_ptr<InnerOptimizer> make_interpolated(const OptimizerChoice& c) {
 
 }  // namespace
 
-std::string optimizer_names() {
+std::vector<std::string> optimizer_name_list() {
   std::vector<std::string> names;
   for (const auto& entry : optimizer_table()) names.push_back(entry.name);
+  return names;
+}
+
+std::string optimizer_names() {
+  std::vector<std::string> names = optimizer_name_list();
   names.push_back("METHOD-interpK (METHOD on a K-vertex coarse grid, interpolated: fnopt-interp32, newton-interp32)");
   return joined(names);
 }

@@ -4,6 +4,7 @@
 // reference, whether it takes a learning rate, its default budgets and its relative cost.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <fnopt/baselines/gradient_descent.hpp>
 #include <fnopt/baselines/pqn.hpp>
@@ -61,6 +62,8 @@ struct OptimizerChoice {
 };
 
 std::string optimizer_names();  // "newton" ... for help texts
+// The registry's names, in its order (no METHOD-interpK pattern): what a program lists.
+std::vector<std::string> optimizer_name_list();
 // The method whose traits say it is the reference (newton): every error is measured against it.
 std::string reference_method();
 // The model trained at 32^2 only (models/fnopt-32.pt): the zero-shot super-resolution study's, and the
