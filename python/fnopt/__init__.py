@@ -28,9 +28,10 @@ from ._fnopt import (
     shipped_model_path,
     threads,
 )
-from .records import Comparison, Evaluation, Material, RolloutFile, StepRecord
+from .records import CompareRow, Comparison, Evaluation, Material, RolloutFile, StepRecord
 
 __all__ = [
+    "CompareRow",
     "Comparison",
     "Error",
     "Evaluation",

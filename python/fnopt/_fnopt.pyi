@@ -1,13 +1,13 @@
 # Type stub of the extension module fnopt._fnopt (python/src). python/tests/test_stubs.py
 # checks that it names exactly the module's public names, members and arguments.
 import os
-from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
 import scipy.sparse
 
-from .records import Comparison, Evaluation, Material, RolloutFile, StepRecord
+from .records import CompareRow, Comparison, Evaluation, Material, RolloutFile, StepRecord
 
 __version__: str
 
@@ -190,4 +190,4 @@ def compare(
     cd_stride: int = 2,
     chamfer_samples: int = 10000,
     resume: bool = False,
-) -> List[Dict[str, str]]: ...
+) -> List[CompareRow]: ...

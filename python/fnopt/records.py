@@ -8,14 +8,14 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Optional, Tuple
+from typing import TYPE_CHECKING, Dict, Optional, Tuple
 
 import numpy as np
 
 if TYPE_CHECKING:
     from ._fnopt import Scene
 
-__all__ = ["Comparison", "Evaluation", "Material", "RolloutFile", "StepRecord"]
+__all__ = ["CompareRow", "Comparison", "Evaluation", "Material", "RolloutFile", "StepRecord"]
 
 
 @dataclass(frozen=True)
@@ -148,6 +148,106 @@ class Evaluation:
     frames: int
     diverged: bool
     divergence: str
+
+
+# One NaN object for every empty cell, so that rows with the same empty cells compare equal
+# (a tuple's comparison takes an object as equal to itself).
+_EMPTY = float("nan")
+
+
+def _number(text: str) -> float:
+    return float(text) if text else _EMPTY
+
+
+@dataclass(frozen=True)
+class CompareRow:
+    """One run of `compare`: a row of compare.csv, its fields the file's columns.
+
+    Numbers are floats as the file rounds them (NaN where a cell is empty: a diverged run's
+    errors, a learning rate a method does not take).
+
+    Parameters
+    ----------
+    method : str
+        The optimizer.
+    N : str
+        Its budget per step, or ``converged`` for Newton.
+    lr : float
+        The learning rate, for methods that take one.
+    lr_source : str
+        Where the learning rate came from.
+    resolution, motion : str
+        The scene (``32x32``, ``xy_v2``).
+    frames : str
+        Frames finished of those requested, ``390/390``.
+    threads : int
+        The thread count of the timing.
+    ms_per_frame, cpu_share, ms_per_frame_cpu, iterations_per_frame : float
+        Wall time per frame, the share of it on the CPU, their product, iterations per frame.
+    e_cd_x1e3, e_3d_x1e2 : float
+        e_CD x 10^3 and e_3D x 10^2 against the Newton reference.
+    step_error_mean, step_error_median : float
+        The per-step error.
+    max_strain_pct : float
+        The largest edge strain in percent.
+    diverged : str
+        ``no``, ``yes``, or ``error`` for a run that failed.
+    frontier : bool
+        On the error-time frontier of its scene.
+    e_cd_arcsim_x1e3 : float
+        e_CD x 10^3 against ARCSim, where a file was given.
+    note : str
+        Anything the run adds.
+    """
+
+    method: str
+    N: str
+    lr: float
+    lr_source: str
+    resolution: str
+    motion: str
+    frames: str
+    threads: int
+    ms_per_frame: float
+    cpu_share: float
+    ms_per_frame_cpu: float
+    iterations_per_frame: float
+    e_cd_x1e3: float
+    e_3d_x1e2: float
+    step_error_mean: float
+    step_error_median: float
+    max_strain_pct: float
+    diverged: str
+    frontier: bool
+    e_cd_arcsim_x1e3: float
+    note: str
+
+    @classmethod
+    def from_cells(cls, cells: Dict[str, str]) -> "CompareRow":
+        """The record of a compare.csv row.
+
+        Parameters
+        ----------
+        cells : dict of str to str
+            Column name to cell text, every column of the record.
+
+        Returns
+        -------
+        CompareRow
+            The row with its numbers parsed.
+        """
+        values = {}
+        for field in dataclasses.fields(cls):
+            text = cells[field.name]
+            if field.type == "float":
+                values[field.name] = _number(text)
+            elif field.type == "int":
+                values[field.name] = int(text)
+            elif field.type == "bool":
+                values[field.name] = text == "yes"
+            else:
+                values[field.name] = text
+        return cls(**values)
 
 
 @dataclass(frozen=True, eq=False)

@@ -109,7 +109,7 @@ py::object evaluate_optimizer(const py::object& method, const Scene& scene, int 
       "diverged"_a = run.result.diverged, "divergence"_a = run.result.divergence);
 }
 
-// fnopt compare's study on the given scenes; its rows (compare.csv) as dicts of strings.
+// fnopt compare's study on the given scenes; its rows (compare.csv) as CompareRow records.
 py::list compare(const py::object& scenes, const std::vector<std::string>& optimizers, const std::vector<int>& iters,
                  const py::object& out, const py::object& model, int step_samples, int cd_stride, int chamfer_samples,
                  bool resume) {
@@ -149,11 +149,12 @@ py::list compare(const py::object& scenes, const std::vector<std::string>& optim
     run_compare_study(study);
   }
   const CsvTable table = CsvTable::read((std::filesystem::path(study.out) / "compare.csv").string());
+  const py::object from_cells = record_type("CompareRow").attr("from_cells");
   py::list rows;
   for (const auto& values : table.rows()) {
-    py::dict row;
-    for (std::size_t k = 0; k < values.size(); ++k) row[py::str(table.columns()[k])] = values[k];
-    rows.append(row);
+    py::dict cells;
+    for (std::size_t k = 0; k < values.size(); ++k) cells[py::str(table.columns()[k])] = values[k];
+    rows.append(from_cells(cells));
   }
   return rows;
 }
@@ -222,8 +223,8 @@ resume : bool, optional
 
 Returns
 -------
-list of dict
-    compare.csv's rows, column name to cell text.)");
+list of CompareRow
+    compare.csv's rows, in its order.)");
 }
 
 }  // namespace fnopt::python
