@@ -70,8 +70,8 @@ MethodRun method_of(const py::object& method, const Scene& scene, int iters, con
 }
 
 py::object evaluate_optimizer(const py::object& method, const Scene& scene, int iters, const py::object& reference,
-                            int samples, int cd_stride, int chamfer_samples, const py::object& model,
-                            const py::object& lr, bool gd_curvature_scaled) {
+                              int samples, int cd_stride, int chamfer_samples, const py::object& model,
+                              const py::object& lr, bool gd_curvature_scaled) {
   require(samples >= 1, "samples", "must be positive");
   require(cd_stride >= 1, "cd_stride", "must be at least 1");
   const MethodRun m = method_of(method, scene, iters, model, lr, gd_curvature_scaled);

@@ -27,11 +27,10 @@ PyRollout run_python_rollout(const Scene& scene, InnerOptimizer& optimizer, cons
 
 py::object step_record(const StepRecord& r) {
   using namespace pybind11::literals;
-  return record_type("StepRecord")("wall_ms"_a = r.wall_ms, "status"_a = to_string(r.status),
-                                   "iterations"_a = r.iterations, "initial_loss"_a = r.initial_loss,
-                                   "loss"_a = r.loss, "initial_gradient_norm"_a = r.initial_gradient_norm,
-                                   "gradient_norm"_a = r.gradient_norm, "max_strain"_a = r.max_strain,
-                                   "energy"_a = r.energy);
+  return record_type("StepRecord")(
+      "wall_ms"_a = r.wall_ms, "status"_a = to_string(r.status), "iterations"_a = r.iterations,
+      "initial_loss"_a = r.initial_loss, "loss"_a = r.loss, "initial_gradient_norm"_a = r.initial_gradient_norm,
+      "gradient_norm"_a = r.gradient_norm, "max_strain"_a = r.max_strain, "energy"_a = r.energy);
 }
 
 TrajectoryFrames frames_from(const py::handle& source) {
@@ -57,15 +56,14 @@ py::object read_rollout(const std::string& path) {
   } catch (const Error&) {
     scene = optimizer = version = divergence = py::none();
   }
-  return record_type("RolloutFile")(
-      "positions"_a = frames_array(frames.positions, frames.rows, frames.cols),
-      "times"_a = py::array_t<double>(frames.times.size(), frames.times.data()), "rows"_a = frames.rows,
-      "cols"_a = frames.cols, "scene"_a = scene, "optimizer"_a = optimizer, "version"_a = version,
-      "divergence"_a = divergence);
+  return record_type("RolloutFile")("positions"_a = frames_array(frames.positions, frames.rows, frames.cols),
+                                    "times"_a = py::array_t<double>(frames.times.size(), frames.times.data()),
+                                    "rows"_a = frames.rows, "cols"_a = frames.cols, "scene"_a = scene,
+                                    "optimizer"_a = optimizer, "version"_a = version, "divergence"_a = divergence);
 }
 
 py::object trajectory_comparison(const py::handle& reference, const py::handle& rollout, double spacing,
-                               int chamfer_samples, int cd_stride) {
+                                 int chamfer_samples, int cd_stride) {
   const TrajectoryFrames ref = frames_from(reference), run = frames_from(rollout);
   TrajectoryComparisonOptions options;
   options.chamfer.samples = chamfer_samples;

@@ -83,8 +83,7 @@ class PySimulator {
   }
   py::array_t<double> trajectory_targets(double t) const { return point_array(simulator_->trajectory_targets(t)); }
   py::object last_step() const {
-    return simulator_->steps_done() == 0 && !simulator_->diverged() ? py::object(py::none())
-                                                                    : step_record(last_);
+    return simulator_->steps_done() == 0 && !simulator_->diverged() ? py::object(py::none()) : step_record(last_);
   }
   int rows() const { return resolved_.grid.rows; }
   int cols() const { return resolved_.grid.cols; }
@@ -140,7 +139,7 @@ gd_curvature_scaled : bool, optional
     gd's lr in units of 1/lambda_max (True, as on the command line) or a fixed step along
     inverse_metric * g (False).
 warm_start : bool, optional
-    Start each step from the previous step's answer instead of a_0.)")
+    Start each step from the previous step's acceleration instead of a_0.)")
       .def(py::init<const Scene&, const std::string&, int, const py::object&, const py::object&, bool, bool>(),
            py::arg("scene"), py::arg("optimizer") = "pqn", py::arg("iters") = 0, py::arg("model") = py::none(),
            py::arg("lr") = py::none(), py::arg("gd_curvature_scaled") = true, py::arg("warm_start") = false)
@@ -241,8 +240,7 @@ Returns
 -------
 None)")
       .def_property_readonly("positions", &PySimulator::positions, "numpy.ndarray: The positions, (rows, cols, 3).")
-      .def_property_readonly("velocities", &PySimulator::velocities,
-                             "numpy.ndarray: The velocities, (rows, cols, 3).")
+      .def_property_readonly("velocities", &PySimulator::velocities, "numpy.ndarray: The velocities, (rows, cols, 3).")
       .def_property_readonly(
           "time", [](const PySimulator& s) { return s.simulator().time(); }, "float: The time in seconds.")
       .def_property_readonly(

@@ -91,8 +91,8 @@ py::array_t<double> StepProblemView::velocities() const {
 
 std::string StepProblemView::repr() const {
   std::ostringstream text;
-  text << "StepProblem(rows=" << rows_ << ", cols=" << cols_ << ", dt=" << dt_
-       << ", handles=" << handle_count_ << ", valid=" << (*alive_ ? "True" : "False") << ")";
+  text << "StepProblem(rows=" << rows_ << ", cols=" << cols_ << ", dt=" << dt_ << ", handles=" << handle_count_
+       << ", valid=" << (*alive_ ? "True" : "False") << ")";
   return text.str();
 }
 
@@ -125,7 +125,8 @@ Returns
 -------
 numpy.ndarray
     grad L(a), (rows, cols, 3), zero at the handles.)")
-      .def("energy_gradient", &StepProblemView::energy_gradient, py::arg("a"), R"(The objective and its gradient at once.
+      .def("energy_gradient", &StepProblemView::energy_gradient, py::arg("a"),
+           R"(The objective and its gradient at once.
 
 Parameters
 ----------
@@ -165,8 +166,9 @@ float
     max_i |g_i| / (m_i dt^2) in m/s^2: 0 at the solution.)")
       .def_property_readonly("start", &StepProblemView::start,
                              "numpy.ndarray: a_0, 0 on the free dofs and the handles' prescription.")
-      .def_property_readonly("inverse_metric", &StepProblemView::inverse_metric,
-                             "numpy.ndarray: 1 / (dt^2 m_i) per dof: a first-order step is a -= lr * inverse_metric * g.")
+      .def_property_readonly(
+          "inverse_metric", &StepProblemView::inverse_metric,
+          "numpy.ndarray: 1 / (dt^2 m_i) per dof: a first-order step is a -= lr * inverse_metric * g.")
       .def_property_readonly("free_mask", &StepProblemView::free_mask,
                              "numpy.ndarray: (rows, cols) booleans, True where a vertex is free.")
       .def_property_readonly("positions", &StepProblemView::positions,
