@@ -27,6 +27,9 @@ PYBIND11_MODULE(_fnopt, m) {
   m.doc() = "fnopt: cloth on regular grids, classical and learned inner optimizers (docs/api.md)";
   m.attr("__version__") = FNOPT_VERSION;
   static py::exception<fnopt::Error> error(m, "Error", PyExc_ValueError);
+  error.attr("__doc__") = R"(Everything a user can cause: a bad scene field, file, model or setting.
+
+A ValueError whose text is the command line's one line, ``field: problem``.)";
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);

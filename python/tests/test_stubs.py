@@ -143,7 +143,7 @@ def test_every_class_and_record_says_what_it_is_and_its_constructors_parameters(
     for cls in (_fnopt.Scene, _fnopt.Simulator, fnopt.StepRecord, fnopt.Material, fnopt.Comparison, fnopt.CompareRow,
                 fnopt.Evaluation, fnopt.RolloutFile):
         assert "Parameters\n    ----------\n" in cls.__doc__ or "Parameters\n----------\n" in cls.__doc__, cls
-    for cls in (_fnopt.StepProblem, _fnopt.Rollout):
+    for cls in (_fnopt.StepProblem, _fnopt.Rollout, _fnopt.Error):
         assert len(cls.__doc__.split()) > 10, cls
 
 
