@@ -73,8 +73,14 @@ def test_optimizer_names_is_a_list_of_the_names_the_simulator_takes():
     names = fnopt.optimizer_names()
     assert isinstance(names, list) and {"pqn", "newton", "lbfgs", "gd", "fnopt-ss"} <= set(names)
     assert len(names) == len(set(names))
+    # The names the command line's error lists, in its order, before the METHOD-interpK pattern.
+    with pytest.raises(fnopt.Error) as raised:
+        fnopt.Simulator(fnopt.Scene(res=8), optimizer="no-such-method")
+    listed = str(raised.value).split("choose from: ", 1)[1].split(", METHOD-interpK")[0].split(", ")
+    assert names == listed
     for name in names:
-        assert "," not in name and " " not in name
+        sim = fnopt.Simulator(fnopt.Scene(res=12, frames=1), optimizer=name, iters=2)
+        assert f"optimizer='{name}'" in repr(sim)
 
 
 def test_stepping_with_the_trajectorys_handles_equals_the_rollout():
