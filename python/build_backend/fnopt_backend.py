@@ -69,12 +69,14 @@ def _run(command):
 
 def _build_extension():
     """Configures (if needed) and builds the target _fnopt; returns the built extension's path."""
-    given = os.environ.get("FNOPT_BUILD_DIR")
-    build = pathlib.Path(given).resolve() if given else ROOT / "build-wheel"
+    build = ROOT / os.environ.get("FNOPT_BUILD_DIR", "build-wheel")  # relative to the source tree
     if not (build / "CMakeCache.txt").exists():
+        # The interpreter a virtual environment was made from: the build directory outlives the
+        # environment, and the extension needs only the interpreter's headers and ABI.
+        python = os.path.realpath(getattr(sys, "_base_executable", sys.executable))
         configure = ["cmake", "-S", ROOT, "-B", build, "-DCMAKE_BUILD_TYPE=Release", "-DFNOPT_WITH_PYTHON=ON",
                      "-DFNOPT_WITH_MPI=OFF", "-DFNOPT_WITH_VIEWER=OFF", "-DBUILD_TESTING=OFF",
-                     f"-DPython_EXECUTABLE={sys.executable}"]
+                     f"-DPython_EXECUTABLE={python}"]
         if shutil.which("ninja"):
             configure += ["-G", "Ninja"]
         _run(configure)
