@@ -5,6 +5,7 @@
 
 #include <fnopt/io/rollout_file.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
+#include <fnopt/scenes/scene.hpp>
 #include <fnopt/simulation/rollout.hpp>
 #include <fnopt/util/error.hpp>
 
@@ -111,6 +112,9 @@ Made by `run_rollout`; `write` stores it as ``fnopt simulate --out`` does.)")
             return steps;
           },
           "list of StepRecord: Every step's record, in order.")
+      .def_property_readonly(
+          "scene", [](const PyRollout& r) { return load_scene_text(r.scene_text, "rollout"); },
+          "Scene: The scene it ran, as its file stores it.")
       .def_property_readonly(
           "rows", [](const PyRollout& r) { return r.result.grid.rows; }, "int: The grid's rows of vertices.")
       .def_property_readonly(

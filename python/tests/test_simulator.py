@@ -21,7 +21,7 @@ def test_a_16x16_rollout_equals_the_command_lines_bit_for_bit(run_cli, tmp_path)
     whole = fnopt.run_rollout(scene, optimizer="pqn", iters=10)
     assert np.array_equal(whole.positions, expected.positions)
     assert np.array_equal(whole.times, expected.times)
-    assert expected.scene == scene
+    assert expected.scene == scene and whole.scene == scene
 
 
 def test_a_rollout_file_round_trips(tmp_path):
