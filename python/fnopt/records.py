@@ -1,8 +1,8 @@
 """The records fnopt returns: small frozen dataclasses with named, read-only fields.
 
 Each compares equal to another with the same values, and prints as its constructor call. The
-extension module builds them (fnopt._fnopt); they are plain Python so that they pickle, copy
-and type-check as dataclasses do.
+extension module builds them (fnopt._fnopt); they are plain Python so that
+dataclasses.asdict, dataclasses.replace and type checkers work on them as on any dataclass.
 """
 from __future__ import annotations
 
