@@ -48,9 +48,9 @@ Error thrown_error(Call&& call) {
 
 TEST(Registry, TableHoldsEveryMethodOnceAndTheHelpTextNamesTheInterpolation) {
   const std::vector<std::string> names = table_names();
-  EXPECT_EQ(names, (std::vector<std::string>{"pqn", "newton", "newton-min", "implicit-euler", "fnopt", "fnopt-ss",
-                                             "fnopt-plain", "fnopt-ls", "fnopt-ss-32", "fnopt-pqn", "gd", "adam", "lbfgs",
-                                             "lbfgs-ls"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"pqn", "newton", "newton-min", "implicit-euler", "fnopt", "fnopt-ss", "gd",
+                                             "adam", "lbfgs", "lbfgs-ls", "fnopt-plain", "fnopt-ls", "fnopt-ss-32",
+                                             "fnopt-pqn"}));
   EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
   EXPECT_NE(optimizer_names().find("METHOD-interpK"), std::string::npos);
   EXPECT_EQ(OptimizerChoice{}.name, "pqn");  // the default method is in the table

@@ -92,21 +92,6 @@ const std::vector<OptimizerEntry>& optimizer_table() {
        [](const OptimizerChoice& c) {
          return make_learned(c, /*line_search=*/false, kFnoptSubspace, /*pqn_direction=*/false, multires_model_path());
        }},
-      {"fnopt-plain", kLearnedAblation,
-       [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false); }},
-      {"fnopt-ls", kLearnedAblation, [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/true); }},
-      {"fnopt-ss-32", kLearnedAblation,
-       [](const OptimizerChoice& c) {
-         return make_learned(c, /*line_search=*/false, kFnoptSubspace, /*pqn_direction=*/false, shipped_model_path(),
-                             "fnopt-ss-32");
-       }},
-      {"fnopt-pqn",
-       {BudgetKind::Iterations, false, false, 2.0, 10, true, true},
-       [](const OptimizerChoice& c) {
-         LearnedPqnParams params;
-         params.pqn = pqn_params(c);
-         return std::make_unique<LearnedPqnOptimizer>(c.model.empty() ? shipped_model_path() : c.model, params);
-       }},
       {"gd",
        {BudgetKind::Iterations, false, true, 1.0, 500},
        [](const OptimizerChoice& c) {
@@ -134,6 +119,23 @@ const std::vector<OptimizerEntry>& optimizer_table() {
          LbfgsParams params;
          params.line_search = true;
          return std::make_unique<LbfgsOptimizer>(params);
+       }},
+      // Ablations, listed apart: the learned update alone, with a secant step, the paper's method on the
+      // 32^2 model, pqn with one learned probe per step (docs/design.md §4, §13).
+      {"fnopt-plain", kLearnedAblation,
+       [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false); }},
+      {"fnopt-ls", kLearnedAblation, [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/true); }},
+      {"fnopt-ss-32", kLearnedAblation,
+       [](const OptimizerChoice& c) {
+         return make_learned(c, /*line_search=*/false, kFnoptSubspace, /*pqn_direction=*/false, shipped_model_path(),
+                             "fnopt-ss-32");
+       }},
+      {"fnopt-pqn",
+       {BudgetKind::Iterations, false, false, 2.0, 10, true, true},
+       [](const OptimizerChoice& c) {
+         LearnedPqnParams params;
+         params.pqn = pqn_params(c);
+         return std::make_unique<LearnedPqnOptimizer>(c.model.empty() ? shipped_model_path() : c.model, params);
        }},
   };
   return table;
