@@ -1,16 +1,12 @@
 // Whole rollouts from Python: run one, read and write rollout files (HDF5, simulation/rollout_file.hpp)
 // and compare trajectories (metrics/trajectory_error.hpp), with arrays shaped (frames, rows,
 // cols, 3).
-<<<<<<< HEAD
-#include <fnopt/simulation/rollout_file.hpp>
-=======
 #include <sstream>
 
-#include <fnopt/io/rollout_file.hpp>
->>>>>>> python
 #include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/scenes/scene.hpp>
 #include <fnopt/simulation/rollout.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/util/error.hpp>
 
 #include "common.hpp"
