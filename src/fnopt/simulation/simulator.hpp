@@ -42,8 +42,11 @@ class Simulator {
   // prescription): v += dt a, x += dt v. Returns the step's record (no solve: iterations 0).
   StepRecord commit(const VecX& a);
 
-  // The handles' positions the scene's trajectory prescribes at time t.
+  // The handles' positions the scene's trajectory prescribes at time t; past the scene's let-go
+  // time, where the handles are free, their vertices' current positions.
   std::vector<Vec3> trajectory_targets(double t) const;
+  // Whether the handles have been let go (Scene::let_go): their vertices are free.
+  bool handles_released() const { return released_; }
 
   const VecX& positions() const { return x_; }
   const VecX& velocities() const { return v_; }
@@ -62,6 +65,9 @@ class Simulator {
 
  private:
   StepRecord finish(const VecX& a, const InnerSolveResult& solve, double wall_ms);
+  // Frees the handle vertices for a step ending at `step_end` after the scene's let-go time.
+  void let_go_if_due(double step_end);
+  bool let_go_due(double step_end) const { return scene_.scene.let_go >= 0.0 && step_end > scene_.scene.let_go; }
   void check_running() const;
 
   ResolvedScene scene_;
@@ -74,6 +80,7 @@ class Simulator {
   std::vector<Vec3> targets_;  // the handles' positions of the step prepared last
   double time_ = 0.0;
   int steps_ = 0;
+  bool released_ = false;
   std::string divergence_;
 };
 
