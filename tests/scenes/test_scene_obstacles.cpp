@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 
 #include <fnopt/baselines/newton.hpp>
@@ -51,6 +52,21 @@ TEST(SceneObstacles, ObstacleLinesAddUpAndRoundTrip) {
   EXPECT_EQ(to_scene_text(back), to_scene_text(scene));
   // Without obstacles the scene text has no contact lines.
   EXPECT_EQ(to_scene_text(Scene{}).find("obstacle"), std::string::npos);
+}
+
+// A path= file is relative to the scene file, and stored absolute, so the scene text reads back
+// from anywhere.
+TEST(SceneObstacles, PathFilesAreRelativeToTheSceneFile) {
+  const std::filesystem::path directory = std::filesystem::path(::testing::TempDir()) / "obstacle_scene";
+  std::filesystem::create_directories(directory);
+  std::ofstream(directory / "lift.csv") << "t,x,y,z\n0,0.5,0.3,-0.5\n1,0.5,0.3,0\n";
+  std::ofstream(directory / "scene.txt") << "obstacle = sphere center=0.5,0.3,-0.5 radius=0.1 path=lift.csv\n";
+  const Scene scene = load_scene_file((directory / "scene.txt").string());
+  ASSERT_EQ(scene.obstacles.size(), 1u);
+  EXPECT_EQ(scene.obstacles[0].motion().name(), (directory / "lift.csv").string());
+  EXPECT_LT((scene.obstacles[0].offset(0.5) - Vec3(0, 0, 0.25)).norm(), 1e-15);
+  EXPECT_EQ(load_scene_text(to_scene_text(scene), "rollout").obstacles[0].to_text(), scene.obstacles[0].to_text());
+  std::filesystem::remove_all(directory);
 }
 
 TEST(SceneObstacles, OneSettingTakesSeveralObstaclesSeparatedBySemicolons) {

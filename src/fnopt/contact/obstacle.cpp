@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <filesystem>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -63,7 +64,8 @@ ObstacleMotion ObstacleMotion::named(const std::string& name, const Vec3& refere
 ObstacleMotion ObstacleMotion::path(const std::string& file) {
   ObstacleMotion motion;
   motion.kind_ = Kind::Path;
-  motion.name_ = file;
+  std::error_code ignored;
+  motion.name_ = std::filesystem::absolute(file, ignored).string();  // the scene text is read elsewhere
   std::ifstream in(file);
   if (!in) throw Error("path", file + ": cannot read the file");
   std::string line;

@@ -39,7 +39,7 @@ class ObstacleMotion {
   static ObstacleMotion path(const std::string& file);
 
   Kind kind() const { return kind_; }
-  const std::string& name() const { return name_; }  // the motion's name or the path's file
+  const std::string& name() const { return name_; }  // the motion's name or the path's file, absolute
   // The reference point's position at time t, given its position `reference` at rest.
   Vec3 position(const Vec3& reference, double t) const;
 

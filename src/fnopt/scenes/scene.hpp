@@ -74,8 +74,9 @@ struct Scene {
 // Settings apply in order on top of `base`, later ones winning: `material = NAME` resets all
 // material values to material_preset(NAME) and later stretch/shear/bend/density/damping lines
 // override single values; `handles` clears an earlier handle-vertices and `motion` an earlier
-// trajectory; an empty handle-vertices or trajectory clears it. A relative trajectory path, or
-// a material file next to the scene file, is taken relative to the scene file. Throws
+// trajectory; an empty handle-vertices or trajectory clears it. A relative trajectory path, an
+// obstacle's path= file, or a material file next to the scene file, is taken relative to the
+// scene file. Throws
 // Error("<path>:<line>: <key>: ...") for an unknown key, a malformed or out-of-range value
 // (the checks of Scene::validate that need no other field), and Error("scene", "...") for an
 // unreadable file.

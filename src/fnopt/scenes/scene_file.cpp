@@ -208,6 +208,22 @@ std::string relative_to(const fs::path& directory, const std::string& path) {
   return (directory / path).string();
 }
 
+// The path= files of obstacle specs, each taken relative to `directory`.
+std::string obstacle_paths_relative_to(const fs::path& directory, const std::string& specs) {
+  if (directory.empty()) return specs;
+  std::string rebased;
+  std::size_t copied = 0;
+  for (std::size_t key = specs.find("path="); key != std::string::npos; key = specs.find("path=", key + 5)) {
+    if (key > 0 && specs[key - 1] != ' ' && specs[key - 1] != '\t') continue;
+    const std::size_t start = key + 5;
+    const std::size_t end = std::min(specs.find_first_of(" \t;", start), specs.size());
+    rebased.append(specs, copied, start - copied);
+    rebased += relative_to(directory, specs.substr(start, end - start));
+    copied = end;
+  }
+  return rebased + specs.substr(copied);
+}
+
 // A material value is a preset name or a file; only an existing file next to the scene file
 // is rebased, so preset names pass through untouched.
 std::string material_relative_to(const fs::path& directory, const std::string& name) {
@@ -265,6 +281,7 @@ Scene read_scene_lines(std::istream& in, const std::string& name, const fs::path
       throw Error(where + key + ": given twice (first on line " + std::to_string(seen[key]) + ")");
     if (key == "trajectory" && !value.empty()) value = relative_to(directory, value);
     if (key == "material") value = material_relative_to(directory, value);
+    if (key == "obstacle") value = obstacle_paths_relative_to(directory, value);
     try {
       apply_scene_setting(base, key, value);
     } catch (const Error& e) {
