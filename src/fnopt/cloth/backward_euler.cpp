@@ -142,7 +142,8 @@ double BackwardEulerObjective::residual_acceleration(const VecX& gradient) const
 
 double BackwardEulerObjective::potential(const VecX& x) const {
   double total = 0.0;
-  for (const auto& term : terms_) total += term->energy(x);
+  for (const auto& term : terms_)
+    total += term.get() == static_cast<const EnergyTerm*>(contact_) ? contact_->barrier_energy(x) : term->energy(x);
   for (Eigen::Index k = 0; k < masses_.size(); ++k) total -= masses_[k] * gravity_.dot(x.segment<3>(3 * k));
   return total;
 }

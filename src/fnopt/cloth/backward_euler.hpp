@@ -86,7 +86,8 @@ class BackwardEulerObjective {
   };
   HessianPair hessian_pair(const VecX& a, const std::vector<int>& free_index);
 
-  // The potential P(x) (elastic + gravity, zero at height 0) and the kinetic energy of v.
+  // The potential P(x) (elastic + gravity, zero at height 0; with obstacles their barrier, not the
+  // step's friction potential) and the kinetic energy of v.
   double potential(const VecX& x) const;
   double kinetic(const VecX& v) const;
 

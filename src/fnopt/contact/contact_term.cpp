@@ -88,11 +88,16 @@ double ContactTerm::vertex_barrier(const Vec3& p, Vec3* gradient, Mat3* hessian,
   return total;
 }
 
-double ContactTerm::energy(const VecX& x) const {
+double ContactTerm::barrier_energy(const VecX& x) const {
   mark_near_obstacles(x);
   double total = 0.0;
 #pragma omp parallel for reduction(+ : total) schedule(static) if (vertex_count_ >= kParallelThreshold)
   for (int i = 0; i < vertex_count_; ++i) total += vertex_barrier(x.segment<3>(3 * i), nullptr, nullptr, false);
+  return total;
+}
+
+double ContactTerm::energy(const VecX& x) const {
+  double total = barrier_energy(x);
   for (const FrictionPair& pair : friction_pairs_) total += mollifier_.energy(pair, x.segment<3>(3 * pair.vertex));
   return total;
 }

@@ -40,7 +40,11 @@ class ContactTerm final : public EnergyTerm {
   void begin_step(const VecX& x_start, double time, double dt);
 
   const std::string& name() const override { return name_; }
+  // The barrier and the friction potential: the step's objective.
   double energy(const VecX& x) const override;
+  // The barrier alone: the potential energy of a state (the friction potential is the step's
+  // dissipation, not an energy the state holds).
+  double barrier_energy(const VecX& x) const;
   double accumulate_gradient(const VecX& x, VecX& grad) const override;
   int register_hessian(HessianAssembly& assembly) const override;
   void accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly, int handle) const override;
