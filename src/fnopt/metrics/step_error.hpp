@@ -70,6 +70,7 @@ class StepErrorBench {
  private:
   struct State {
     VecX x, v;
+    double time = 0.0;  // t of the step's start (poses moving obstacles)
     std::vector<Vec3> targets;
     double newton_value = 0.0;
     int newton_negative_eigenvalues = -1;
