@@ -69,7 +69,8 @@ class ContactTerm final : public EnergyTerm {
  private:
   // Whether obstacle k's box, grown by thickness + dhat, meets the box of x.
   void mark_near_obstacles(const VecX& x) const;
-  // Barrier energy of vertex i against the near obstacles; with gradient/Hessian when given.
+  // The barrier energy of a vertex at p against the near obstacles (+inf within the thickness of
+  // one); adds its gradient and Hessian where given.
   double vertex_barrier(const Vec3& p, Vec3* gradient, Mat3* hessian, bool project) const;
 
   std::string name_ = "contact";

@@ -57,7 +57,7 @@ ObstacleMotion ObstacleMotion::named(const std::string& name, const Vec3& refere
   motion.kind_ = Kind::Named;
   motion.name_ = name;
   motion.trajectory_ = make_motion(name, {reference});
-  motion.positions_ = {reference};  // the point the trajectory was built at
+  motion.start_ = reference;
   return motion;
 }
 
@@ -96,7 +96,7 @@ Vec3 ObstacleMotion::position(const Vec3& reference, double t) const {
     case Kind::Static:
       return reference;
     case Kind::Named:
-      return reference + (trajectory_->position(0, t) - positions_.front());
+      return reference + (trajectory_->position(0, t) - start_);
     case Kind::Path:
       break;
   }

@@ -47,6 +47,7 @@ class ObstacleMotion {
   Kind kind_ = Kind::Static;
   std::string name_;
   std::shared_ptr<const HandleTrajectory> trajectory_;  // Named
+  Vec3 start_ = Vec3::Zero();                           // Named: the point its trajectory starts at
   std::vector<double> times_;                           // Path
   std::vector<Vec3> positions_;                         // Path
 };

@@ -66,6 +66,7 @@ StepProblem& Simulator::prepare_step(VecX& start, const std::vector<Vec3>& handl
   objective_.begin_step(x_, v_, time_);
   if (!options_.warm_start) a_.setZero();
   dirichlet_.prescribe(a_, x_, v_, released_ ? std::vector<Vec3>{} : targets_, scene_.scene.dt);
+  problem_.make_start_feasible(a_);  // outside every obstacle, also for an optimizer of one's own
   start = a_;
   return problem_;
 }

@@ -34,8 +34,9 @@ class Simulator {
 
   // The next step's problem, for an optimizer of one's own: the objective at the current state
   // with the handles prescribed at `handle_positions` (default: the trajectory's at t + dt), and
-  // the start a_0 (0 on the free dofs, the prescribed handle accelerations). Valid until the next
-  // call that moves the state.
+  // the start a_0 (0 on the free dofs, the prescribed handle accelerations; with obstacles pulled
+  // back outside them, StepProblem::make_start_feasible). Valid until the next call that moves the
+  // state.
   StepProblem& prepare_step(VecX& start);
   StepProblem& prepare_step(VecX& start, const std::vector<Vec3>& handle_positions);
   // Ends the step prepared last with the acceleration `a` (its handle dofs are taken from the
