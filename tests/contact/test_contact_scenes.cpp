@@ -114,5 +114,37 @@ TEST(ContactScenes, FrictionHoldsBelowTheCoulombThresholdAndSlidesAbove) {
   EXPECT_LT(sliding, 1.5 * expected);
 }
 
+// A moving obstacle's friction acts on the slip relative to it: a cloth lying on a platform that
+// slides 0.2 m sideways (at most 1 m/s^2, well below mu g) rides along with it; on a frictionless
+// platform it stays where it was.
+double ride_on_platform(double mu, const std::string& file) {
+  {
+    std::ofstream path(file);
+    path << "t,x,y,z\n";
+    for (int k = 0; k <= 50; ++k) {
+      const double t = 0.2 + k * 0.02;  // 0.2 s to 1.2 s
+      path << t << "," << 0.1 * (1.0 - std::cos(std::acos(-1.0) * (t - 0.2))) << ",0,-0.3\n";
+    }
+  }
+  Scene scene = released_scene(84);
+  scene.material.damping = 0.0;
+  const Grid grid = Grid::make(16, 16, 1.0);
+  const double top = -(scene.contact.thickness + 0.8 * scene.contact.range_fraction * grid.spacing);
+  // The path holds the box's centre; its first row is where the box starts.
+  scene.obstacles = parse_obstacles("box center=0,0,-0.3 size=2,2," + std::to_string(2.0 * (top + 0.3)) +
+                                    " rounding=0.01 friction=" + std::to_string(mu) + " path=" + file);
+  const RolloutResult r = newton_rollout(scene);
+  double moved = 0.0;
+  for (int v = 0; v < grid.vertex_count(); ++v) moved += position(r, 84, v).x() - position(r, 0, v).x();
+  return moved / grid.vertex_count();
+}
+
+TEST(ContactScenes, FrictionCarriesAClothOnAMovingPlatform) {
+  const std::string file = ::testing::TempDir() + "sliding_platform.csv";
+  EXPECT_NEAR(ride_on_platform(0.5, file), 0.2, 0.01);
+  EXPECT_NEAR(ride_on_platform(0.0, file), 0.0, 0.01);
+  std::remove(file.c_str());
+}
+
 }  // namespace
 }  // namespace fnopt
