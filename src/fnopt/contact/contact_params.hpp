@@ -15,8 +15,10 @@ struct ContactParams {
   // this far from every obstacle surface.
   double thickness = 1e-3;
   // eps_v [m/s]: below this tangential speed friction is static-like (IPC's mollifier f0 on
-  // |u| < eps_v dt, Li et al. 2020 §5); above it the full Coulomb force mu lambda.
-  double friction_velocity = 1e-3;
+  // |u| < eps_v dt, Li et al. 2020 §5); above it the full Coulomb force mu lambda. A sticking cloth
+  // creeps at about eps_v tan(theta)/(2 mu) on a slope theta; a smaller eps_v creeps less but
+  // makes the mollifier's curvature 2 mu lambda/(eps_v dt) stiffer for Newton (docs/design.md §14).
+  double friction_velocity = 1e-2;
   // The share of the safe fraction s an iterate is pulled back to: a_from + factor s (a_to - a_from)
   // (solve_step, optimizer/inner_optimizer.cpp). Below 1, so that the gap stays positive.
   double pullback = 0.9;
