@@ -7,7 +7,7 @@
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/types.hpp>
 
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/cloth/grid.hpp>
 #include <fnopt/cloth/material.hpp>
 #include <fnopt/cloth/strain.hpp>

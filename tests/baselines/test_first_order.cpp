@@ -13,7 +13,7 @@
 #include <fnopt/baselines/gradient_descent.hpp>
 #include <fnopt/baselines/lbfgs.hpp>
 #include <fnopt/baselines/newton.hpp>
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include "tests/util/cloth_step.hpp"
 
 namespace fnopt {

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include <fnopt/baselines/newton.hpp>
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/baselines/interpolated_optimizer.hpp>
 #include <fnopt/simulation/rollout.hpp>
 #include <fnopt/util/error.hpp>

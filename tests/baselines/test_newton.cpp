@@ -15,7 +15,7 @@
 #include <vector>
 
 #include <fnopt/baselines/newton.hpp>
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
 #include <fnopt/linalg/sparse_cholesky.hpp>
 #include <fnopt/scenes/scene.hpp>

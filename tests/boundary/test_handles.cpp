@@ -29,13 +29,13 @@ TEST(HandlePresets, EvenSidesRoundTheMiddleDown) {
   EXPECT_EQ(handle_preset(grid, "mid-edge").vertices, (std::vector<int>{6, 11}));
 }
 
-TEST(HandlePresets, NamesAreTheSixPresetsAndEachResolves) {
+TEST(HandlePresets, NamesAreTheSixPresetsAndNoneAndEachResolves) {
   const auto names = handle_preset_names();
-  EXPECT_EQ(names.size(), 6u);
+  EXPECT_EQ(names.size(), 7u);
   for (const auto& name : names) {
     const HandleSet set = handle_preset(kGrid, name);
     EXPECT_EQ(set.name, name);
-    EXPECT_FALSE(set.vertices.empty());
+    EXPECT_EQ(set.vertices.empty(), name == "none");  // none: a released cloth
   }
 }
 

@@ -10,7 +10,7 @@
 #include <set>
 
 #include <fnopt/baselines/newton.hpp>
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/cloth/cloth_terms.hpp>
 #include <fnopt/cloth/hessian_assembly.hpp>
 #include <fnopt/cloth/repulsion_term.hpp>

@@ -6,7 +6,7 @@
 #include <omp.h>
 
 #include <fnopt/boundary/dirichlet.hpp>
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/cloth/symmetric_block_matrix.hpp>
 #include "tests/util/error_message.hpp"
 

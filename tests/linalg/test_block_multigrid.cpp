@@ -10,7 +10,7 @@
 #include <cstdio>
 
 #include <fnopt/boundary/dirichlet.hpp>
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/linalg/block_multigrid.hpp>
 #include "tests/util/error_message.hpp"
 #include "tests/util/preconditioned_cg.hpp"

@@ -6,7 +6,7 @@
 #include <Eigen/Dense>
 #include <random>
 
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/linalg/matrix_inertia.hpp>
 
 namespace fnopt {

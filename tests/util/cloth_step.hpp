@@ -3,7 +3,7 @@
 // top corners held and moving.
 #include <vector>
 
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/optimizer/step_problem.hpp>
 
 namespace fnopt {

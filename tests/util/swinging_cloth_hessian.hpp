@@ -3,7 +3,7 @@
 // (3 dofs per vertex): a cloth matrix large enough at n = 40 (4800 rows) for a supernodal factor
 // of many supernodes of every width.
 #include <fnopt/boundary/dirichlet.hpp>
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 
 namespace fnopt::testing {
 

@@ -31,6 +31,9 @@ class SmoothProblem {
   // The cloth time step behind the problem, for methods that build matrices from its energy;
   // null for the analytic problems.
   virtual StepProblem* step_problem() const { return nullptr; }
+  // The first trial step of a line search from x along `direction` that keeps every vertex outside
+  // the obstacles (StepProblem::feasible_step); `step` where nothing constrains it.
+  virtual double feasible_step(const VecX&, const VecX&, double step) { return step; }
 };
 
 // A cloth time step seen as a SmoothProblem: inverse metric 1/(dt^2 m_i), step unit h/dt^2.
@@ -43,6 +46,9 @@ class ClothSmoothProblem final : public SmoothProblem {
   const VecX& inverse_metric() const override { return inverse_metric_; }
   double step_unit() const override { return step_unit_; }
   StepProblem* step_problem() const override { return problem_; }
+  double feasible_step(const VecX& a, const VecX& direction, double step) override {
+    return problem_->feasible_step(a, direction, step);
+  }
 
  private:
   StepProblem* problem_;

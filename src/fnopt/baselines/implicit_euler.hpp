@@ -2,7 +2,7 @@
 // Linearly implicit Euler, the one-solve step of ARCSim and Blender (Baraff & Witkin 1998,
 // "Large steps in cloth simulation"): the forces are linearised once, at the start of the step,
 // and one linear system is solved; no iteration, no line search. In fnopt's unknowns (the
-// acceleration a, cloth/backward_euler.hpp) that is one Newton step on L from
+// acceleration a, objective/backward_euler.hpp) that is one Newton step on L from
 //   a_0: x(a_0) = x_t on the free vertices (a_0 = -v_t/dt), the handles at their targets,
 //   H(a_0) d = -g(a_0),   a = a_0 + d,
 // with each stencil's Hessian projected to PSD (cloth/psd_projection.hpp), as those solvers

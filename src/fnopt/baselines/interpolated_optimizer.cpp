@@ -3,7 +3,7 @@
 #include <map>
 #include <utility>
 
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {

@@ -61,8 +61,9 @@ std::optional<SolveStatus> LbfgsOptimizer::step(SmoothProblem& problem, VecX& x,
   x_old_ = x;
   g_old_ = gradient;
   if (params_.line_search) {
+    const double feasible_first_step = problem.feasible_step(x, direction_, first_step);
     int evaluations = 0;
-    const bool moved = wolfe_line_search(problem, x, value, gradient, direction_, first_step, params_.wolfe,
+    const bool moved = wolfe_line_search(problem, x, value, gradient, direction_, feasible_first_step, params_.wolfe,
                                          line_search_, evaluations);
     evaluations_ += evaluations;
     if (!moved) return SolveStatus::LineSearchFailed;

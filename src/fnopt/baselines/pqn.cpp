@@ -59,7 +59,7 @@ std::optional<SolveStatus> PqnOptimizer::step(SmoothProblem& problem, VecX& x, d
   const double rounding = 1e-12 * (std::abs(value) + std::abs(start_value_));
   if (const auto stop =
           backtracking_line_search(problem, x, value, gradient, direction_, {value, slope, gradient.norm(), rounding},
-                                   params_.line_search, line_search_))
+                                   params_.line_search, line_search_, problem.feasible_step(x, direction_, 1.0)))
     return stop;
   add_pair(x_old_, g_old_, x, gradient);
   return std::nullopt;

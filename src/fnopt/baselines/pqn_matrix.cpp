@@ -1,6 +1,7 @@
 #include <fnopt/baselines/pqn_matrix.hpp>
 
 #include <fnopt/cloth/repulsion_term.hpp>
+#include <fnopt/contact/contact_term.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
@@ -28,8 +29,11 @@ PqnMatrix build_pqn_matrix(const BackwardEulerObjective& objective, const std::v
                            PqnMatrixKind kind, const VecX& x) {
   HessianAssembly assembly(free_index);
   std::vector<std::pair<const EnergyTerm*, int>> terms;
+  // The rest-state matrix holds the elastic terms only: the repulsion's and the obstacles' (docs/design.md
+  // §14) depend on where the cloth is.
   for (const auto& term : objective.terms())
-    if (term.get() != static_cast<const EnergyTerm*>(objective.repulsion()))
+    if (term.get() != static_cast<const EnergyTerm*>(objective.repulsion()) &&
+        term.get() != static_cast<const EnergyTerm*>(objective.contact()))
       terms.emplace_back(term.get(), term->register_hessian(assembly));
   assembly.finalize();
   assembly.set_zero();

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/linalg/sparse_cholesky.hpp>
 #include <fnopt/optimizer/step_problem.hpp>
 

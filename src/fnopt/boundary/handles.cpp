@@ -31,12 +31,12 @@ std::vector<std::pair<int, int>> preset_cells(const std::string& preset, int R, 
 }  // namespace
 
 std::vector<std::string> handle_preset_names() {
-  return {"corner", "diagonal", "mid-edge", "corner-center", "single-mid-edge", "single-center"};
+  return {"corner", "diagonal", "mid-edge", "corner-center", "single-mid-edge", "single-center", "none"};
 }
 
 HandleSet handle_preset(const Grid& grid, const std::string& preset) {
   const auto cells = preset_cells(preset, grid.rows, grid.cols);
-  require(!cells.empty(), "handles", "unknown preset '" + preset + "' (valid: " + joined(handle_preset_names()) + ")");
+  require(!cells.empty() || preset == "none", "handles", "unknown preset '" + preset + "' (valid: " + joined(handle_preset_names()) + ")");
   HandleSet set{preset, {}};
   for (const auto& [i, j] : cells) set.vertices.push_back(grid.index(i, j));
   return set;

@@ -15,7 +15,7 @@ struct HandleSet {
 
 // Presets: corner (the two top corners, handle 0 = (0,0), handle 1 = (0,C-1): the benchmark),
 // diagonal, mid-edge, corner-center, single-mid-edge, single-center (see handles.cpp for the
-// exact vertices). Throws Error("handles", "unknown preset ...") listing the valid names.
+// exact vertices), and none (a released cloth, no handle). Throws Error("handles", "unknown preset ...") listing the valid names.
 HandleSet handle_preset(const Grid& grid, const std::string& preset);
 
 // Explicit list "i,j;i,j;..." of (row, column) pairs. Throws Error("handle-vertices", "...")

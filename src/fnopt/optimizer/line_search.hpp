@@ -58,12 +58,15 @@ struct LineSearchScratch {
 // Moves a, value and gradient to the accepted trial and returns nothing; otherwise leaves them
 // and returns PrecisionLimit where no step could lower L by more than its rounding error
 // (-slope below it: a minimiser to the precision of L), LineSearchFailed elsewhere.
+// A trial of infinite or NaN value (inside an obstacle, docs/design.md §14) is rejected; the first
+// trial is `first_step`, below 1 where the caller knows that a full step enters an obstacle.
 // Problem: anything with double value_gradient(const VecX& a, VecX& gradient).
 template <class Problem>
 std::optional<SolveStatus> backtracking_line_search(Problem& problem, VecX& a, double& value, VecX& gradient,
                                                     const VecX& direction, const LineSearchStart& start,
-                                                    const BacktrackingParams& params, LineSearchScratch& scratch) {
-  double step = 1.0;
+                                                    const BacktrackingParams& params, LineSearchScratch& scratch,
+                                                    double first_step = 1.0) {
+  double step = first_step;
   for (int trial = 0; trial < params.max_trials; ++trial, step *= params.shrink) {
     scratch.trial = a + step * direction;
     const double trial_value = problem.value_gradient(scratch.trial, scratch.trial_gradient);
@@ -133,6 +136,8 @@ struct WolfeScratch {
 };
 
 // From a (value L(a), gradient g) along the descent direction d, first trial step `first_step`.
+// A trial of infinite or NaN value or slope (inside an obstacle, docs/design.md §14) is rejected:
+// it counts as too long, so the search zooms below it.
 // On success moves a, value and gradient to the accepted point and returns true; returns false
 // where no trial was finite and lower. `evaluations` counts the gradient evaluations made.
 template <class Problem>

@@ -2,8 +2,11 @@
 // What an inner optimizer sees of one time step: the backward-Euler objective with the handle
 // vertices eliminated. Gradients are masked (zero on fixed dofs), so any update built from them
 // leaves the prescribed handle accelerations untouched.
+// With obstacles (docs/design.md §14) it also says how far a move stays outside them
+// (feasible_fraction), which solve_step and the line searches use so that no iterate ever enters an
+// obstacle; without obstacles those calls cost nothing.
 #include <fnopt/boundary/dirichlet.hpp>
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 
 namespace fnopt {
 
@@ -30,10 +33,28 @@ class StepProblem {
   // Objective evaluations since construction (a cost measure independent of wall time).
   long evaluations() const { return evaluations_; }
 
+  // Whether the objective has obstacles.
+  bool has_contact() const { return objective_->contact() != nullptr; }
+  // The largest s in [0, 1] such that no vertex enters the contact thickness of an obstacle (posed at
+  // the step's end) on the straight path from x(a_from) to x(a_to) before s (contact/ccd.hpp); 1
+  // without obstacles.
+  double feasible_fraction(const VecX& a_from, const VecX& a_to);
+  // The first trial of a line search from a along `direction`: `step`, or pullback s step where only
+  // the fraction s of it is feasible.
+  double feasible_step(const VecX& a, const VecX& direction, double step);
+  // The share of the safe fraction a pulled-back iterate keeps (ContactParams::pullback).
+  double pullback() const;
+  // Moves the step's start a_0 to a feasible one: from the safe start a_s (every free vertex at x_t,
+  // or carried along by an obstacle that would sweep over it: ContactTerm::safe_start_positions; the
+  // handles prescribed) toward a_0, a = a_s + pullback s (a_0 - a_s) where only the fraction s of
+  // that move is feasible. No change without obstacles or where a_0 is reached safely.
+  void make_start_feasible(VecX& a);
+
  private:
   BackwardEulerObjective* objective_;
   const DirichletSet* dirichlet_;
   long evaluations_ = 0;
+  VecX x_from_, x_to_, scratch_;
 };
 
 }  // namespace fnopt

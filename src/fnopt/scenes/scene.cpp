@@ -1,5 +1,7 @@
 #include <fnopt/scenes/scene.hpp>
 
+#include <cmath>
+
 #include <fnopt/scenes/scene_checks.hpp>
 #include <fnopt/util/memory_limit.hpp>
 
@@ -12,8 +14,7 @@ HandleSet scene_handles(const Scene& scene, const Grid& grid) {
   return handle_preset(grid, scene.handles);
 }
 
-std::vector<Vec3> rest_positions_of(const Grid& grid, const HandleSet& handles) {
-  const VecX rest = grid.rest_positions();
+std::vector<Vec3> rest_positions_of(const VecX& rest, const HandleSet& handles) {
   std::vector<Vec3> positions;
   for (int v : handles.vertices) positions.push_back(vertex(rest, v));
   return positions;
@@ -43,6 +44,37 @@ void Scene::validate() const {
   // A named motion is cheap to build and checks itself against the handle count (rot_h1 needs
   // two handles); a CSV is only opened by resolve().
   if (trajectory.empty()) make_motion(motion, std::vector<Vec3>(handle_set.vertices.size()), speed);
+  require(std::isfinite(let_go), "let-go", "must be a time in seconds");
+  if (obstacles.empty()) return;
+  try {
+    contact.validate();
+  } catch (const Error& e) {  // named as the user set it (contact-thickness, not contact.thickness)
+    const std::string key = e.field() == "contact.range" ? "contact-range" : "contact-" + e.field().substr(8);
+    throw Error(key, e.problem());
+  }
+  const VecX rest = placed_rest_positions(grid, placement);
+  for (std::size_t k = 0; k < obstacles.size(); ++k) {
+    const Vec3 offset = obstacles[k].offset(0.0);
+    for (int v = 0; v < grid.vertex_count(); ++v)
+      if (!(obstacles[k].distance(vertex(rest, v), offset) > contact.thickness))
+        throw Error("obstacle", "obstacle " + std::to_string(k + 1) + ": the cloth starts inside it at vertex (" +
+                                    std::to_string(v / grid.cols) + "," + std::to_string(v % grid.cols) + ")");
+  }
+}
+
+VecX placed_rest_positions(const Grid& grid, Placement placement) {
+  VecX rest = grid.rest_positions();
+  if (placement == Placement::Vertical) return rest;
+  const double width = (grid.cols - 1) * grid.spacing, height = (grid.rows - 1) * grid.spacing;
+  for (int v = 0; v < grid.vertex_count(); ++v) {
+    const Vec3 p = vertex(rest, v);  // (j h, 0, -i h)
+    vertex(rest, v) = Vec3(p.x() - 0.5 * width, p.z() + 0.5 * height, 0.0);
+  }
+  return rest;
+}
+
+std::string placement_name(Placement placement) {
+  return placement == Placement::Horizontal ? "horizontal" : "vertical";
 }
 
 bool repulsion_enabled(const Scene& scene) {
@@ -87,11 +119,12 @@ Scene with_grid_units_applied(const Scene& scene) {
 
 ResolvedScene resolve(const Scene& scene) {
   scene.validate();
-  ResolvedScene setup{with_grid_units_applied(scene), Grid::make(scene.rows, scene.cols, scene.size), {}, nullptr};
+  ResolvedScene setup{with_grid_units_applied(scene), Grid::make(scene.rows, scene.cols, scene.size), {}, nullptr, {}};
+  setup.rest_positions = placed_rest_positions(setup.grid, scene.placement);
   setup.handles = scene_handles(scene, setup.grid);
   const int handle_count = static_cast<int>(setup.handles.vertices.size());
   setup.trajectory = scene.trajectory.empty()
-                         ? make_motion(scene.motion, rest_positions_of(setup.grid, setup.handles), scene.speed)
+                         ? make_motion(scene.motion, rest_positions_of(setup.rest_positions, setup.handles), scene.speed)
                          : load_trajectory_csv(scene.trajectory, handle_count, scene.speed);
   require(setup.trajectory->handle_count() == handle_count, "trajectory",
           "moves " + std::to_string(setup.trajectory->handle_count()) + " handle(s), the scene has " +

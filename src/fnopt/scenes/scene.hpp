@@ -10,12 +10,19 @@
 #include <fnopt/boundary/trajectory.hpp>
 #include <fnopt/cloth/grid.hpp>
 #include <fnopt/cloth/material.hpp>
+#include <fnopt/contact/contact_params.hpp>
+#include <fnopt/contact/obstacle.hpp>
 #include <fnopt/util/types.hpp>
 
 namespace fnopt {
 
 // Self-repulsion: on, off, or decided by the handles (see repulsion_enabled).
 enum class RepulsionMode { Auto, On, Off };
+
+// Where the cloth rests at t = 0: vertical, vertex (i, j) at (j h, 0, -i h) (docs/design.md §7), or
+// horizontal, in the x-y plane at z = 0 centred on the z axis: (j h - w/2, h_r/2 - i h, 0) with w and
+// h_r the cloth's width and height.
+enum class Placement { Vertical, Horizontal };
 
 struct Scene {
   int rows = 32;
@@ -37,11 +44,20 @@ struct Scene {
   // every resolution; resolve() rescales stretch and shear by (h/h0)^2, bend by (h/h0)^4 and
   // gravity by h/h0. 0 (the default): one physical cloth, whose grid-unit stiffness grows with N.
   int grid_units_of = 0;
+  Placement placement = Placement::Vertical;
+  // Every handle released at this time [s]: the steps that end after it leave the handle vertices
+  // free. Negative: never (the default).
+  double let_go = -1.0;
+  // Obstacles the cloth cannot enter and their contact settings (docs/design.md §14).
+  std::vector<Obstacle> obstacles;
+  ContactParams contact;
 
   // Checks every field; throws Error("<field>: <problem>") for the first bad one (rows < 3,
   // size, dt, frames <= 0, speed <= 0, non-finite gravity, material.*, unknown handle preset or
   // motion name, a handle-vertices entry that is malformed or off the grid, a rot_h1 motion with
-  // one handle). NaN fails every check. Does not open files: resolve() does.
+  // one handle, contact.*, a cloth that starts within the thickness of an obstacle: "obstacle 1:
+  // the cloth starts inside it at vertex (i,j)"). NaN fails every check. Does not open files:
+  // resolve() does.
   void validate() const;
 };
 
@@ -50,12 +66,17 @@ struct Scene {
 // the `fnopt simulate` flag names: res (rows = cols = N), rows, cols, size, grid-units-of, material, stretch,
 // shear, bend, density, damping, handles, handle-vertices, motion, trajectory, speed,
 // dt (a number or a fraction "1/60"), frames, gravity ("x,y,z"), repulsion (auto, true or
-// false; also 1/0, on/off), repulsion-stiffness (lambda [N/m]), repulsion-range (delta / h).
+// false; also 1/0, on/off), repulsion-stiffness (lambda [N/m]), repulsion-range (delta / h),
+// placement (vertical or horizontal), let-go (a time [s]), obstacle (one spec,
+// contact/obstacle_spec.hpp, or several separated by ';'; the one key that may repeat, each line
+// adding its obstacles, an empty value clearing them), contact-stiffness (kappa [N/m]),
+// contact-range (dhat / h), contact-thickness [m].
 // Settings apply in order on top of `base`, later ones winning: `material = NAME` resets all
 // material values to material_preset(NAME) and later stretch/shear/bend/density/damping lines
 // override single values; `handles` clears an earlier handle-vertices and `motion` an earlier
-// trajectory; an empty handle-vertices or trajectory clears it. A relative trajectory path, or
-// a material file next to the scene file, is taken relative to the scene file. Throws
+// trajectory; an empty handle-vertices or trajectory clears it. A relative trajectory path, an
+// obstacle's path= file, or a material file next to the scene file, is taken relative to the
+// scene file. Throws
 // Error("<path>:<line>: <key>: ...") for an unknown key, a malformed or out-of-range value
 // (the checks of Scene::validate that need no other field), and Error("scene", "...") for an
 // unreadable file.
@@ -89,7 +110,12 @@ struct ResolvedScene {
   Grid grid;
   HandleSet handles;
   std::shared_ptr<const HandleTrajectory> trajectory;
+  VecX rest_positions;  // the cloth at t = 0, as the scene places it
 };
+// The cloth's positions at t = 0 on `grid` as `placement` puts it.
+VecX placed_rest_positions(const Grid& grid, Placement placement);
+// "vertical" or "horizontal".
+std::string placement_name(Placement placement);
 // The scene with grid_units_of applied: its material and gravity rescaled to those physical
 // values that give this grid the grid-unit numbers of the N0 grid, and grid_units_of = 0. The
 // scene itself when grid_units_of is 0.

@@ -1,12 +1,14 @@
 // The scene file format and single settings: the `fnopt simulate` flag names as keys.
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
 #include <sstream>
 
+#include <fnopt/contact/obstacle_spec.hpp>
 #include <fnopt/scenes/scene.hpp>
 #include <fnopt/scenes/scene_checks.hpp>
 #include <fnopt/util/parse_text.hpp>
@@ -55,6 +57,12 @@ RepulsionMode repulsion_mode_value(const std::string& key, const std::string& va
   throw Error(key + ": expected auto, true or false, got '" + value + "'");
 }
 
+Placement placement_value(const std::string& key, const std::string& value) {
+  if (value == "vertical") return Placement::Vertical;
+  if (value == "horizontal") return Placement::Horizontal;
+  throw Error(key, "expected vertical or horizontal, got '" + value + "'");
+}
+
 // Each key parses its value, stores it, and checks the field it set.
 using Setter = std::function<void(Scene&, const std::string& key, const std::string& value)>;
 
@@ -66,6 +74,16 @@ const std::map<std::string, Setter>& setters() {
       try {
         s.material.validate();
       } catch (const Error& e) {  // named as the user set it (repulsion-stiffness, not _)
+        throw Error(key, e.problem());
+      }
+    };
+  };
+  auto contact_field = [](double ContactParams::*field) {
+    return [field](Scene& s, const std::string& key, const std::string& value) {
+      s.contact.*field = number_value(key, value);
+      try {
+        s.contact.validate();
+      } catch (const Error& e) {
         throw Error(key, e.problem());
       }
     };
@@ -148,6 +166,24 @@ const std::map<std::string, Setter>& setters() {
                        const std::string& value) { s.repulsion = repulsion_mode_value(key, value); }},
       {"repulsion-stiffness", material_field(&Material::repulsion_stiffness)},
       {"repulsion-range", material_field(&Material::repulsion_range)},
+      {"placement", [](Scene& s, const std::string& key,
+                       const std::string& value) { s.placement = placement_value(key, value); }},
+      {"let-go",
+       [](Scene& s, const std::string& key, const std::string& value) {
+         s.let_go = number_value(key, value);
+         require(std::isfinite(s.let_go) && s.let_go >= 0.0, key, "must be a time in seconds >= 0");
+       }},
+      {"obstacle",
+       [](Scene& s, const std::string&, const std::string& value) {
+         if (value.empty()) {
+           s.obstacles.clear();  // an empty line clears the obstacles before it
+           return;
+         }
+         for (Obstacle& o : parse_obstacles(value)) s.obstacles.push_back(std::move(o));
+       }},
+      {"contact-stiffness", contact_field(&ContactParams::stiffness)},
+      {"contact-range", contact_field(&ContactParams::range_fraction)},
+      {"contact-thickness", contact_field(&ContactParams::thickness)},
   };
   return table;
 }
@@ -170,6 +206,22 @@ std::string exact(double value) {
 std::string relative_to(const fs::path& directory, const std::string& path) {
   if (directory.empty() || fs::path(path).is_absolute()) return path;
   return (directory / path).string();
+}
+
+// The path= files of obstacle specs, each taken relative to `directory`.
+std::string obstacle_paths_relative_to(const fs::path& directory, const std::string& specs) {
+  if (directory.empty()) return specs;
+  std::string rebased;
+  std::size_t copied = 0;
+  for (std::size_t key = specs.find("path="); key != std::string::npos; key = specs.find("path=", key + 5)) {
+    if (key > 0 && specs[key - 1] != ' ' && specs[key - 1] != '\t') continue;
+    const std::size_t start = key + 5;
+    const std::size_t end = std::min(specs.find_first_of(" \t;", start), specs.size());
+    rebased.append(specs, copied, start - copied);
+    rebased += relative_to(directory, specs.substr(start, end - start));
+    copied = end;
+  }
+  return rebased + specs.substr(copied);
 }
 
 // A material value is a preset name or a file; only an existing file next to the scene file
@@ -195,7 +247,8 @@ void apply_scene_setting(Scene& scene, const std::string& key, const std::string
   require(setter != setters().end(), key, "unknown setting (valid: " + joined(setting_names()) + ")");
   const std::string text(trim(value));
   // An empty list or path clears it, so that a later file or flag can undo an earlier one.
-  require(!text.empty() || key == "handle-vertices" || key == "trajectory", key, "expected a value after '='");
+  require(!text.empty() || key == "handle-vertices" || key == "trajectory" || key == "obstacle", key,
+          "expected a value after '='");
   setter->second(scene, key, text);
   resolve_repulsion(scene);  // handles, handle-vertices, repulsion and material all bear on it
 }
@@ -224,10 +277,11 @@ Scene read_scene_lines(std::istream& in, const std::string& name, const fs::path
     const std::string key(trim(content.substr(0, equals)));
     std::string value(trim(content.substr(equals + 1)));
     if (key.empty()) throw Error(where + "missing key before '='");
-    if (!seen.emplace(key, number).second)
+    if (!seen.emplace(key, number).second && key != "obstacle")
       throw Error(where + key + ": given twice (first on line " + std::to_string(seen[key]) + ")");
     if (key == "trajectory" && !value.empty()) value = relative_to(directory, value);
     if (key == "material") value = material_relative_to(directory, value);
+    if (key == "obstacle") value = obstacle_paths_relative_to(directory, value);
     try {
       apply_scene_setting(base, key, value);
     } catch (const Error& e) {
@@ -283,6 +337,14 @@ std::string to_scene_text(const Scene& scene) {
       << "  # resolved: " << (repulsion_enabled(scene) ? "on" : "off") << "\n"
       << "repulsion-stiffness = " << exact(scene.material.repulsion_stiffness) << "\n"
       << "repulsion-range = " << exact(scene.material.repulsion_range) << "\n";
+  if (scene.placement != Placement::Vertical) out << "placement = " << placement_name(scene.placement) << "\n";
+  if (scene.let_go >= 0.0) out << "let-go = " << exact(scene.let_go) << "\n";
+  if (!scene.obstacles.empty()) {
+    for (const Obstacle& o : scene.obstacles) out << "obstacle = " << o.to_text() << "\n";
+    out << "contact-stiffness = " << exact(scene.contact.stiffness) << "\n"
+        << "contact-range = " << exact(scene.contact.range_fraction) << "\n"
+        << "contact-thickness = " << exact(scene.contact.thickness) << "\n";
+  }
   return out.str();
 }
 

@@ -32,7 +32,13 @@ const std::vector<std::string>& setting_order() {
                                                  "gravity",
                                                  "repulsion-stiffness",
                                                  "repulsion-range",
-                                                 "repulsion"};
+                                                 "repulsion",
+                                                 "placement",
+                                                 "let-go",
+                                                 "contact-stiffness",
+                                                 "contact-range",
+                                                 "contact-thickness",
+                                                 "obstacle"};
   return order;
 }
 

@@ -24,18 +24,27 @@ Simulator::Simulator(const ResolvedScene& scene, InnerOptimizer& optimizer, cons
     : scene_(scene),
       optimizer_(&optimizer),
       options_(options),
-      objective_(scene_.grid, scene_.scene.material, scene_.scene.dt, scene_.scene.gravity),
+      objective_(scene_.grid, scene_.scene.material, scene_.scene.dt, scene_.scene.gravity, scene_.scene.obstacles,
+                 scene_.scene.contact),
       dirichlet_(scene_.grid.vertex_count(), scene_.handles.vertices),
       problem_(objective_, dirichlet_),
-      x_(scene_.grid.rest_positions()),
+      x_(scene_.rest_positions.size() == scene_.grid.dof_count() ? scene_.rest_positions
+                                                                  : scene_.grid.rest_positions()),
       v_(VecX::Zero(scene_.grid.dof_count())),
       a_(VecX::Zero(scene_.grid.dof_count())) {}
 
 std::vector<Vec3> Simulator::trajectory_targets(double t) const {
   const int count = static_cast<int>(scene_.handles.vertices.size());
   std::vector<Vec3> targets(count);
-  for (int h = 0; h < count; ++h) targets[h] = scene_.trajectory->position(h, t);
+  for (int h = 0; h < count; ++h)
+    targets[h] = let_go_due(t) ? vertex(x_, scene_.handles.vertices[h]) : scene_.trajectory->position(h, t);
   return targets;
+}
+
+void Simulator::let_go_if_due(double step_end) {
+  if (released_ || !let_go_due(step_end)) return;
+  released_ = true;
+  dirichlet_ = DirichletSet(scene_.grid.vertex_count(), {});  // problem_ keeps pointing at it
 }
 
 void Simulator::check_running() const {
@@ -53,9 +62,11 @@ StepProblem& Simulator::prepare_step(VecX& start, const std::vector<Vec3>& handl
               std::to_string(handle_positions.size()));
   for (const Vec3& p : handle_positions) require(p.allFinite(), "handles", "a handle position is not finite");
   targets_ = handle_positions;
-  objective_.begin_step(x_, v_);
+  let_go_if_due(time_ + scene_.scene.dt);
+  objective_.begin_step(x_, v_, time_);
   if (!options_.warm_start) a_.setZero();
-  dirichlet_.prescribe(a_, x_, v_, targets_, scene_.scene.dt);
+  dirichlet_.prescribe(a_, x_, v_, released_ ? std::vector<Vec3>{} : targets_, scene_.scene.dt);
+  problem_.make_start_feasible(a_);  // outside every obstacle, also for an optimizer of one's own
   start = a_;
   return problem_;
 }

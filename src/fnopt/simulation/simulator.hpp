@@ -9,7 +9,7 @@
 #include <vector>
 
 #include <fnopt/boundary/dirichlet.hpp>
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
 #include <fnopt/optimizer/step_problem.hpp>
 #include <fnopt/scenes/scene.hpp>
@@ -34,16 +34,20 @@ class Simulator {
 
   // The next step's problem, for an optimizer of one's own: the objective at the current state
   // with the handles prescribed at `handle_positions` (default: the trajectory's at t + dt), and
-  // the start a_0 (0 on the free dofs, the prescribed handle accelerations). Valid until the next
-  // call that moves the state.
+  // the start a_0 (0 on the free dofs, the prescribed handle accelerations; with obstacles pulled
+  // back outside them, StepProblem::make_start_feasible). Valid until the next call that moves the
+  // state.
   StepProblem& prepare_step(VecX& start);
   StepProblem& prepare_step(VecX& start, const std::vector<Vec3>& handle_positions);
   // Ends the step prepared last with the acceleration `a` (its handle dofs are taken from the
   // prescription): v += dt a, x += dt v. Returns the step's record (no solve: iterations 0).
   StepRecord commit(const VecX& a);
 
-  // The handles' positions the scene's trajectory prescribes at time t.
+  // The handles' positions the scene's trajectory prescribes at time t; past the scene's let-go
+  // time, where the handles are free, their vertices' current positions.
   std::vector<Vec3> trajectory_targets(double t) const;
+  // Whether the handles have been let go (Scene::let_go): their vertices are free.
+  bool handles_released() const { return released_; }
 
   const VecX& positions() const { return x_; }
   const VecX& velocities() const { return v_; }
@@ -62,6 +66,9 @@ class Simulator {
 
  private:
   StepRecord finish(const VecX& a, const InnerSolveResult& solve, double wall_ms);
+  // Frees the handle vertices for a step ending at `step_end` after the scene's let-go time.
+  void let_go_if_due(double step_end);
+  bool let_go_due(double step_end) const { return scene_.scene.let_go >= 0.0 && step_end > scene_.scene.let_go; }
   void check_running() const;
 
   ResolvedScene scene_;
@@ -74,6 +81,7 @@ class Simulator {
   std::vector<Vec3> targets_;  // the handles' positions of the step prepared last
   double time_ = 0.0;
   int steps_ = 0;
+  bool released_ = false;
   std::string divergence_;
 };
 

@@ -4,7 +4,7 @@
 #include <map>
 #include <sstream>
 
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/util/error.hpp>
 

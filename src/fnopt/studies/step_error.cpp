@@ -33,7 +33,8 @@ StepErrorBench::StepErrorBench(const Scene& scene, const TrajectoryFrames& refer
     require(std::abs(reference.times[t] - t * dt_) <= 1e-6 * dt_ * std::max(1, t), "step error",
             "the reference must hold a frame every time step (an fnopt rollout of the same scene)");
 
-  objective_ = std::make_unique<BackwardEulerObjective>(grid_, setup.scene.material, scene.dt, setup.scene.gravity);
+  objective_ = std::make_unique<BackwardEulerObjective>(grid_, setup.scene.material, scene.dt, setup.scene.gravity,
+                                                        setup.scene.obstacles, setup.scene.contact);
   dirichlet_ = DirichletSet(grid_.vertex_count(), setup.handles.vertices);
   problem_ = std::make_unique<StepProblem>(*objective_, dirichlet_);
   const int handle_count = static_cast<int>(setup.handles.vertices.size());
@@ -55,7 +56,8 @@ StepErrorBench::StepErrorBench(const Scene& scene, const TrajectoryFrames& refer
     state.v =
         t > 0 ? VecX((state.x - reference.positions[t - 1].cast<double>()) / dt_) : VecX(VecX::Zero(grid_.dof_count()));
     for (int h = 0; h < handle_count; ++h) state.targets.push_back(setup.trajectory->position(h, (t + 1) * dt_));
-    objective_->begin_step(state.x, state.v);
+    state.time = t * dt_;
+    objective_->begin_step(state.x, state.v, state.time);
     VecX a = VecX::Zero(grid_.dof_count());
     dirichlet_.prescribe(a, state.x, state.v, state.targets, dt_);
     const long cg_products_before = newton.counters().cg_iterations;
@@ -76,7 +78,7 @@ StepErrorSummary StepErrorBench::evaluate(InnerOptimizer& method, const InnerSol
   std::vector<double> errors;
   for (std::size_t k = 0; k < states_.size(); ++k) {
     const State& state = states_[k];
-    objective_->begin_step(state.x, state.v);
+    objective_->begin_step(state.x, state.v, state.time);
     VecX a = VecX::Zero(grid_.dof_count());
     dirichlet_.prescribe(a, state.x, state.v, state.targets, dt_);
     const InnerSolveResult result = solve_step(method, *problem_, a, options);

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include <fnopt/boundary/dirichlet.hpp>
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
 #include <fnopt/scenes/scene.hpp>
@@ -70,6 +70,7 @@ class StepErrorBench {
  private:
   struct State {
     VecX x, v;
+    double time = 0.0;  // t of the step's start (poses moving obstacles)
     std::vector<Vec3> targets;
     double newton_value = 0.0;
     int newton_negative_eigenvalues = -1;

@@ -16,7 +16,7 @@
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/baselines/pqn.hpp>
 #include <fnopt/boundary/dirichlet.hpp>
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/learned/proposal_rule.hpp>
 
 #include <torch/torch.h>

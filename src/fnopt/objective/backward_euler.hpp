@@ -12,6 +12,8 @@
 // that changes its Hessian pattern, the next hessian() builds a new sparse matrix with a new
 // hessian_pattern_id(), unique across all objectives of the process, so a cache keyed on it,
 // like NewtonOptimizer's symbolic analysis, sees every pattern change.
+// Obstacles (docs/design.md §14) add the contact term (contact/contact_term.hpp), built only when
+// there are obstacles: without them the objective is the same code and arithmetic as before.
 // Not thread-safe: evaluation reuses internal buffers (no allocation per call).
 #include <memory>
 #include <vector>
@@ -20,14 +22,20 @@
 #include <fnopt/cloth/grid.hpp>
 #include <fnopt/cloth/hessian_assembly.hpp>
 #include <fnopt/cloth/material.hpp>
+#include <fnopt/contact/contact_params.hpp>
+#include <fnopt/contact/obstacle.hpp>
 
 namespace fnopt {
 
+class ContactTerm;
 class RepulsionTerm;
 
 class BackwardEulerObjective {
  public:
   BackwardEulerObjective(const Grid& grid, const Material& material, double dt, const Vec3& gravity);
+  // With obstacles: the contact term when `obstacles` is not empty (none otherwise).
+  BackwardEulerObjective(const Grid& grid, const Material& material, double dt, const Vec3& gravity,
+                         std::vector<Obstacle> obstacles, const ContactParams& contact = {});
 
   const Grid& grid() const { return grid_; }
   // What the objective was built from (an optimizer may build the same step on another grid).
@@ -40,11 +48,15 @@ class BackwardEulerObjective {
   const std::vector<std::unique_ptr<EnergyTerm>>& terms() const { return terms_; }
   // The self-repulsion term, or null when the material does not enable it.
   const RepulsionTerm* repulsion() const { return repulsion_; }
+  // The contact term, or null without obstacles.
+  const ContactTerm* contact() const { return contact_; }
   // Changes whenever hessian() builds a new sparsity pattern; unique across objectives.
   long hessian_pattern_id() const { return pattern_id_; }
 
-  // Starts a step from positions x_t and velocities v_t (and freezes the repulsion pairs).
-  void begin_step(const VecX& x, const VecX& v);
+  // Starts a step from positions x_t and velocities v_t at time t [s] (freezes the repulsion pairs;
+  // poses the obstacles at t and t + dt and freezes their friction pairs).
+  void begin_step(const VecX& x, const VecX& v, double time = 0.0);
+  double start_time() const { return time_; }
   const VecX& start_positions() const { return x_start_; }
   const VecX& start_velocities() const { return v_start_; }
 
@@ -74,7 +86,8 @@ class BackwardEulerObjective {
   };
   HessianPair hessian_pair(const VecX& a, const std::vector<int>& free_index);
 
-  // The potential P(x) (elastic + gravity, zero at height 0) and the kinetic energy of v.
+  // The potential P(x) (elastic + gravity, zero at height 0; with obstacles their barrier, not the
+  // step's friction potential) and the kinetic energy of v.
   double potential(const VecX& x) const;
   double kinetic(const VecX& v) const;
 
@@ -95,6 +108,8 @@ class BackwardEulerObjective {
   std::unique_ptr<HessianAssembly> assembly_;
   std::vector<int> term_handles_;
   RepulsionTerm* repulsion_ = nullptr;  // one of terms_
+  ContactTerm* contact_ = nullptr;      // one of terms_
+  double time_ = 0.0;
   long assembled_generation_ = -1;      // repulsion pattern generation of assembly_
   long pattern_id_ = 0;
 };

@@ -8,7 +8,7 @@
 #include <random>
 
 #include <fnopt/boundary/dirichlet.hpp>
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/cloth/cloth_terms.hpp>
 #include <fnopt/cloth/grid_units.hpp>
 #include <fnopt/cloth/lumped_mass.hpp>

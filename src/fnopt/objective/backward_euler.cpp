@@ -1,4 +1,4 @@
-#include <fnopt/cloth/backward_euler.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -7,6 +7,7 @@
 #include <fnopt/cloth/cloth_terms.hpp>
 #include <fnopt/cloth/lumped_mass.hpp>
 #include <fnopt/cloth/repulsion_term.hpp>
+#include <fnopt/contact/contact_term.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
@@ -29,11 +30,24 @@ BackwardEulerObjective::BackwardEulerObjective(const Grid& grid, const Material&
   begin_step(grid.rest_positions(), VecX::Zero(grid.dof_count()));
 }
 
-void BackwardEulerObjective::begin_step(const VecX& x, const VecX& v) {
+BackwardEulerObjective::BackwardEulerObjective(const Grid& grid, const Material& material, double dt,
+                                               const Vec3& gravity, std::vector<Obstacle> obstacles,
+                                               const ContactParams& contact)
+    : BackwardEulerObjective(grid, material, dt, gravity) {
+  if (obstacles.empty()) return;
+  auto term = std::make_unique<ContactTerm>(grid, std::move(obstacles), contact);
+  contact_ = term.get();
+  terms_.push_back(std::move(term));
+  begin_step(x_start_, v_start_);
+}
+
+void BackwardEulerObjective::begin_step(const VecX& x, const VecX& v, double time) {
   x_start_ = x;
   v_start_ = v;
   x_inertial_ = x + dt_ * v;
+  time_ = time;
   if (repulsion_) repulsion_->begin_step(x_start_, x_inertial_);
+  if (contact_) contact_->begin_step(x_start_, time, dt_);
 }
 
 double BackwardEulerObjective::value(const VecX& a) const {
@@ -128,7 +142,8 @@ double BackwardEulerObjective::residual_acceleration(const VecX& gradient) const
 
 double BackwardEulerObjective::potential(const VecX& x) const {
   double total = 0.0;
-  for (const auto& term : terms_) total += term->energy(x);
+  for (const auto& term : terms_)
+    total += term.get() == static_cast<const EnergyTerm*>(contact_) ? contact_->barrier_energy(x) : term->energy(x);
   for (Eigen::Index k = 0; k < masses_.size(); ++k) total -= masses_[k] * gravity_.dot(x.segment<3>(3 * k));
   return total;
 }

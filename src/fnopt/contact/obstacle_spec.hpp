@@ -1,0 +1,28 @@
+#pragma once
+// One obstacle written as text (docs/design.md §14), as scene files, settings and rollout files
+// store it:
+//   sphere  center=X,Y,Z radius=R
+//   plane   point=X,Y,Z normal=X,Y,Z
+//   box     center=X,Y,Z size=SX,SY,SZ rounding=R
+//   capsule a=X,Y,Z b=X,Y,Z radius=R
+// each optionally followed by friction=MU and by motion=NAME or path=FILE.csv (obstacle.hpp).
+// Obstacle::to_text() writes the canonical form, which parses back to the same obstacle.
+#include <string>
+#include <vector>
+
+#include <fnopt/contact/obstacle.hpp>
+
+namespace fnopt {
+
+// Throws Error("obstacle", "<problem>") with one line naming it: an unknown shape or key, a
+// missing or repeated key, a number that is not finite, a non-positive radius, a path file with a
+// NaN (obstacle.hpp).
+Obstacle parse_obstacle(const std::string& spec);
+
+// Several specs separated by ';' (a named setting's one value); empty pieces are skipped.
+std::vector<Obstacle> parse_obstacles(const std::string& specs);
+
+// The canonical specs joined by "; ", which parse_obstacles reads back.
+std::string obstacles_text(const std::vector<Obstacle>& obstacles);
+
+}  // namespace fnopt

@@ -1,0 +1,42 @@
+#include <fnopt/optimizer/step_problem.hpp>
+
+#include <fnopt/contact/contact_term.hpp>
+
+namespace fnopt {
+
+double StepProblem::feasible_fraction(const VecX& a_from, const VecX& a_to) {
+  const ContactTerm* contact = objective_->contact();
+  if (!contact) return 1.0;
+  objective_->trial_positions(a_from, x_from_);
+  objective_->trial_positions(a_to, x_to_);
+  return contact->safe_fraction(x_from_, x_to_);
+}
+
+double StepProblem::feasible_step(const VecX& a, const VecX& direction, double step) {
+  if (!has_contact()) return step;
+  scratch_ = a + step * direction;
+  const double fraction = feasible_fraction(a, scratch_);
+  return fraction < 1.0 ? pullback() * fraction * step : step;
+}
+
+double StepProblem::pullback() const {
+  const ContactTerm* contact = objective_->contact();
+  return contact ? contact->params().pullback : 1.0;
+}
+
+void StepProblem::make_start_feasible(VecX& a) {
+  const ContactTerm* contact = objective_->contact();
+  if (!contact) return;
+  const double dt2 = objective_->dt() * objective_->dt();
+  const VecX& x_start = objective_->start_positions();
+  contact->safe_start_positions(x_start, x_to_);
+  scratch_ = a;  // the handles keep their prescribed accelerations
+  for (int v = 0; v < dirichlet_->vertex_count(); ++v)
+    if (dirichlet_->free_index()[v] >= 0)
+      scratch_.segment<3>(3 * v) =
+          (x_to_.segment<3>(3 * v) - x_start.segment<3>(3 * v) - objective_->dt() * objective_->start_velocities().segment<3>(3 * v)) / dt2;
+  const double fraction = feasible_fraction(scratch_, a);
+  if (fraction < 1.0) a = scratch_ + pullback() * fraction * (a - scratch_);
+}
+
+}  // namespace fnopt
