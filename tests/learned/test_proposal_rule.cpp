@@ -104,7 +104,7 @@ TEST(ProposalRule, PqnDirectionKeepsPqnsPairWithoutMovingTheIterate) {
   rule.add_pqn_direction(step.problem, step.a, step.gradient);
   EXPECT_EQ(step.a, start);
   ASSERT_EQ(rule.pairs().size(), 1);
-  PqnFactorCache cache(PqnMatrixKind::Isotropic);
+  PqnFactorCache cache;
   VecX d = -step.gradient;
   cache.prepare(step.problem).solve_in_place(d);
   EXPECT_LT((rule.pairs().s(0) - d).norm(), 1e-12 * d.norm());

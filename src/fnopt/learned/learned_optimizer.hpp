@@ -33,15 +33,13 @@ class LearnedOptimizer final : public InnerOptimizer {
   std::optional<SolveStatus> iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) override;
 
   // The recurrent state after the last iteration: its step scale s is what the scale head has
-  // made of the scene so far (a diagnostic: docs/results.md, the step scale's path).
+  // made of the scene so far (a diagnostic, docs/design.md §4).
   const LearnedState& state() const { return state_; }
 
  private:
   // Whether the objective's step starts where the previous step (started at previous_start_)
   // ends, to round-off.
   bool continues_previous_step(const BackwardEulerObjective& objective) const;
-  // params, with pqn_input set when the model reads pqn's direction (after checking the model).
-  LearnedParams with_model_inputs(LearnedParams params, const FNO2d& model) const;
   static constexpr double kContinuationTolerance = 1e-12;
 
   FNO2d model_;

@@ -32,7 +32,6 @@ LearnedParams pool_rule(const PoolOptions& options) {
   p.safeguard = options.subspace > 0;
   p.subspace = options.subspace;
   p.pqn_direction = options.pqn_direction;
-  p.pqn_input = options.pqn_input;
   return p;
 }
 

@@ -151,15 +151,8 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
           stderr, "fnopt train: the loss scores each update %s\n",
           options.train.score_after_subspace_step ? "where the rule ends, past the subspace step" : "at the proposal");
     }
-    if (takes_pqn_direction(options.train.model))
-      std::fprintf(stderr, "fnopt train: the model reads pqn's direction -A^-1 g as an input field\n");
-    if (takes_grid_size(options.train.model))
-      std::fprintf(stderr, "fnopt train: the model reads the grid's size, log2((R - 1)/31) and log2((C - 1)/31)\n");
     if (!options.train.initial_model.empty() && !resuming)
-      std::fprintf(stderr, "fnopt train: starting from the weights of %s%s\n", options.train.initial_model.c_str(),
-                   load_fno_options(options.train.initial_model).in_channels() != options.train.model.in_channels()
-                       ? " (widened: the new inputs' weights zero)"
-                       : "");
+      std::fprintf(stderr, "fnopt train: starting from the weights of %s\n", options.train.initial_model.c_str());
   }
   std::unique_ptr<RolloutValidation> validation;
   if (root && options.validation) {
