@@ -153,7 +153,7 @@ void bench_newton(const BenchFlags& flags, int threads) {
   std::printf(" %10s %9s %9s %9s %10s %9s %9s %9s\n", "max ms", "iters", "max it", "builds/st", "cg it/st", "neg curv",
               "rejected", "converged");
   // Rounds over the resolutions rather than each resolution's runs back to back: a slow phase of the
-  // machine then touches every resolution's runs alike (docs/results.md, "The 64² goal and this machine").
+  // machine then touches every resolution's runs alike (docs/design.md §9).
   const std::vector<int> resolutions = parse_resolutions(flags.resolutions);
   std::vector<std::vector<NewtonBenchRun>> runs(resolutions.size());
   for (int round = 0; round < flags.repeat; ++round)

@@ -36,12 +36,6 @@ void add_method_setting_flags(CLI::App& command, OptimizerChoice& choice) {
       .add_option("--pqn-history", choice.pqn_history,
                   "pqn and fnopt-pqn: curvature pairs kept (0: plain -A^-1 g steps)")
       ->capture_default_str();
-  command
-      .add_option(
-          "--pqn-matrix", choice.pqn_matrix,
-          "pqn and fnopt-pqn: the prefactored matrix, isotropic (projective-dynamics-like, rotation invariant) or "
-          "rest-hessian (the rest pose's Hessian as it is)")
-      ->capture_default_str();
 }
 
 }  // namespace fnopt::app

@@ -8,7 +8,7 @@
 namespace fnopt::app {
 
 void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice);
-// The settings of particular methods (--model, --pqn-history, --pqn-matrix), for commands
+// The settings of particular methods (--model, --pqn-history), for commands
 // that choose the methods themselves (compare).
 void add_method_setting_flags(CLI::App& command, OptimizerChoice& choice);
 // "default 1000, to a residual acceleration of 0.1 m/s^2": the reference's budget and stop,

@@ -31,9 +31,6 @@ struct TrainFlags {
   int threads = 0;  // the default: set_thread_count
   bool resume = false;
   int64_t width = 32, layers = 4, modes = 8, lifting = 64, projection = 32;
-  bool combined = false;
-  bool pqn_input = false;        // the model reads pqn's direction (learned_update.hpp)
-  bool grid_size_input = false;  // the model reads the grid's size (learned_update.hpp)
   ValidationOptions validation;
   bool validate = false;  // --validate-res given
   int validate_every = 500;
@@ -49,16 +46,14 @@ void run_train(TrainFlags& flags) {
   require(flags.modes >= 2 && flags.modes % 2 == 0, "modes", "must be a positive even number");
   require(flags.lifting >= 1, "lifting", "must be positive");
   require(flags.projection >= 1, "projection", "must be positive");
-  // fnopt-ss-pqn's rule in the pool and in the validation alike: a model trained for it is judged by it.
+  // fnopt's rule in the pool and in the validation alike: a model trained for it is judged by it.
   flags.validation.pqn_direction = flags.options.pool.pqn_direction;
   flags.options.model.width(flags.width)
       .fourier_layers(flags.layers)
       .modes_x(flags.modes)
       .modes_y(flags.modes)
       .lifting_channels(flags.lifting)
-      .projection_channels(flags.projection)
-      .in_channels(flags.combined ? 9 : 3)
-      .out_channels(flags.combined ? 3 : 1);
+      .projection_channels(flags.projection);
   if (!flags.options.initial_model.empty()) {  // the shape is the file's
     const FNO2dOptions given = load_fno_options(flags.options.initial_model);
     check_learned_model(given, flags.options.initial_model);
@@ -67,15 +62,8 @@ void run_train(TrainFlags& flags) {
         .modes_x(given.modes_x())
         .modes_y(given.modes_y())
         .lifting_channels(given.lifting_channels())
-        .projection_channels(given.projection_channels())
-        .in_channels(given.in_channels())
-        .out_channels(given.out_channels());
+        .projection_channels(given.projection_channels());
   }
-  // --pqn-input and --grid-size-input widen the shape (the --init model too: MetaTrainer widens its weights alike).
-  if (flags.pqn_input && !takes_pqn_direction(flags.options.model))
-    flags.options.model = pqn_direction_input_options(flags.options.model);
-  if (flags.grid_size_input && !takes_grid_size(flags.options.model))
-    flags.options.model = grid_size_input_options(flags.options.model);
   require(!flags.validate || flags.options.objective == TrainObjective::Energy, "validate-res",
           "validates fnopt-ss rollouts, not a probe (--objective probe): compare fnopt-pqn with --model instead");
   for (const std::string& text : flags.ranges) {
@@ -164,7 +152,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->option_text("{model,energy}=model");
   command->add_option("--init", o.initial_model,
                       "start a fresh run from this model's weights (its shape replaces --width, --layers, --modes, "
-                      "--lifting, --projection, --combined; --pqn-input widens it), e.g. models/fnopt-32.pt");
+                      "--lifting, --projection), e.g. models/fnopt-32.pt");
   command->add_option("--batch", o.batch, "environments per step")->capture_default_str();
   command->add_option("--envs", o.pool.environments, "environments in the pool")->capture_default_str();
   command
@@ -219,16 +207,8 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->option_text("{proposal,subspace-step}=proposal");
   command->add_flag("--pqn-direction", o.pool.pqn_direction,
                     "with --subspace K: the pool also puts pqn's preconditioned gradient -A^-1 g in the subspace "
-                    "before each proposal, as fnopt-ss-pqn does, and the validation runs fnopt-ss-pqn: the model "
+                    "before each proposal, as fnopt does, and the validation runs fnopt: the model "
                     "trains for the directions that complement pqn's");
-  command->add_flag("--pqn-input", flags->pqn_input,
-                    "the model also reads pqn's direction -A^-1 g as an input field (4 inputs, or 12 with "
-                    "--combined), which holds the grid's stiffness; with --init, the file's model is widened with "
-                    "zero weights for it, so training starts from what that model proposes");
-  command->add_flag("--grid-size-input", flags->grid_size_input,
-                    "the model also reads the grid's size as two constant input fields, log2((R - 1)/31) and "
-                    "log2((C - 1)/31), so that one model can act differently on coarse and fine grids (train with "
-                    "several --res); with --init, the file's model is widened with zero weights for them");
   command
       ->add_option("--reference-pqn-iters", o.pool.reference_pqn_iterations,
                    "the reference L* each time step's loss is measured against: 0, Newton's converged step (the "
@@ -242,9 +222,6 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--modes", flags->modes, "Fourier modes per axis")->capture_default_str();
   command->add_option("--lifting", flags->lifting, "lifting MLP width")->capture_default_str();
   command->add_option("--projection", flags->projection, "projection MLP width")->capture_default_str();
-  command->add_flag("--combined", flags->combined,
-                    "one sample per environment with x, y, z as channels (9 in, 3 out) instead of FNOpt's three "
-                    "single-channel samples");
   command->add_option("--checkpoint-every", flags->checkpoint_every, "steps between checkpoints")
       ->capture_default_str();
   command->add_option("--minutes", flags->minutes, "stop (with a checkpoint) after this many minutes");

@@ -102,7 +102,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->capture_default_str();
   add_validation_scene_flags(*command, flags->validation, "");
   command->add_flag("--pqn-direction", flags->validation.pqn_direction,
-                    "score with fnopt-ss-pqn's rule (pqn's direction in the subspace), for models trained for it");
+                    "score with fnopt's rule (pqn's direction in the subspace), for models trained for it");
   add_threads_flag(*command, flags->threads);
   command->callback([flags] { run_validate(*flags); });
 });

@@ -86,7 +86,6 @@ const std::vector<BadInput> kCases = {
     {S + "--threads -1", "--threads: must lie in [1,"},
     {S + "--threads 1000", "--threads: must lie in [1,"},
     {S + "--optimizer fnopt-interp500", "optimizer: 'fnopt-interp500' solves on a grid with 500 vertices"},
-    {S + "--pqn-matrix nope", "pqn-matrix: unknown matrix 'nope'"},
     {S + "--pqn-history -1", "pqn-history: must lie in [0, 1000]"},
     {S + "--optimizer fnopt-ss --model {dir}/missing.pt", "{dir}/missing.pt: no such FNO weights file"},
     {S + "--optimizer fnopt-ss --model {dir}/dup.mat", "{dir}/dup.mat: not an fnopt FNO weights file"},

@@ -102,7 +102,7 @@ TEST(Cli, SimulateRunsPqnByDefaultAndTheShippedModelOneFlagAway) {
   const auto out = (tmp.path() / "default.h5").string();
   const CommandResult r = run_fnopt("simulate --res 16 --frames 10 --out " + out);
   EXPECT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("pqn: history=5 matrix=isotropic"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("pqn: history=5 (H0"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("pqn: 10/10 frames"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("10.00 iterations/step"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("finite"), std::string::npos) << r.output;
@@ -137,7 +137,8 @@ TEST(Cli, SimulateIsReproducibleAcrossProcesses) {
 }
 
 // One default for every subcommand: $OMP_NUM_THREADS where it is set, else one thread (OpenMP's
-// spinning threads made a 2-thread default 93x slower beside one other job on 2 cores). Loading a
+// spinning threads made a 2-thread default many times slower beside one other job on 2 cores;
+// docs/design.md §9). Loading a
 // model initialises LibTorch, which resets OpenMP's count: the learned optimizer is the case to
 // check.
 TEST(Cli, ThreadsDefaultToOmpNumThreadsOrOne) {

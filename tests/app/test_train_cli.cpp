@@ -200,54 +200,14 @@ TEST(TrainCli, ThePqnDirectionTrainsAndValidatesWithFnoptSsPqn) {
   const CommandResult r = run_fnopt("train --out " + dir.string() +
                                     " --steps 10 --subspace 4 --score subspace-step --pqn-direction" + kTinyRun);
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("the pool takes each proposal as fnopt-ss-pqn does: pqn's direction -A^-1 g, then the "
+  EXPECT_NE(r.output.find("the pool takes each proposal as fnopt does: pqn's direction -A^-1 g, then the "
                           "subspace step over the last 4 directions"),
             std::string::npos)
       << r.output;
-  EXPECT_NE(r.output.find("validation every 10 steps: fnopt-ss-pqn N=10"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("validation every 10 steps: fnopt N=10"), std::string::npos) << r.output;
   const auto rows = validation_rows(dir);
   ASSERT_EQ(rows.size(), 2u) << read_text(dir / "validation.csv");
-  EXPECT_EQ(rows[1].rfind("10,12,xy_v2+rot_h0,12,fnopt-ss-pqn,10,", 0), 0u) << rows[1];
-}
-
-// --pqn-input: a fresh model with 4 inputs, or the --init model widened; the run's model file reads
-// pqn's direction and runs as fnopt-ss.
-TEST(TrainCli, APqnInputModelIsWidenedFromItsInitialModelAndRunsAsFnoptSs) {
-  const fnopt::testing::TempDir tmp;
-  const auto first = tmp.path() / "first", widened = tmp.path() / "widened";
-  ASSERT_EQ(run_fnopt("train --out " + first.string() + " --steps 2" + kTinyModel).status, 0);
-  const CommandResult r =
-      run_fnopt("train --out " + widened.string() + " --steps 4 --pqn-input --subspace 4 --init " +
-                (first / "model.pt").string() + " --res 8 --envs 4 --batch 2 --threads 1 --checkpoint-every 10");
-  ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find(" pqn_input "), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("the model reads pqn's direction -A^-1 g as an input field"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("model.pt (widened: the new inputs' weights zero)"), std::string::npos) << r.output;
-  const CommandResult sim = run_fnopt("simulate --res 12 --frames 3 --optimizer fnopt-ss --threads 1 --model " +
-                                      (widened / "model.pt").string() + " --out " + (tmp.path() / "sim.h5").string());
-  ASSERT_EQ(sim.status, 0) << sim.output;
-  const CommandResult pqn = run_fnopt("simulate --res 12 --frames 3 --optimizer fnopt-pqn --threads 1 --model " +
-                                      (widened / "model.pt").string() + " --out " + (tmp.path() / "pqn.h5").string());
-  EXPECT_NE(pqn.status, 0);
-  EXPECT_NE(pqn.output.find("reads pqn's direction as an input"), std::string::npos) << pqn.output;
-}
-
-// --grid-size-input: the --init model widened with the grid's size fields, trained on two grids; the
-// run's model runs as fnopt-ss on a third.
-TEST(TrainCli, AGridSizeInputModelIsWidenedFromItsInitialModelAndRunsOnAnyGrid) {
-  const fnopt::testing::TempDir tmp;
-  const auto first = tmp.path() / "first", widened = tmp.path() / "widened";
-  ASSERT_EQ(run_fnopt("train --out " + first.string() + " --steps 2" + kTinyModel).status, 0);
-  const CommandResult r =
-      run_fnopt("train --out " + widened.string() + " --steps 4 --grid-size-input --init " +
-                (first / "model.pt").string() + " --res 8,12 --envs 4 --batch 2 --threads 1 --checkpoint-every 10");
-  ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find(" grid_size_input "), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("the model reads the grid's size"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("model.pt (widened: the new inputs' weights zero)"), std::string::npos) << r.output;
-  const CommandResult sim = run_fnopt("simulate --res 10 --frames 3 --optimizer fnopt-ss --threads 1 --model " +
-                                      (widened / "model.pt").string() + " --out " + (tmp.path() / "sim.h5").string());
-  EXPECT_EQ(sim.status, 0) << sim.output;
+  EXPECT_EQ(rows[1].rfind("10,12,xy_v2+rot_h0,12,fnopt,10,", 0), 0u) << rows[1];
 }
 
 TEST(TrainCli, TheProbeObjectiveStartsFromAModelAndLogsPqnAlone) {

@@ -97,8 +97,7 @@ TEST(NewtonSolver, ConvergesQuadraticallyOnAStiffStep) {
   for (double n : r) std::printf(" %.2e", n / r.front());
   std::printf("\n");
   // Newton's local convergence: once ||g|| < 1e-2 ||g_0||, every step gains at least three
-  // orders of magnitude (measured: 7.4e-4 -> 7.0e-7 -> 9.1e-12), and the trust region never
-  // stood in the way.
+  // orders of magnitude, and the trust region never stood in the way.
   std::size_t k = 0;
   while (r[k] > 1e-2 * r.front()) ++k;
   EXPECT_LE(r.size() - 1 - k, 3u);
@@ -177,31 +176,21 @@ class ReusedFactorProducts final : public InnerOptimizer {
 
 // CG on P's factor from an earlier iterate stops once it is stale (refactor_cg_iterations + 1
 // products) and takes the truncated step. On the benchmark scene at 24^2 (its handles start moving at
-// frame 30, where the previous step's factor needs more): every step converges, the two rollouts end
-// in the same state, and CG takes fewer products.
-TEST(NewtonSolver, CgStopsOnAStaleFactorAndTheRolloutStaysTheSame) {
-  NewtonParams untruncated;
-  untruncated.truncate_cg_on_stale_factor = false;
-  NewtonOptimizer full(untruncated), stopped;
-  ReusedFactorProducts full_probe(full), stopped_probe(stopped);
+// frame 30, where the previous step's factor needs more): CG on a reused factor reaches the cap and
+// stops there, and every step still converges to the reference's stop.
+TEST(NewtonSolver, CgStopsOnAStaleFactorAndEveryStepConverges) {
+  NewtonOptimizer newton;
+  ReusedFactorProducts probe(newton);
   Scene scene;
   scene.rows = scene.cols = 24;
   scene.frames = 70;
   RolloutOptions options;
   options.solve = NewtonOptimizer::reference_solve_options();
-  const RolloutResult a = run_rollout(resolve(scene), full_probe, options);
-  const RolloutResult b = run_rollout(resolve(scene), stopped_probe, options);
-  std::printf("CG products over %zu steps: %ld untruncated, %ld truncated; most on a reused factor %ld, %ld\n",
-              a.steps.size(), full.counters().cg_iterations, stopped.counters().cg_iterations, full_probe.most,
-              stopped_probe.most);
+  const RolloutResult rollout = run_rollout(resolve(scene), probe, options);
   const long cap = NewtonParams{}.refactor_cg_iterations + 1;
-  EXPECT_GT(full_probe.most, cap) << "the test must have stale factors for the truncation to mean anything";
-  EXPECT_LE(stopped_probe.most, cap);
-  EXPECT_LT(stopped.counters().cg_iterations, full.counters().cg_iterations);
-  EXPECT_EQ(a.converged_steps(), static_cast<int>(a.steps.size()));
-  EXPECT_EQ(b.converged_steps(), static_cast<int>(b.steps.size()));
-  // The same state to well below a millimetre on a 1 m cloth.
-  EXPECT_LT((a.positions.back() - b.positions.back()).cwiseAbs().maxCoeff(), 1e-4f);
+  EXPECT_EQ(probe.most, cap) << "the test must have stale factors for the truncation to mean anything";
+  EXPECT_EQ(rollout.converged_steps(), static_cast<int>(rollout.steps.size()));
+  EXPECT_TRUE(rollout.positions.back().allFinite());
 }
 
 TEST(NewtonSolver, LeavesHandleAccelerationsUntouched) {
@@ -246,7 +235,7 @@ struct CompressedCloth {
 };
 
 // CG meets the negative curvature and follows it, and the step ends buckled, at a point where
-// the Hessian is positive definite (a minimum). (Measured: 35 iterations, 10 trials rejected.)
+// the Hessian is positive definite (a minimum).
 TEST(NewtonSolver, ABucklingStepFollowsNegativeCurvatureToAMinimum) {
   CompressedCloth cloth(1e-3);
   StepProblem problem(*cloth.objective, cloth.handles);
@@ -315,17 +304,6 @@ TEST(NewtonSolver, NewtonMinLeavesTheSaddleTheReferenceEndsAt) {
   EXPECT_EQ(NewtonOptimizer(seek_minimum).name(), "newton-min");
 }
 
-// The preconditioner applied in floats changes CG's path by round-off only: the same steps to the
-// tolerance, with as many Newton iterations (within one per step).
-TEST(NewtonSolver, AFloatPreconditionerGivesTheSameSteps) {
-  NewtonParams in_doubles;
-  in_doubles.single_precision_preconditioner = false;
-  NewtonOptimizer doubles(in_doubles), floats;
-  const SideBySide iterations = solve_side_by_side(16, doubles, floats);
-  for (std::size_t k = 0; k < iterations.reference.size(); ++k)
-    EXPECT_LE(std::abs(iterations.other[k] - iterations.reference[k]), 1) << "step " << k;
-}
-
 // The factor's float copy in bfloat16 (large factors' default, forced here on a small one) is a
 // coarser preconditioner: CG takes a few more products, the steps are the same to the tolerance.
 TEST(NewtonSolver, ABfloat16FactorGivesTheSameSteps) {
@@ -373,25 +351,22 @@ TEST(NewtonSolver, AMultigridThatLeavesCgAtItsCapGivesWayToTheFactor) {
 
 TEST(NewtonParams, EveryParameterChangesTheSettingsString) {
   const std::string base = NewtonOptimizer{}.settings();
-  const std::vector<void (*)(NewtonParams&)> changes = {
-      [](NewtonParams& p) { p.initial_radius = 3.0; },
-      [](NewtonParams& p) { p.accept_ratio = 1e-3; },
-      [](NewtonParams& p) { p.shrink_below = 0.2; },
-      [](NewtonParams& p) { p.shrink = 0.3; },
-      [](NewtonParams& p) { p.grow_above = 0.8; },
-      [](NewtonParams& p) { p.max_trials = 30; },
-      [](NewtonParams& p) { p.forcing_cap = 2e-2; },
-      [](NewtonParams& p) { p.acceleration_tolerance = 1e-5; },
-      [](NewtonParams& p) { p.max_cg_iterations = 100; },
-      [](NewtonParams& p) { p.refactor_cg_iterations = 10; },
-      [](NewtonParams& p) { p.reuse_factor_across_steps = false; },
-      [](NewtonParams& p) { p.truncate_cg_on_stale_factor = false; },
-      [](NewtonParams& p) { p.single_precision_preconditioner = false; },
-      [](NewtonParams& p) { p.bfloat16_factor_from_entries = 0; },
-      [](NewtonParams& p) { p.multigrid_from_dofs = 0; },
-      [](NewtonParams& p) { p.multigrid.smoothing_sweeps = 2; },
-      [](NewtonParams& p) { p.multigrid.coarsest_dofs = 100; },
-      [](NewtonParams& p) { p.escape_saddles = true; }};
+  const std::vector<void (*)(NewtonParams&)> changes = {[](NewtonParams& p) { p.initial_radius = 3.0; },
+                                                        [](NewtonParams& p) { p.accept_ratio = 1e-3; },
+                                                        [](NewtonParams& p) { p.shrink_below = 0.2; },
+                                                        [](NewtonParams& p) { p.shrink = 0.3; },
+                                                        [](NewtonParams& p) { p.grow_above = 0.8; },
+                                                        [](NewtonParams& p) { p.max_trials = 30; },
+                                                        [](NewtonParams& p) { p.forcing_cap = 2e-2; },
+                                                        [](NewtonParams& p) { p.acceleration_tolerance = 1e-5; },
+                                                        [](NewtonParams& p) { p.max_cg_iterations = 100; },
+                                                        [](NewtonParams& p) { p.refactor_cg_iterations = 10; },
+                                                        [](NewtonParams& p) { p.reuse_factor_across_steps = false; },
+                                                        [](NewtonParams& p) { p.bfloat16_factor_from_entries = 0; },
+                                                        [](NewtonParams& p) { p.multigrid_from_dofs = 0; },
+                                                        [](NewtonParams& p) { p.multigrid.smoothing_sweeps = 2; },
+                                                        [](NewtonParams& p) { p.multigrid.coarsest_dofs = 100; },
+                                                        [](NewtonParams& p) { p.escape_saddles = true; }};
   for (std::size_t i = 0; i < changes.size(); ++i) {
     NewtonParams params;
     changes[i](params);

@@ -49,12 +49,10 @@ TEST(ResolutionConsistency, OneSpectralLayerAgreesToFloatPrecision) {
 
 // The whole FNO is not exactly consistent: GELU creates harmonics above the kept modes that
 // alias differently on the two grids, and the grid channels i/R are sawtooth functions whose
-// sampled Fourier coefficients differ from the continuous ones by O(1/R). Measured (float,
-// FNOpt's options, no padding, 8 seeds): field differences of 0.2–1.1% of the field's max
-// (0.3% for this seed), smaller between 32² and 64² than between 32² and 100², as O(1/R)
-// predicts. The scale head reads a spatial max, which 32² samples more coarsely than 100²:
-// its output moved by 0.0002–0.005 on values of 0.04–0.3. Domain padding makes the
-// discrepancy larger (0.5–2.7% with fraction 0.125: ceil(0.125·100) is not 0.125·100).
+// sampled Fourier coefficients differ from the continuous ones by O(1/R), so the fields differ
+// by a small fraction of their max, less between 32² and 64² than between 32² and 100². The
+// scale head reads a spatial max, which 32² samples more coarsely than 100². Domain padding
+// makes the discrepancy larger (ceil(0.125·100) is not 0.125·100), so the test runs without it.
 TEST(ResolutionConsistency, WholeFnoAgreesClosely) {
   torch::manual_seed(12);
   FNO2d model;

@@ -12,22 +12,15 @@
 #include <fnopt/simulation/rollout.hpp>
 #include <fnopt/util/error.hpp>
 #include "tests/learned/step_probes.hpp"
+#include "tests/util/error_message.hpp"
 
 namespace fnopt {
 namespace {
 
-// combined: one sample with x, y, z as channels (9 in, 3 out) instead of three samples.
-FNO2d tiny_model(bool combined = false) {
+FNO2d tiny_model() {
   torch::manual_seed(3);
-  return FNO2d(FNO2dOptions()
-                   .width(4)
-                   .fourier_layers(2)
-                   .modes_x(4)
-                   .modes_y(4)
-                   .lifting_channels(8)
-                   .projection_channels(4)
-                   .in_channels(combined ? 9 : 3)
-                   .out_channels(combined ? 3 : 1));
+  return FNO2d(
+      FNO2dOptions().width(4).fourier_layers(2).modes_x(4).modes_y(4).lifting_channels(8).projection_channels(4));
 }
 
 // One time step of a falling cloth with two corner handles and a third moving handle.
@@ -59,11 +52,11 @@ LearnedParams with_safeguard(bool on) {
 }
 
 TEST(LearnedOptimizer, TinyRandomModelRunsOnOddAndNonSquareGridsAndNeverMovesHandles) {
-  for (auto [rows, cols, combined] : {std::tuple{17, 23, false}, std::tuple{40, 40, false}, std::tuple{17, 23, true}}) {
+  for (auto [rows, cols] : {std::pair{17, 23}, std::pair{40, 40}}) {
     Step step(rows, cols);
     // Without the safeguard every update of the untrained model is applied: the free
     // vertices move, the handles must not.
-    LearnedOptimizer optimizer(tiny_model(combined), "tiny", with_safeguard(false));
+    LearnedOptimizer optimizer(tiny_model(), "tiny", with_safeguard(false));
     const VecX before = step.a;
     const InnerSolveResult result = solve_step(optimizer, step.problem, step.a, {10, 0.0});
     EXPECT_EQ(result.status, SolveStatus::IterationBudget);
@@ -123,7 +116,7 @@ TEST(LearnedOptimizer, SubspaceStepLeavesLessErrorThanTheSecantStepAlongANewtonT
   // in the first 30 steps the cloth settles towards rest (L_0 - L* down to 1e-7), the methods
   // often end below Newton's L* in another local minimum of the buckling cloth (counted as no
   // error, not as negative error), and a plain mean of per-step ratios there followed the BLAS's
-  // rounding (OpenBLAS's Haswell and AVX-512 kernels ranked fnopt-ss-pqn and fnopt-ss in opposite
+  // rounding (OpenBLAS's Haswell and AVX-512 kernels ranked fnopt and fnopt-ss in opposite
   // orders over 40 steps). The 50 steps after it, with the handles moving, decide.
   const std::string path = std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt";
   LearnedParams secant, carried, cleared, with_pqn;
@@ -154,7 +147,7 @@ TEST(LearnedOptimizer, SubspaceStepLeavesLessErrorThanTheSecantStepAlongANewtonT
   for (double& l : left) l /= to_remove;
   std::printf(
       "share of the energy left over %zu steps: fnopt-ls %.4f, fnopt-ss %.4f, fnopt-ss without carrying %.4f, "
-      "fnopt-ss-pqn %.4f\n",
+      "fnopt %.4f\n",
       r.steps.size(), left[0], left[1], left[2], left[3]);
   EXPECT_LT(left[1], left[0]);
   EXPECT_LT(left[1], left[2]);
@@ -237,113 +230,28 @@ TEST(LearnedOptimizer, CarriedSubspaceReachesOnlyTheStepThatContinuesTheLastOne)
   EXPECT_NE(a_next[0], a_next[1]) << "the continuing step did not use the carried pairs";
 }
 
-// The shipped model widened to read pqn's direction proposes what it did (the new input's weights
-// are zero), so fnopt-ss with either solves a 32^2 step alike; once those weights move, the
-// proposals follow the new input, the safeguard still holds L down and the handles stay.
-TEST(LearnedOptimizer, AModelThatReadsPqnsDirectionStartsAsTheModelItWidens) {
-  const FNO2d shipped = load_learned_model(std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt");
-  FNO2d widened = with_pqn_direction_input(shipped);
-  EXPECT_TRUE(takes_pqn_direction(widened->options));
-  EXPECT_EQ(widened->options.in_channels(), 4);
-  EXPECT_THROW(with_pqn_direction_input(widened), Error);
-  LearnedParams params;
-  params.subspace = kFnoptSubspace;
-  auto solve = [&](const FNO2d& model, std::string* settings = nullptr) {
-    Step step(32, 32);
-    LearnedOptimizer optimizer(model, "model", params);
-    if (settings) *settings = optimizer.settings();
-    EnergyLog log(optimizer);
-    const VecX before = step.a;
-    solve_step(log, step.problem, step.a, {10, 0.0});
-    for (std::size_t k = 1; k < log.values.size(); ++k) EXPECT_LE(log.values[k], log.values[k - 1]);
-    for (int k : step.handles.fixed_vertices()) EXPECT_EQ(step.a.segment<3>(3 * k), before.segment<3>(3 * k));
-    return std::pair{step.a, log.values.back()};
-  };
-  std::string settings;
-  const auto [a_shipped, value_shipped] = solve(shipped);
-  const auto [a_widened, value_widened] = solve(widened, &settings);
-  EXPECT_NE(settings.find(" pqn_input"), std::string::npos) << settings;
-  EXPECT_LT((a_widened - a_shipped).norm(), 1e-5 * a_shipped.norm());
-  EXPECT_NEAR(value_widened, value_shipped, 1e-6 * std::abs(value_shipped));
-  {
-    torch::NoGradGuard no_grad;
-    torch::manual_seed(5);
-    for (auto& p : widened->named_parameters())
-      if (p.key() == "lift_in.weight") p.value().narrow(1, 3, 1).normal_(0.0, 1.0);
+// A model file of an input layout fnopt train no longer makes (x, y, z as the channels of one
+// sample, pqn's direction or the grid's size as more input fields) is refused with one line that
+// names the file and the option.
+TEST(LearnedOptimizer, RefusesModelFilesOfRemovedInputLayoutsNamingTheOption) {
+  const auto path = (std::filesystem::temp_directory_path() / "fnopt_test_removed_layout.pt").string();
+  for (const auto& [in, out, option] :
+       {std::tuple{9, 3, "--combined"}, std::tuple{12, 3, "--combined"}, std::tuple{4, 1, "--pqn-input"},
+        std::tuple{5, 1, "--grid-size-input"}, std::tuple{6, 1, "--pqn-input --grid-size-input"}}) {
+    save_fno(path, FNO2d(FNO2dOptions()
+                             .in_channels(in)
+                             .out_channels(out)
+                             .width(4)
+                             .fourier_layers(2)
+                             .modes_x(4)
+                             .modes_y(4)
+                             .lifting_channels(4)
+                             .projection_channels(4)));
+    const std::string expected = path + ": a model of fnopt train " + option + ", an option this version no longer has";
+    EXPECT_EQ(testing::error_message([&] { load_learned_model(path); }), expected) << in << " in";
+    EXPECT_EQ(testing::error_message([&] { LearnedOptimizer optimizer(path); }), expected) << in << " in";
   }
-  const auto [a_moved, value_moved] = solve(widened);
-  EXPECT_GT((a_moved - a_shipped).norm(), 1e-3 * a_shipped.norm()) << "the new input is not read";
-  EXPECT_TRUE(std::isfinite(value_moved));
-}
-
-TEST(LearnedOptimizer, ALearnedStepNeedsPqnsDirectionExactlyWhenTheModelReadsIt) {
-  const torch::Tensor g = torch::randn({3, 1, 9, 9}), mask = torch::ones({1, 1, 9, 9});
-  FNO2d plain = tiny_model(), widened = with_pqn_direction_input(tiny_model());
-  EXPECT_NO_THROW(learned_step(plain, g, LearnedState{}, mask));
-  EXPECT_THROW(learned_step(plain, g, LearnedState{}, mask, g), Error);
-  EXPECT_THROW(learned_step(widened, g, LearnedState{}, mask), Error);
-  EXPECT_NO_THROW(learned_step(widened, g, LearnedState{}, mask, g));
-  EXPECT_EQ(learned_inputs(g, LearnedState{}, g).size(1), 4);
-  FNO2d combined = with_pqn_direction_input(tiny_model(true));
-  EXPECT_EQ(combined->options.in_channels(), 12);
-  EXPECT_EQ(samples_per_environment(combined->options), 1);
-  const torch::Tensor g1 = g.view({1, 3, 9, 9});
-  EXPECT_EQ(learned_step(combined, g1, LearnedState{}, mask, g1).delta.sizes(), g1.sizes());
-}
-
-// The shipped model widened to read the grid's size proposes what it did; with those weights moved it
-// still does at 32^2, where the size fields are zero, and no longer at 20^2. Widened for pqn's
-// direction too (6 inputs: pqn's field goes before the size fields), it still proposes what it did.
-TEST(LearnedOptimizer, AModelThatReadsTheGridSizeStartsAsTheModelItWidens) {
-  const FNO2d shipped = load_learned_model(std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt");
-  FNO2d widened = with_grid_size_input(shipped);
-  EXPECT_TRUE(takes_grid_size(widened->options));
-  EXPECT_FALSE(takes_pqn_direction(widened->options));
-  EXPECT_EQ(widened->options.in_channels(), 5);
-  EXPECT_THROW(with_grid_size_input(widened), Error);
-  const FNO2d both = with_pqn_direction_input(widened);
-  EXPECT_TRUE(takes_grid_size(both->options) && takes_pqn_direction(both->options));
-  LearnedParams params;
-  params.subspace = kFnoptSubspace;
-  auto solve = [&](const FNO2d& model, int n, std::string* settings = nullptr) {
-    Step step(n, n);
-    LearnedOptimizer optimizer(model, "model", params);
-    if (settings) *settings = optimizer.settings();
-    solve_step(optimizer, step.problem, step.a, {10, 0.0});
-    return VecX(step.a);
-  };
-  std::string settings;
-  const VecX shipped_32 = solve(shipped, 32), shipped_20 = solve(shipped, 20);
-  EXPECT_LT((solve(widened, 32, &settings) - shipped_32).norm(), 1e-5 * shipped_32.norm());
-  EXPECT_NE(settings.find(" grid_size_input"), std::string::npos) << settings;
-  EXPECT_LT((solve(widened, 20) - shipped_20).norm(), 1e-5 * shipped_20.norm());
-  EXPECT_LT((solve(both, 20) - shipped_20).norm(), 1e-5 * shipped_20.norm());
-  {
-    torch::NoGradGuard no_grad;
-    torch::manual_seed(5);
-    for (auto& p : widened->named_parameters())
-      if (p.key() == "lift_in.weight") p.value().narrow(1, 3, 2).normal_(0.0, 1.0);
-  }
-  EXPECT_LT((solve(widened, 32) - shipped_32).norm(), 1e-5 * shipped_32.norm());
-  EXPECT_GT((solve(widened, 20) - shipped_20).norm(), 1e-3 * shipped_20.norm()) << "the size fields are not read";
-}
-
-// The size fields are log2((n - 1)/31) of the rows and of the columns, constant, after the other inputs, in
-// either layout.
-TEST(LearnedOptimizer, TheGridSizeFieldsAreTheLogOfTheCellCountsOver31) {
-  const torch::Tensor g = torch::randn({3, 1, 9, 17}), mask = torch::ones({1, 1, 9, 17});
-  const torch::Tensor inputs = learned_inputs(g, LearnedState{}, {}, true);
-  ASSERT_EQ(inputs.size(1), 5);
-  EXPECT_TRUE(torch::allclose(inputs.narrow(1, 3, 1), torch::full({3, 1, 9, 17}, std::log2(8.0 / 31.0))));
-  EXPECT_TRUE(torch::allclose(inputs.narrow(1, 4, 1), torch::full({3, 1, 9, 17}, std::log2(16.0 / 31.0))));
-  EXPECT_TRUE(torch::equal(inputs.narrow(1, 0, 3), learned_inputs(g, LearnedState{})));
-  FNO2d combined = with_grid_size_input(tiny_model(true));
-  EXPECT_EQ(combined->options.in_channels(), 11);
-  EXPECT_EQ(with_pqn_direction_input(combined)->options.in_channels(), 14);
-  const torch::Tensor g1 = g.view({1, 3, 9, 17});
-  EXPECT_EQ(learned_step(combined, g1, LearnedState{}, mask).delta.sizes(), g1.sizes());
-  FNO2d per_coordinate = with_grid_size_input(tiny_model());
-  EXPECT_EQ(learned_step(per_coordinate, g, LearnedState{}, mask).delta.sizes(), g.sizes());
+  std::filesystem::remove(path);
 }
 
 TEST(LearnedOptimizer, RejectsMissingAndIncompatibleModelFiles) {

@@ -1,6 +1,6 @@
 // The proposal rule: a proposal taken as it is lands exactly at a + p; the safeguard undoes one
 // that raises L; the subspace step over the proposals made so far accelerates a poor
-// proposer (scaled gradients) as conjugate directions do; fnopt-ss-pqn's pair is pqn's step.
+// proposer (scaled gradients) as conjugate directions do; fnopt's pair is pqn's step.
 #include <gtest/gtest.h>
 
 #include <fnopt/baselines/newton.hpp>
@@ -88,7 +88,7 @@ TEST(ProposalRule, SubspaceStepAcceleratesScaledGradientProposals) {
   EXPECT_LT(accelerated, 0.5 * plain);
 }
 
-// fnopt-ss-pqn's pair: d = -A^-1 g (A pqn's isotropic matrix) with the gradient change along it,
+// fnopt's pair: d = -A^-1 g (A pqn's isotropic matrix) with the gradient change along it,
 // kept without moving a, and only when the rule asks for it.
 TEST(ProposalRule, PqnDirectionKeepsPqnsPairWithoutMovingTheIterate) {
   Step step;
@@ -104,7 +104,7 @@ TEST(ProposalRule, PqnDirectionKeepsPqnsPairWithoutMovingTheIterate) {
   rule.add_pqn_direction(step.problem, step.a, step.gradient);
   EXPECT_EQ(step.a, start);
   ASSERT_EQ(rule.pairs().size(), 1);
-  PqnFactorCache cache(PqnMatrixKind::Isotropic);
+  PqnFactorCache cache;
   VecX d = -step.gradient;
   cache.prepare(step.problem).solve_in_place(d);
   EXPECT_LT((rule.pairs().s(0) - d).norm(), 1e-12 * d.norm());

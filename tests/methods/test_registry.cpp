@@ -261,12 +261,6 @@ TEST(Registry, BadSettingsNameTheirFlags) {
   c = choice("pqn");
   c.pqn_history = -3;
   EXPECT_EQ(thrown_error([&] { c.make(); }).field(), "pqn-history");
-  c = choice("fnopt-pqn");
-  c.pqn_matrix = "diagonal";
-  EXPECT_EQ(thrown_error([&] { c.make(); }).field(), "pqn-matrix");
-  c = choice("pqn");
-  c.pqn_matrix = "rest-hessian";
-  EXPECT_EQ(c.make()->name(), "pqn");
 }
 
 TEST(Registry, LearningRatesReachGdAndAdam) {

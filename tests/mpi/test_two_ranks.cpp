@@ -89,8 +89,8 @@ double relative_difference(FNO2d& a, FNO2d& b) {
 }
 
 // The tolerance of "the same weights": the two runs add the batch's gradients in another order
-// (float32); after 3 AdamW steps of lr 1e-3 the weights agree to 1.2e-8 of their size (measured);
-// 1e-5 leaves room and is still far below what the 3 steps changed (checked below).
+// (float32), so after 3 AdamW steps of lr 1e-3 the weights agree to float round-off; 1e-5 leaves
+// room and is still far below what the 3 steps changed (checked below).
 constexpr double kSameWeights = 1e-5;
 
 TEST(DataParallelTraining, TwoRanksTakeTheStepsOfOneProcessWithTheWholeBatch) {

@@ -179,7 +179,7 @@ TEST(StabilitySuite, EveryCaseValidatesAndChangesTheFieldsItNames) {
     restored.cols = base.cols;
     EXPECT_EQ(to_scene_text(restored), to_scene_text(base));
   }
-  // The named ones: the factors of the issue.
+  // The named ones change the base scene as their names say.
   auto find = [&](const std::string& name) { return select_stability_cases(name).front().apply(base); };
   EXPECT_DOUBLE_EQ(find("stretch-x1000").material.stretch, 1000 * base.material.stretch);
   EXPECT_DOUBLE_EQ(find("bend-x0.01").material.bend, 0.01 * base.material.bend);

@@ -190,21 +190,6 @@ TEST(MetaTraining, ResumedCheckpointTakesTheSameNextSteps) {
   expect_resumes_exactly(original, tiny_training(), "fnopt_test_resume", 6);
 }
 
-TEST(MetaTraining, CombinedLayoutTrainsAndResumesToo) {
-  TrainOptions options = tiny_training();
-  options.model.in_channels(9).out_channels(3);
-  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_resume_combined";
-  std::filesystem::create_directories(dir);
-  const std::string checkpoint = (dir / "checkpoint.pt").string();
-  MetaTrainer original(options);
-  for (int i = 0; i < 3; ++i) EXPECT_TRUE(std::isfinite(original.step().loss));
-  original.save_checkpoint(checkpoint);
-  const double next = original.step().loss;
-  MetaTrainer resumed(options, checkpoint);
-  EXPECT_NEAR(resumed.step().loss, next, 1e-6 * std::abs(next));
-  std::filesystem::remove_all(dir);
-}
-
 TEST(MetaTraining, SubspaceRuleChangesThePoolAndResumesWithItsKeptProposals) {
   TrainOptions options = tiny_training();
   options.pool.subspace = 8;
@@ -220,7 +205,7 @@ TEST(MetaTraining, SubspaceRuleChangesThePoolAndResumesWithItsKeptProposals) {
   expect_resumes_exactly(original, options, "fnopt_test_resume_subspace", 8);
 }
 
-// fnopt-ss-pqn's rule in the pool: pqn's pair joins the kept ones before each proposal, so a loss
+// fnopt's rule in the pool: pqn's pair joins the kept ones before each proposal, so a loss
 // scored past the subspace step differs from fnopt-ss's from the first step on; a checkpoint
 // resumes it exactly; it needs the subspace step.
 TEST(MetaTraining, PqnDirectionJoinsTheSubspaceBeforeEachProposalAndResumes) {
@@ -406,41 +391,17 @@ TEST(MetaTraining, AFreshRunStartsFromTheInitialModel) {
     EXPECT_TRUE(torch::equal(p.value(), given[p.key()])) << p.key();
   options.model.width(6);
   EXPECT_THROW(static_cast<void>(MetaTrainer(options)), Error);
-  std::filesystem::remove_all(dir);
-}
-
-// A model that reads pqn's direction, started from one that does not: the initial weights widened
-// (the new input's lifting column zero), trained, resumed exactly; its options' signature names
-// the input; the probe objective does not take it.
-TEST(MetaTraining, AModelThatReadsPqnsDirectionStartsWidenedTrainsAndResumes) {
-  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_pqn_input";
-  std::filesystem::create_directories(dir);
-  TrainOptions options = tiny_training();
+  // A model of a removed input layout (fnopt train --pqn-input's) is refused, naming the option.
+  options = tiny_training();
   options.initial_model = (dir / "initial.pt").string();
-  const FNO2d initial = saved_initial_model(options.initial_model);
-  options.model.in_channels(4);
-  options.pool.subspace = 8;
-  options.pool.pqn_direction = true;
-  options.score_after_subspace_step = true;
-  MetaTrainer trainer(options);
-  const auto given = initial->named_parameters();
-  for (const auto& p : trainer.model()->named_parameters()) {
-    if (p.key() != "lift_in.weight") {
-      EXPECT_TRUE(torch::equal(p.value(), given[p.key()])) << p.key();
-      continue;
-    }
-    const torch::Tensor w = p.value(), w0 = given[p.key()];
-    EXPECT_TRUE(torch::equal(w.narrow(1, 0, 3), w0.narrow(1, 0, 3)));
-    EXPECT_EQ(w.narrow(1, 3, 1).abs().max().item<float>(), 0.0f);
-    EXPECT_TRUE(torch::equal(w.narrow(1, 4, 2), w0.narrow(1, 3, 2)));
+  save_fno(options.initial_model, FNO2d(FNO2dOptions(options.model).in_channels(4)));
+  try {
+    MetaTrainer refused(options);
+    ADD_FAILURE() << "a model of the removed --pqn-input layout was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              options.initial_model + ": a model of fnopt train --pqn-input, an option this version no longer has");
   }
-  for (int i = 0; i < 3; ++i) EXPECT_TRUE(std::isfinite(trainer.step().loss));
-  EXPECT_NE(options.signature().find(" pqn_input"), std::string::npos) << options.signature();
-  expect_resumes_exactly(trainer, options, "fnopt_test_resume_pqn_input", 3);
-  options.objective = TrainObjective::Probe;
-  options.pool.subspace = 0;
-  options.pool.pqn_direction = options.score_after_subspace_step = false;
-  EXPECT_THROW(options.validate(), Error);
   std::filesystem::remove_all(dir);
 }
 

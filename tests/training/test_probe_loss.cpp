@@ -56,9 +56,8 @@ TEST(ProbeLoss, AgreesWithTheDenseBfgsUpdate) {
   const ProbeLoss loss(step.problem, step.a, step.gradient);
   ASSERT_TRUE(loss.defined());
   const Eigen::MatrixXd H = dense(step.objective.hessian(step.a, step.handles.free_index(), true));
-  const Eigen::MatrixXd A = dense(
-      build_pqn_matrix(step.objective, step.handles.free_index(), PqnMatrixKind::Isotropic, step.grid.rest_positions())
-          .expanded());
+  const Eigen::MatrixXd A =
+      dense(build_pqn_matrix(step.objective, step.handles.free_index(), step.grid.rest_positions()).expanded());
   const VecX& g = loss.gradient();
   const Eigen::MatrixXd A_inverse = A.inverse();
   const double best = -0.5 * g.dot(H.ldlt().solve(g));
@@ -85,8 +84,7 @@ TEST(ProbeLoss, AgreesWithPqnRunOnTheQuadraticModel) {
   const std::vector<int>& free_index = step.handles.free_index();
   const Eigen::SparseMatrix<double> lower = step.objective.hessian(step.a, free_index, true);
   const Eigen::SparseMatrix<double> H = lower.selfadjointView<Eigen::Lower>();
-  const PqnMatrix matrix =
-      build_pqn_matrix(step.objective, free_index, PqnMatrixKind::Isotropic, step.grid.rest_positions());
+  const PqnMatrix matrix = build_pqn_matrix(step.objective, free_index, step.grid.rest_positions());
   auto to_free = [&](const VecX& full) {
     VecX free(H.rows());
     for (int v = 0; v < step.grid.vertex_count(); ++v)
@@ -154,8 +152,7 @@ TEST(ProbeLoss, OnTheEnergyAgreesWithPqnRunOnTheStep) {
   const torch::Tensor p = step.random_free(one);
   // s = alpha p on every dof, alpha = -g.p / p.A p.
   const Eigen::SparseMatrix<double> A =
-      build_pqn_matrix(step.objective, step.handles.free_index(), PqnMatrixKind::Isotropic, step.grid.rest_positions())
-          .expanded();
+      build_pqn_matrix(step.objective, step.handles.free_index(), step.grid.rest_positions()).expanded();
   const VecX q = to_vec(p);
   const VecX s_free = -(one.gradient().dot(q) / q.dot(A.selfadjointView<Eigen::Lower>() * q)) * q;
   VecX s = VecX::Zero(step.grid.dof_count());

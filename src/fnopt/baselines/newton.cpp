@@ -47,12 +47,10 @@ std::string NewtonOptimizer::settings() const {
       << " max_cg_iterations=" << params_.max_cg_iterations
       << " refactor_cg_iterations=" << params_.refactor_cg_iterations
       << " reuse_factor_across_steps=" << params_.reuse_factor_across_steps
-      << " truncate_cg_on_stale_factor=" << params_.truncate_cg_on_stale_factor
       << " multigrid_from_dofs=" << params_.multigrid_from_dofs
       << " multigrid_sweeps=" << params_.multigrid.smoothing_sweeps
-      << " multigrid_coarsest_dofs=" << params_.multigrid.coarsest_dofs;
-  if (params_.single_precision_preconditioner)
-    out << " single_precision_preconditioner=1 bfloat16_factor_from_entries=" << params_.bfloat16_factor_from_entries;
+      << " multigrid_coarsest_dofs=" << params_.multigrid.coarsest_dofs
+      << " bfloat16_factor_from_entries=" << params_.bfloat16_factor_from_entries;
   if (params_.escape_saddles) out << " escape_saddles=1 max_saddle_escapes=" << params_.max_saddle_escapes;
   return out.str();
 }
@@ -70,7 +68,7 @@ bool NewtonOptimizer::factorize_preconditioner(StepProblem& problem, const Eigen
     use_multigrid_ = false;
   }
   have_factor_ = factor_.factorize_matrix(projected, objective.hessian_pattern_id());
-  if (have_factor_ && params_.single_precision_preconditioner)
+  if (have_factor_)
     single_factor_.assign(
         factor_, static_cast<long>(factor_.cholmod_factor_pointer()->xsize) >= params_.bfloat16_factor_from_entries
                      ? SinglePrecisionFactor::Storage::BFloat16
@@ -156,10 +154,8 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
   auto precondition = [&](VecX& r) {
     if (use_multigrid_)
       multigrid_.solve_in_place(r);
-    else if (params_.single_precision_preconditioner)
-      single_factor_.solve_in_place(r);
     else
-      factor_.solve_in_place(r.data(), static_cast<int>(r.size()), 1);
+      single_factor_.solve_in_place(r);
   };
   const bool first = radius_ == 0.0;
   if (first) {  // the step's first iteration: the metric, the preconditioned gradient step's length
@@ -176,8 +172,12 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
   // L sums terms larger than itself (inertia, gravity, elastic), so its rounding error is a few
   // hundred ulps of |L| (10^4 stencils); below it a change of L says nothing.
   const double rounding = 1e-12 * (std::abs(value) + std::abs(start_value_));
-  // P's factor reused from an earlier iterate is stale once CG needs more than refactor_cg_iterations products.
-  const int max_cg_iterations = !stale && !use_multigrid_ && params_.truncate_cg_on_stale_factor
+  // P's factor reused from an earlier iterate is stale once CG needs more than refactor_cg_iterations products: CG
+  // stops after refactor_cg_iterations + 1 and its step so far is taken (a truncated Steihaug step, still a descent
+  // step inside the region), since the factor is rebuilt at the next iterate and further products would be spent on
+  // a preconditioner about to be replaced. Not on the multigrid, where the truncation changed the path through
+  // buckling steps (docs/design.md §6).
+  const int max_cg_iterations = !stale && !use_multigrid_
                                     ? std::min(params_.max_cg_iterations, params_.refactor_cg_iterations + 1)
                                     : params_.max_cg_iterations;
   last_cg_iterations_ = 0;
@@ -189,8 +189,7 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
                         &cg_path_, first ? &preconditioned_gradient_ : nullptr);
     counters_.cg_iterations += sub.iterations;
     // A V-cycle built at this iterate that leaves CG at its cap does not precondition this cloth (on very
-    // stiff stretch, docs/results.md "A multigrid preconditioner on fine grids"): P's factor from the next
-    // iteration on.
+    // stiff stretch, docs/design.md §6): P's factor from the next iteration on.
     if (use_multigrid_ && stale && sub.end == SteihaugEnd::IterationLimit) hand_over_to_factor();
     last_cg_iterations_ = std::max(last_cg_iterations_, sub.iterations);
     if (sub.end == SteihaugEnd::NegativeCurvature) ++counters_.negative_curvature;

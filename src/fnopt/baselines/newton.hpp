@@ -20,8 +20,7 @@
 //
 // The reference stops on the residual acceleration max_i |g_i| / (m_i dt^2) (m/s^2), which is
 // a - f(x)/m, the part of Newton's second law the step leaves unbalanced
-// (reference_solve_options()); its size against the errors it measures is in docs/results.md, "The Newton
-// reference: a trust region", "The stop".
+// (reference_solve_options()); its size against the errors it measures is in docs/design.md §6.
 #include <fnopt/linalg/block_multigrid.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
 #include <fnopt/linalg/single_precision_factor.hpp>
@@ -42,10 +41,9 @@ struct NewtonParams {
   // CG per subproblem to the relative residual min(forcing_cap, ||g|| / ||g_0||) (inexact Newton,
   // Eisenstat & Walker 1996: the forcing term shrinking like ||g|| keeps convergence quadratic).
   double forcing_cap = 1e-2;
-  // The reference's stop, residual acceleration in m/s^2 (1e-2 g; the earlier stop, 1e-3 m/s^2, gives
-  // the same 390-frame rollouts to e_CD x 10^3 <= 0.008, 28x below the smallest error a compared method
-  // reaches, docs/results.md "The stop at 0.1, and H's lower blocks"). Also the floor of the forcing term: CG is not
-  // asked to reduce the residual below a tenth of what the stop needs.
+  // The reference's stop, residual acceleration in m/s^2 (1e-2 g; a stop a hundred times finer gives
+  // the same rollouts to far below the smallest error a compared method reaches, docs/design.md §6). Also the
+  // floor of the forcing term: CG is not asked to reduce the residual below a tenth of what the stop needs.
   double acceleration_tolerance = 0.1;
   int max_cg_iterations = 200;
   // P is refactorized at the current iterate when the last subproblem needed more products
@@ -54,27 +52,17 @@ struct NewtonParams {
   // whatever came before, as meta-training's resumable pool needs).
   int refactor_cg_iterations = 20;
   bool reuse_factor_across_steps = true;
-  // On P's factor from an earlier iterate, CG stops after refactor_cg_iterations + 1 products and its step so far is
-  // taken (a truncated Steihaug step, still a descent step inside the region): the factor is stale by then and is
-  // rebuilt at the next iterate, so further products would be spent on a preconditioner about to be replaced. The
-  // first iteration of a moving step took 41-58 products on the previous step's factor (64², xy_v2); per step 68.3
-  // -> 56.9 products for 4.86 -> 5.00 Newton iterations. Not on the multigrid (fine grids): at 100² it saved 16 % of
-  // the products but took another path through a buckling step of xy_v2, whose rollout then moved by e_CD x 10^3
-  // 0.021 (docs/results.md, "CG stops on a stale factor").
-  bool truncate_cg_on_stale_factor = true;
-  // Apply P^-1 with a float copy of its factor (linalg/single_precision_factor.hpp): half the
-  // memory traffic of the solves that dominate an iteration at 100^2, the same convergence.
-  bool single_precision_preconditioner = true;
-  // From this many entries the float copy keeps its values in bfloat16: a factor whose floats do not
-  // stay in the caches is read at memory bandwidth, and bfloat16 halves the bytes (100^2, 6.6 million
-  // entries: a solve 1.7 against 3.2 ms); 64^2's 2.2 million (8.6 MB of floats) solve as fast in floats,
-  // with 1 % fewer CG products (docs/results.md, "The factor's solves in panels of four columns").
+  // P^-1 is applied with a float copy of P's factor (linalg/single_precision_factor.hpp): half
+  // the memory traffic of the solves that dominate an iteration on fine grids, the same
+  // convergence. From this many entries the copy keeps its values in bfloat16: a factor whose
+  // floats do not stay in the caches is read at memory bandwidth, and bfloat16 halves the bytes;
+  // smaller factors solve as fast in floats (docs/design.md §6).
   long bfloat16_factor_from_entries = 4000000;
   // On steps with at least this many free dofs, P^-1 is applied approximately, by one V-cycle of a
   // geometric multigrid on P (linalg/block_multigrid.hpp), instead of with P's Cholesky factor:
-  // no factorisation and a cheaper product, for more CG iterations: 1.4x faster at 100^2, as fast
-  // at 32^2 (docs/results.md, "A multigrid preconditioner on fine grids"). From about 82^2, so that
-  // the references of 32^2 and 64^2, where it gains less, stay those of the factor. 0: always. Where
+  // no factorisation and a cheaper product, for more CG iterations: faster on fine grids, as fast
+  // on coarse ones (docs/design.md §6). From about 82^2, so that the references of 32^2 and 64^2,
+  // where it gains less, stay those of the factor. 0: always. Where
   // a fresh V-cycle leaves CG at max_cg_iterations (very stiff cloth) or cannot be built, the factor
   // takes over for good.
   int multigrid_from_dofs = 20000;
@@ -106,7 +94,7 @@ class NewtonOptimizer final : public InnerOptimizer {
 
   // The reference: residual acceleration <= acceleration_tolerance at every free vertex. The cap is
   // generous: the stability suite's stiffest cloth needs more than 200 iterations on some steps
-  // (docs/results.md, "The Newton reference: a trust region").
+  // (docs/design.md §6).
   static InnerSolveOptions reference_solve_options() { return {1000, 0.0, NewtonParams{}.acceleration_tolerance}; }
   // The reference's stop as help texts and reports state it: "0.1 m/s^2".
   static std::string reference_stop_text();
@@ -135,7 +123,7 @@ class NewtonOptimizer final : public InnerOptimizer {
 
   NewtonParams params_;
   SparseCholesky factor_;
-  SinglePrecisionFactor single_factor_;  // its float copy, when single_precision_preconditioner
+  SinglePrecisionFactor single_factor_;  // its float copy, which applies P^-1
   BlockMultigrid multigrid_;             // in their place, on steps of multigrid_from_dofs free dofs or more
   bool use_multigrid_ = false;           // this step's choice
   bool multigrid_failed_ = false;        // hand_over_to_factor() was called: the factor from then on

@@ -12,12 +12,11 @@ void PqnParams::validate() const {
   line_search.validate("pqn");
 }
 
-PqnOptimizer::PqnOptimizer(PqnParams params)
-    : params_(validated(params)), cache_(params_.matrix), history_(params_.history) {}
+PqnOptimizer::PqnOptimizer(PqnParams params) : params_(validated(params)), history_(params_.history) {}
 
 std::string PqnOptimizer::settings() const {
   std::ostringstream out;
-  out << "pqn: history=" << params_.history << " matrix=" << to_string(params_.matrix)
+  out << "pqn: history=" << params_.history
       << " (H0 = A^-1, prefactored) backtracking armijo=" << params_.line_search.armijo
       << " shrink=" << params_.line_search.shrink << " max_trials=" << params_.line_search.max_trials;
   return out.str();

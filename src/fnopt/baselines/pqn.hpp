@@ -27,7 +27,6 @@ namespace fnopt {
 
 struct PqnParams {
   int history = 5;  // curvature pairs kept (m); 0: every iteration steps along -A^-1 g
-  PqnMatrixKind matrix = PqnMatrixKind::Isotropic;
   BacktrackingParams line_search{1e-4, 0.5, 30};
 
   void validate() const;  // throws Error("pqn.<parameter>: ...")

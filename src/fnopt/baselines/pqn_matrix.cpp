@@ -6,16 +6,7 @@
 
 namespace fnopt {
 
-const char* to_string(PqnMatrixKind kind) { return kind == PqnMatrixKind::Isotropic ? "isotropic" : "rest-hessian"; }
-
-PqnMatrixKind parse_pqn_matrix_kind(const std::string& name) {
-  for (PqnMatrixKind kind : {PqnMatrixKind::Isotropic, PqnMatrixKind::RestHessian})
-    if (name == to_string(kind)) return kind;
-  throw Error("pqn.matrix", "unknown matrix '" + name + "' (choose from: isotropic, rest-hessian)");
-}
-
 Eigen::SparseMatrix<double> PqnMatrix::expanded() const {
-  if (kind == PqnMatrixKind::RestHessian) return matrix;
   std::vector<Eigen::Triplet<double>> entries;
   for (int col = 0; col < matrix.outerSize(); ++col)
     for (Eigen::SparseMatrix<double>::InnerIterator it(matrix, col); it; ++it)
@@ -25,8 +16,7 @@ Eigen::SparseMatrix<double> PqnMatrix::expanded() const {
   return A;
 }
 
-PqnMatrix build_pqn_matrix(const BackwardEulerObjective& objective, const std::vector<int>& free_index,
-                           PqnMatrixKind kind, const VecX& x) {
+PqnMatrix build_pqn_matrix(const BackwardEulerObjective& objective, const std::vector<int>& free_index, const VecX& x) {
   HessianAssembly assembly(free_index);
   std::vector<std::pair<const EnergyTerm*, int>> terms;
   // The rest-state matrix holds the elastic terms only: the repulsion's and the obstacles' (docs/design.md
@@ -44,17 +34,8 @@ PqnMatrix build_pqn_matrix(const BackwardEulerObjective& objective, const std::v
   const Eigen::SparseMatrix<double>& K = assembly.matrix();
 
   PqnMatrix result;
-  result.kind = kind;
   result.free_index = free_index;
   std::vector<Eigen::Triplet<double>> entries;
-  if (kind == PqnMatrixKind::RestHessian) {
-    result.matrix = K;
-    for (int v = 0; v < static_cast<int>(free_index.size()); ++v)
-      if (free_index[v] >= 0)
-        for (int c = 0; c < 3; ++c)
-          result.matrix.coeffRef(3 * free_index[v] + c, 3 * free_index[v] + c) += objective.inertia_weight(v);
-    return result;
-  }
   // S_ij = trace of K's block (i, j): the sum of its entries (3i + c, 3j + c).
   for (int col = 0; col < K.outerSize(); ++col)
     for (Eigen::SparseMatrix<double>::InnerIterator it(K, col); it; ++it)
@@ -72,10 +53,6 @@ bool PqnFactor::factorize(const PqnMatrix& matrix) {
 }
 
 void PqnFactor::solve_free_in_place(VecX& r) {
-  if (matrix_.kind == PqnMatrixKind::RestHessian) {
-    cholesky_.solve_in_place(r.data(), static_cast<int>(r.size()), 1);
-    return;
-  }
   const int rows = static_cast<int>(matrix_.matrix.rows());
   block_.resize(3 * rows);
   for (int f = 0; f < rows; ++f)
@@ -86,9 +63,7 @@ void PqnFactor::solve_free_in_place(VecX& r) {
 }
 
 int PqnFactor::block_position(int free_vertex, int coordinate) const {
-  // Isotropic: an n_free x 3 column-major block, one column per coordinate; else one column.
-  return matrix_.kind == PqnMatrixKind::Isotropic ? coordinate * static_cast<int>(matrix_.matrix.rows()) + free_vertex
-                                                  : 3 * free_vertex + coordinate;
+  return coordinate * static_cast<int>(matrix_.matrix.rows()) + free_vertex;
 }
 
 void PqnFactor::gather_free(const VecX& q) {
@@ -102,7 +77,7 @@ void PqnFactor::gather_free(const VecX& q) {
 void PqnFactor::solve_in_place(VecX& q) {
   gather_free(q);
   const int rows = static_cast<int>(matrix_.matrix.rows());
-  cholesky_.solve_in_place(block_.data(), rows, matrix_.kind == PqnMatrixKind::Isotropic ? 3 : 1);
+  cholesky_.solve_in_place(block_.data(), rows, 3);
   const std::vector<int>& free_index = matrix_.free_index;
   for (int v = 0; v < static_cast<int>(free_index.size()); ++v) {
     const int f = free_index[v];
@@ -113,7 +88,6 @@ void PqnFactor::solve_in_place(VecX& q) {
 double PqnFactor::quadratic_form(const VecX& q) {
   gather_free(q);
   const auto A = matrix_.matrix.selfadjointView<Eigen::Lower>();
-  if (matrix_.kind != PqnMatrixKind::Isotropic) return block_.dot(A * block_);
   const int rows = static_cast<int>(matrix_.matrix.rows());
   double sum = 0.0;  // A = S (x) I3: one scalar form per coordinate
   for (int c = 0; c < 3; ++c) {
@@ -147,8 +121,7 @@ PqnFactorCache::Key PqnFactorCache::key_of(const StepProblem& problem) {
 PqnFactor& PqnFactorCache::prepare(const StepProblem& problem) {
   Key key = key_of(problem);
   if (have_factor_ && key == key_) return factor_;
-  const PqnMatrix matrix =
-      build_pqn_matrix(problem.objective(), key.free_index, kind_, problem.grid().rest_positions());
+  const PqnMatrix matrix = build_pqn_matrix(problem.objective(), key.free_index, problem.grid().rest_positions());
   have_factor_ = factor_.factorize(matrix);
   ++factorizations_;
   // A is the inertia (positive) plus PSD terms: a failure means a non-finite material or dt.

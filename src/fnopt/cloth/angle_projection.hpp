@@ -1,7 +1,7 @@
 #pragma once
 // The absolute-value projection (psd_projection.hpp) of an angle spring's 6x6 Hessian in (u, w), in
-// closed form: the same matrix as project_psd<6>, without a numerical eigen-decomposition (3.2 of a
-// projected stencil Hessian's 3.6 us; 0.8 us in all now, docs/results.md "The reference's kernels").
+// closed form: the same matrix as project_psd<6>, without a numerical eigen-decomposition, which
+// was most of a projected stencil Hessian's cost (docs/design.md §6).
 //
 // E = K/2 delta^2, delta = theta - theta0:  hess E = K (grad theta grad theta^T + delta hess theta).
 // In the orthonormal frame of the plane of u and w (n = u^ x w^ / sin theta, t_u = n x u^,

@@ -14,10 +14,9 @@ namespace fnopt {
 
 struct Material {
   // Defaults: fitted to ARCSim's gray-interlock runs (../shared/data/arcsim, N = 32, xy_v2 and
-  // rot_h0, first 3.5 s) by `fnopt fit-material` (docs/design.md §7, "Default material"): e_CD x 10^3 of the
-  // Newton rollout 3.56 (mean of the two) where the earlier guess (300 / 3 / 2e-5, no damping) gave
-  // 92 on xy_v2 alone. Density
-  // and bending are ARCSim's own (0.187 kg/m^2, small-curvature 2e-5 N m). The damping stands
+  // rot_h0, first 3.5 s) by `fnopt fit-material`, the Newton rollout's e_CD against them
+  // minimised (docs/design.md §7). Density and bending are ARCSim's own (0.187 kg/m^2,
+  // small-curvature 2e-5 N m). The damping stands
   // for the numerical damping of ARCSim's one linearised solve per step, which an exact
   // backward-Euler step does not have: without it fnopt's cloth swings twice as far.
   double stretch = 473.2;
@@ -27,11 +26,9 @@ struct Material {
   double damping = 4.0;
   // Self-repulsion (cloth/repulsion_term.hpp). A fixed lambda in N/m is the same surface
   // pressure at every resolution; in grid units lambda dt^2/(rho h^2) = 14 at 32^2 (1/30 of the
-  // stretch). Newton at 32^2, xy_v2, 150 steps (corner-center / single-mid-edge): without
-  // repulsion up to 60 / 44 pairs come closer than delta/4; lambda = 1 stops that but slows
-  // Newton on corner-center (21.7 iterations per step against 13.0, 2 steps unconverged);
-  // lambda = 10 keeps every pair above 0.49 / 0.68 delta at 13.5 / 14.2 iterations (13.0 / 14.2
-  // without); lambda = 100 costs 14.5 / 16.2. Hence 10 N/m.
+  // stretch). 10 N/m keeps the folding presets' pairs well apart at little cost in Newton
+  // iterations, where a weaker lambda slows Newton and a stronger one costs more iterations
+  // (docs/design.md §7).
   bool repulsion = false;
   double repulsion_stiffness = 10.0;  // lambda [N/m]
   double repulsion_range = 1.0;       // delta / h

@@ -23,12 +23,10 @@
 // 32^2 (delta = 3.2 cm, dt = 1/60) a relative acceleration above 58 m/s^2 ~ 6 g (18 m/s^2 at
 // 100^2) deviating from the prediction. missed_pairs() counts the pairs found within delta at a
 // step's start that were not candidates of the step before (the solve ended there without
-// them). Measured with Newton at 32^2, xy_v2, 150 steps, lambda 10 N/m: 6 missed pairs on
-// corner-center and 0 on single-mid-edge (of ~900 candidates per step). Within its step such a
-// pair is not repelled; at the next step it is a candidate again.
-// While the cloth is folded the pattern changes most steps (127 of 150 on corner-center), but a
-// change costs one pair search and one symbolic analysis at the next factorization: begin_step
-// took ~1 % of the step time there.
+// them); on the folding presets they are few beside the candidates (docs/design.md §7). Within
+// its step such a pair is not repelled; at the next step it is a candidate again.
+// While the cloth is folded the pattern changes most steps, but a change costs one pair search
+// and one symbolic analysis at the next factorization, little beside the step's solve.
 //
 // Cost: nothing per evaluation beyond the candidates (usually few: only folded regions); no
 // allocation after begin_step; OpenMP only above kParallelThreshold candidates. A term that is

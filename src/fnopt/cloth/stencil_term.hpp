@@ -77,8 +77,8 @@ class StencilTerm final : public EnergyTerm {
 
  private:
   // On one thread each stencil's gradient or matrix is added while it is in registers and L1:
-  // through the per-stencil buffers a 100^2 cloth's angle stencils write and read back 38 MB per
-  // Hessian (20 % of its time). The sums run in the same order either way.
+  // through the per-stencil buffers a fine cloth's angle stencils would write and read back tens
+  // of megabytes per Hessian (docs/design.md §6). The sums run in the same order either way.
   static bool serial(long count) { return count < kParallelThreshold || omp_get_max_threads() == 1; }
 
   // evaluate(s, locals...) fills stencil s's results and returns its energy; add(s, locals...) adds them

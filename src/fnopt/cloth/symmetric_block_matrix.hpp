@@ -4,7 +4,7 @@
 // A_ij^T x_i into y_j. HessianAssembly fills it in place of the whole CSC matrix where only
 // products are needed (the Newton reference's CG): half the values to write, and a product reads
 // a third of the bytes of Eigen's with the whole CSC matrix, whose every entry carries its row
-// index (docs/results.md, "The reference's kernels"). With several OpenMP threads and enough rows
+// index (docs/design.md §6). With several OpenMP threads and enough rows
 // the rows are cut into one band per thread asked for (a smaller team takes them in turn); a band's
 // rows scatter only into the band, and the scatters into earlier bands are added after a barrier,
 // per column in increasing row order: every y_j is the same sum in the same order as on one thread,

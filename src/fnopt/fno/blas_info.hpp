@@ -1,7 +1,7 @@
 #pragma once
 // Which BLAS LibTorch's dense layers really run on. Debian's libtorch reports BLAS_INFO=generic
 // and calls whatever provides libblas.so.3; the reference BLAS makes the FNO's 1×1 layers
-// 5–15× slower than OpenBLAS (docs/design.md §9), so this is checked at run time.
+// several times slower than OpenBLAS (docs/design.md §9), so this is checked at run time.
 #include <string>
 
 namespace fnopt::fno {

@@ -42,9 +42,8 @@ std::unique_ptr<OwnedPlans<Real>> create_plans(int rows, int cols, int kept_cols
   if (field && spectrum) {
     // FFTW_ESTIMATE, not FFTW_MEASURE: MEASURE picks plans by timing them, so two runs of the
     // same rollout could use different plans, round differently in float32 and, over hundreds
-    // of frames of swinging cloth, end apart (two 150-frame fnopt-ls runs at 64^2: e_3D
-    // 0.9e-2; a learned 64^2 table row moved by up to 50 %). fnopt simulate at 100^2, 1 thread:
-    // 314-322 ms/step with either flag; the FFT is a small part of an FNO pass.
+    // of frames of swinging cloth, end apart. The FFT is a small part of an FNO pass, so the
+    // plans' speed does not show (docs/design.md §9).
     const unsigned flags = FFTW_ESTIMATE;
     p.rows_forward = F::plan_rows_r2c(cols, rows, field, spectrum, flags);
     p.cols_forward = F::plan_columns(rows, kept_cols, half, spectrum, FFTW_FORWARD, flags);

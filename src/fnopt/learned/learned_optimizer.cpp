@@ -10,14 +10,9 @@ LearnedOptimizer::LearnedOptimizer(const std::string& model_path, LearnedParams 
 }
 
 LearnedOptimizer::LearnedOptimizer(FNO2d model, std::string model_name, LearnedParams params)
-    : model_(std::move(model)), model_name_(std::move(model_name)), rule_(with_model_inputs(params, model_)) {
+    : model_(std::move(model)), model_name_(std::move(model_name)), rule_(params) {
+  check_learned_model(model_->options, model_name_);
   model_->eval();
-}
-
-LearnedParams LearnedOptimizer::with_model_inputs(LearnedParams params, const FNO2d& model) const {
-  check_learned_model(model->options, model_name_);
-  params.pqn_input = takes_pqn_direction(model->options);
-  return params;
 }
 
 std::string LearnedOptimizer::name() const {
@@ -32,9 +27,8 @@ std::string LearnedOptimizer::settings() const {
   const LearnedParams& p = rule_.params();
   return name() + ": model=" + model_name_ + " width=" + std::to_string(o.width()) +
          " layers=" + std::to_string(o.fourier_layers()) + " modes=" + std::to_string(o.modes_x()) + "x" +
-         std::to_string(o.modes_y()) + (samples_per_environment(o) == 1 ? " combined" : "") +
-         (takes_pqn_direction(o) ? " pqn_input" : "") + (takes_grid_size(o) ? " grid_size_input" : "") +
-         " safeguard=" + (p.safeguard ? "on" : "off") + " line_search=" + (p.line_search ? "on" : "off") +
+         std::to_string(o.modes_y()) + " safeguard=" + (p.safeguard ? "on" : "off") +
+         " line_search=" + (p.line_search ? "on" : "off") +
          (p.subspace > 0 ? " subspace=" + std::to_string(p.subspace) + (p.carry_subspace ? " carried" : "") +
                                (p.pqn_direction ? " pqn_direction=isotropic" : "")
                          : "");
@@ -68,11 +62,8 @@ bool LearnedOptimizer::continues_previous_step(const BackwardEulerObjective& obj
 std::optional<SolveStatus> LearnedOptimizer::iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
   torch::NoGradGuard no_grad;
   rule_.add_pqn_direction(problem, a, gradient);
-  const int k = samples_per_environment(model_->options);
-  const torch::Tensor g = to_model_layout(to_coordinate_samples(gradient, problem.grid()), k);
-  const torch::Tensor pqn =
-      rule_.params().pqn_input ? to_model_layout(rule_.pqn_step_samples(problem), k) : torch::Tensor();
-  const LearnedStep proposal = learned_step(model_, g, state_, mask_, pqn);
+  const torch::Tensor g = to_coordinate_samples(gradient, problem.grid());
+  const LearnedStep proposal = learned_step(model_, g, state_, mask_);
   state_ = rule_.apply(problem, g, proposal, a, value, gradient);
   return std::nullopt;
 }

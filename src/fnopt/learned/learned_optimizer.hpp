@@ -7,7 +7,7 @@
 // What happens to each proposal (the energy safeguard, the optional secant or subspace step) is
 // the proposal rule (proposal_rule.hpp), shared with meta-training. The rule's proposals are
 // carried into the next time step only when that step continues the previous one. With
-// LearnedParams::pqn_direction ("fnopt-ss-pqn") the rule first adds pqn's preconditioned gradient
+// LearnedParams::pqn_direction ("fnopt") the rule first adds pqn's preconditioned gradient
 // to its subspace at each iteration; a model that reads pqn's direction (learned_update.hpp) gets
 // it computed at each iteration, with or without that pair.
 #include <memory>
@@ -33,15 +33,13 @@ class LearnedOptimizer final : public InnerOptimizer {
   std::optional<SolveStatus> iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) override;
 
   // The recurrent state after the last iteration: its step scale s is what the scale head has
-  // made of the scene so far (a diagnostic: docs/results.md, the step scale's path).
+  // made of the scene so far (a diagnostic, docs/design.md §4).
   const LearnedState& state() const { return state_; }
 
  private:
   // Whether the objective's step starts where the previous step (started at previous_start_)
   // ends, to round-off.
   bool continues_previous_step(const BackwardEulerObjective& objective) const;
-  // params, with pqn_input set when the model reads pqn's direction (after checking the model).
-  LearnedParams with_model_inputs(LearnedParams params, const FNO2d& model) const;
   static constexpr double kContinuationTolerance = 1e-12;
 
   FNO2d model_;

@@ -52,8 +52,6 @@ LearnedPqnOptimizer::LearnedPqnOptimizer(const std::string& model_path, LearnedP
 LearnedPqnOptimizer::LearnedPqnOptimizer(FNO2d model, std::string model_name, LearnedPqnParams params)
     : model_(std::move(model)), model_name_(std::move(model_name)), params_(validated(params)), pqn_(params_.pqn) {
   check_learned_model(model_->options, model_name_);
-  require(!takes_pqn_direction(model_->options), model_name_,
-          "reads pqn's direction as an input, which fnopt-pqn does not give (run it with fnopt-ss or fnopt-ss-pqn)");
   model_->eval();
 }
 
@@ -104,9 +102,8 @@ void LearnedPqnOptimizer::propose(const StepProblem& problem, const VecX& gradie
     input = &coarse_;
   }
   const torch::Tensor coordinates = to_coordinate_samples(*input, g.grid);
-  const LearnedStep step = learned_step(model_, to_model_layout(coordinates, samples_per_environment(model_->options)),
-                                        LearnedState{}, g.mask);
-  const torch::Tensor delta = gate_coordinates(to_coordinate_layout(step.delta), coordinates);
+  const LearnedStep step = learned_step(model_, coordinates, LearnedState{}, g.mask);
+  const torch::Tensor delta = gate_coordinates(step.delta, coordinates);
   // Any scale will do: the step length along p is set by A (alpha in the header).
   if (g.prolongation) {
     coarse_.setZero(g.grid.dof_count());

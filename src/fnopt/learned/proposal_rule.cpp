@@ -35,8 +35,7 @@ LearnedState ProposalRule::apply(StepProblem& problem, const torch::Tensor& grad
     start_ = a;
     start_gradient_ = gradient;
   }
-  add_coordinate_samples(to_coordinate_layout(proposal.delta), grid,
-                         acceleration_per_grid_unit(grid, problem.objective().dt()), a);
+  add_coordinate_samples(proposal.delta, grid, acceleration_per_grid_unit(grid, problem.objective().dt()), a);
   const double start_value = value;
   value = problem.value_gradient(a, gradient);
   const double alpha = params_.subspace > 0  ? subspace_update(problem, a, value, gradient)
@@ -55,20 +54,14 @@ LearnedState ProposalRule::apply(StepProblem& problem, const torch::Tensor& grad
 }
 
 void ProposalRule::add_pqn_direction(StepProblem& problem, const VecX& a, const VecX& gradient) {
-  if (!params_.pqn_direction && !params_.pqn_input) return;
+  if (!params_.pqn_direction) return;
   PqnFactor& factor = pqn_factor_.prepare(problem);
   pqn_step_ = -gradient;
   factor.solve_in_place(pqn_step_);
-  if (!params_.pqn_direction) return;
   trial_ = a + pqn_step_;
   if (!std::isfinite(problem.value_gradient(trial_, gradient_change_))) return;
   gradient_change_ -= gradient;
   subspace_.push(pqn_step_, gradient_change_);
-}
-
-torch::Tensor ProposalRule::pqn_step_samples(const StepProblem& problem) const {
-  const Grid& grid = problem.grid();
-  return to_coordinate_samples(pqn_step_, grid, 1.0 / acceleration_per_grid_unit(grid, problem.objective().dt()));
 }
 
 bool ProposalRule::take_trial_if_lower(StepProblem& problem, VecX& a, double& value, VecX& gradient) {

@@ -23,9 +23,8 @@
 
 namespace fnopt {
 
-// fnopt-ss keeps the last eight proposals, carried across time steps. Measured at 100^2 on
-// xy_v2, e_CD x 10^3: 9.41 with eight, 14.3 with six, 15.2 with three; at 32^2 twelve were no
-// better than eight (docs/design.md §4).
+// fnopt-ss keeps the last eight proposals, carried across time steps: fewer were further from
+// Newton on fine grids, more were no better (docs/design.md §4).
 inline constexpr int kFnoptSubspace = 8;
 
 struct LearnedParams {
@@ -47,7 +46,7 @@ struct LearnedParams {
   // (its start is x_t + dt v_{t+1}); any other state, such as the next sample of the per-step
   // error bench or a new grid, starts empty.
   bool carry_subspace = true;
-  // Also put pqn's preconditioned gradient in the subspace ("fnopt-ss-pqn"; needs `subspace`):
+  // Also put pqn's preconditioned gradient in the subspace ("fnopt"; needs `subspace`):
   // before each proposal, the pair (d, g(a + d) - g(a)) with d = -A^-1 g(a), A pqn's isotropic
   // matrix (baselines/pqn_matrix.hpp), joins the kept pairs without moving a, so the subspace
   // step minimises over the FNO's directions and A's. A holds the grid's stiffness, which the
@@ -55,9 +54,6 @@ struct LearnedParams {
   // (docs/design.md §4). One more gradient and one solve with A's factor per iteration; the
   // training pool takes it too when `fnopt train --pqn-direction` asks (training_env.hpp).
   bool pqn_direction = false;
-  // Compute pqn's direction for the model's input (learned_update.hpp) even without the pair:
-  // set from the model by whoever runs the rule (takes_pqn_direction), not a user option.
-  bool pqn_input = false;
 
   void validate() const;  // Error("fnopt.<field>: ...") for values out of range
 };
@@ -75,17 +71,12 @@ class ProposalRule {
   SecantSubspace& pairs() { return subspace_; }
   const SecantSubspace& pairs() const { return subspace_; }
 
-  // Called before each proposal is made, a staying where it is. With LearnedParams::pqn_input or
-  // pqn_direction, computes d = -A^-1 g at a (g: the masked gradient there; pqn_step() returns
-  // it); with pqn_direction, also adds the pair (d, g(a + d) - g(a)) to the kept pairs. Nothing
-  // otherwise.
+  // Called before each proposal is made, a staying where it is. With LearnedParams::pqn_direction,
+  // adds the pair (d, g(a + d) - g(a)) with d = -A^-1 g at a (g: the masked gradient there) to
+  // the kept pairs. Nothing otherwise.
   void add_pqn_direction(StepProblem& problem, const VecX& a, const VecX& gradient);
-  // d of the last add_pqn_direction (empty before one that computed it).
-  const VecX& pqn_step() const { return pqn_step_; }
-  // pqn_step() in grid units as coordinate samples [3, 1, R, C]: the model's input.
-  torch::Tensor pqn_step_samples(const StepProblem& problem) const;
 
-  // Applies `proposal` (grid units, the model's layout) made from the masked gradient samples
+  // Applies `proposal` (grid units, coordinate samples [3, 1, R, C]) made from the masked gradient samples
   // `gradient_samples` at a. On entry value and gradient are L and its masked gradient at a; on
   // return they are those of the new iterate. Returns the recurrent state for the next proposal.
   LearnedState apply(StepProblem& problem, const torch::Tensor& gradient_samples, const LearnedStep& proposal, VecX& a,
@@ -106,7 +97,7 @@ class ProposalRule {
   SecantSubspace subspace_;
   // Where the proposal started, and scratch reused from one proposal to the next.
   VecX start_, start_gradient_, direction_, trial_, trial_gradient_, gradient_change_, pqn_step_;
-  PqnFactorCache pqn_factor_{PqnMatrixKind::Isotropic};
+  PqnFactorCache pqn_factor_;
 };
 
 }  // namespace fnopt

@@ -320,8 +320,7 @@ void BlockMultigrid::cycle(std::size_t l) {
   // the first sweep -U x, scattered by the sweep itself. With one sweep each way a cycle reads the
   // blocks left of the diagonal twice where it read all of A three times, and it scatters from their
   // copy stored row by row, so that each transpose's product is one four-lane kernel like the gather's
-  // instead of three dot products (docs/results.md, "The reference's kernels", "The smoother's scatter
-  // in four lanes").
+  // instead of three dot products (docs/design.md §6).
   float* x = level.x.data();
   forward_sweep(level, true);  // and upper = -U x, the residual
   for (int s = 1; s < params_.smoothing_sweeps; ++s) {

@@ -14,11 +14,10 @@
 // definite operator, as CG's preconditioner must be; Briggs, Henson & McCormick 2000, ch. 3–5),
 // and a dense Cholesky solve on the coarsest grid.
 //
-// Why: the sparse Cholesky factor of A costs, at 100^2, 400–500 ms to compute and 7.8 ms per
-// solve even in floats (5.5 million entries read twice); A itself has 1.3 x 10^5 blocks, of which
-// the smoother keeps the half left of the diagonal (A is symmetric) and a cycle reads it and its
-// coarse levels about three times, no factorisation to rebuild (docs/results.md, "A multigrid
-// preconditioner on fine grids", "The reference's kernels").
+// Why: on fine grids the sparse Cholesky factor of A is costly to compute and, with its fill-in,
+// to read at every solve even in floats; A itself has far fewer blocks, of which the smoother
+// keeps the half left of the diagonal (A is symmetric) and a cycle reads it and its coarse
+// levels about three times, no factorisation to rebuild (docs/design.md §6).
 #include <Eigen/Cholesky>
 #include <Eigen/Sparse>
 #include <vector>
@@ -31,7 +30,7 @@ namespace fnopt {
 struct BlockMultigridParams {
   int smoothing_sweeps = 1;  // block Gauss–Seidel sweeps before the coarse correction, and as many after
   // Coarsening stops at a grid of at most this many unknown dofs, solved there by dense Cholesky
-  // (at 400, 64^2 and 100^2 end at 9^2 and 8^2 vertices: a 0.03 ms solve).
+  // (at 400, 64^2 and 100^2 end at 9^2 and 8^2 vertices).
   int coarsest_dofs = 400;
 
   void validate() const;  // throws Error naming the parameter

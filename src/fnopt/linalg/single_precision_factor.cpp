@@ -66,7 +66,7 @@ void SinglePrecisionFactor::assign(const SparseCholesky& cholesky, Storage stora
 
 // A supernode's columns go a panel of four at a time: each pass over the rows below the panel reads
 // their z once for four columns (column by column, the loads and stores of z cost as much as reading
-// the factor: docs/results.md, "The factor's solves in panels of four columns"). The loops are
+// the factor: docs/design.md §6). The loops are
 // written out in this function: as inline helpers GCC ran their scalar loops.
 template <class Value>
 void SinglePrecisionFactor::solve(const Value* values) {

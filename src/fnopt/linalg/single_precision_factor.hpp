@@ -1,16 +1,14 @@
 #pragma once
 // A single-precision copy of a supernodal Cholesky factor, to precondition with. A solve with the
 // factor of a 100^2 cloth Hessian (5.5 million entries) reads the whole factor twice, forward and
-// back, and that memory traffic is its cost; in floats it reads half the bytes and takes half
-// the time (docs/results.md, "The Newton reference"). The solution differs from the double
-// solve by about 1e-7 of its norm, far below what a preconditioner must resolve (the Newton
-// reference's CG stops at relative residuals of 1e-2 to 1e-6).
+// back, and that memory traffic is its cost; in floats it reads half the bytes (docs/design.md
+// §6). The solution differs from the double solve by float round-off (2^-24 relative), far below
+// what a preconditioner must resolve (the Newton reference's CG stops at relative residuals of
+// 1e-2 to 1e-6).
 // A factor too large for the caches may keep its values in bfloat16 (float's upper 16 bits, 8
-// significant bits; the pivots stay floats, the arithmetic is float): half the bytes again, a
-// 100^2 solve 1.9x faster, and a solution about 3e-3 of its norm from the double one, which costs
-// CG about 1.5 % more products (docs/results.md, "The factor's solves are bound by this core's
-// memory bandwidth"). Both storages run one written-out solve, four columns of a supernode at a
-// time ("The factor's solves in panels of four columns").
+// significant bits; the pivots stay floats, the arithmetic is float): half the bytes again, for a
+// coarser preconditioner that costs CG a few more products (docs/design.md §6). Both storages run
+// one written-out solve, four columns of a supernode at a time (solve(), below).
 #include <cstdint>
 #include <vector>
 

@@ -4,10 +4,10 @@
 // workspaces are kept between solves (cholmod_solve2), for solvers that apply one factor at
 // every iteration.
 //
-// Which factorization: supernodal factorizes a cloth Hessian (3 dofs per vertex) 2-4x faster
-// (100^2: 364 against 1511 ms) and solves as fast; simplicial solves a scalar grid matrix
-// (one row per vertex, 3 right-hand sides) 2x faster (100^2: 2.2 against 4.3 ms). So a factor
-// used once per solve is supernodal, a factor kept for a whole rollout is simplicial.
+// Which factorization: supernodal factorizes a cloth Hessian (3 dofs per vertex, dense blocks
+// for BLAS) faster and solves as fast; simplicial solves a scalar grid matrix (one row per
+// vertex, 3 right-hand sides) faster (docs/design.md §6). So a factor used once per solve is
+// supernodal, a factor kept for a whole rollout is simplicial.
 // CHOLMOD analyses both; the supernodal numeric phase is supernodal_factorization.hpp's.
 #include <Eigen/CholmodSupport>
 

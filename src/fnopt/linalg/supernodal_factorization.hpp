@@ -4,8 +4,7 @@
 // Why not cholmod_factorize: CHOLMOD 3 (SuiteSparse 5, Debian bookworm) opens an OpenMP region for
 // each of a supernode's copy and assembly loops (`if` clauses make them inactive on small ones), and
 // libgomp runs even an inactive region as a team of one, whose closing barrier makes a futex system
-// call: about 1.2 us each, some 7500 regions per factorization at 64^2, a quarter of its time
-// (docs/results.md, "The factorisation without OpenMP regions"). This is the same left-looking
+// call, once per region, thousands of times per factorization (docs/design.md §9). This is the same left-looking
 // algorithm (CHOLMOD's t_cholmod_super_numeric; Ng and Peyton 1993) without those regions: the same
 // BLAS and LAPACK calls on the same blocks, descendants taken in the same order, so L is the same bit
 // for bit. What it adds: A's entries go straight to their places in L (a scatter computed once per

@@ -29,7 +29,7 @@ struct OptimizerEntry {
   std::function<std::unique_ptr<InnerOptimizer>(const OptimizerChoice&)> make;
 };
 
-// Relative cost of one iteration (L-BFGS's = 1), for progress ETAs: measured at 32^2-100^2, one
+// Relative cost of one iteration (L-BFGS's = 1), for progress ETAs, roughly (docs/design.md §9): one
 // learned iteration costs ~10 L-BFGS iterations (three FNO passes), a Newton iteration or a
 // one-solve implicit Euler step ~10-40 (a sparse factorization).
 // The last field: the stability suite's budget per step (0: to tolerance).
@@ -52,13 +52,11 @@ std::unique_ptr<InnerOptimizer> make_learned(const OptimizerChoice& c, bool line
   return std::make_unique<LearnedOptimizer>(c.model.empty() ? default_model : c.model, params, name);
 }
 
-// pqn's settings from --pqn-history and --pqn-matrix (pqn and fnopt-pqn), validated under the
-// flags' names.
+// pqn's settings from --pqn-history (pqn and fnopt-pqn), validated under the flag's name.
 PqnParams pqn_params(const OptimizerChoice& c) {
   PqnParams params;
-  with_flag_names({{"pqn.history", "pqn-history"}, {"pqn.matrix", "pqn-matrix"}}, [&] {
+  with_flag_names({{"pqn.history", "pqn-history"}}, [&] {
     params.history = c.pqn_history;
-    params.matrix = parse_pqn_matrix_kind(c.pqn_matrix);
     params.validate();
   });
   return params;

@@ -41,14 +41,13 @@ double frame_cost(const std::string& method, int iterations, bool converged, int
 bool is_interpolated_method(const std::string& name);
 
 struct OptimizerChoice {
-  // pqn, the fastest method for its error on one CPU thread at every grid measured (32^2: the
-  // learned fnopt-ss's e_CD at a ninth of its time; docs/results.md, "The error-time frontier").
+  // pqn, the fastest method for its error on one CPU thread at every grid measured (on compare's
+  // error-time frontier, docs/design.md §8).
   std::string name = "pqn";
   int iterations = 0;          // budget per step; 0 = the method's default
   double learning_rate = 0.0;  // 0 = the method's default
   std::string model;           // learned optimizer weights
   int pqn_history = PqnParams{}.history;
-  std::string pqn_matrix = to_string(PqnParams{}.matrix);
   // gd's learning rate in units of 1/lambda_max(P^-1 H) (true, the command line's) or of the
   // inertia step P^-1 g (false: a fixed step, as one would write gradient descent by hand).
   bool gd_curvature_scaled = GradientDescentParams{}.curvature_scaled;

@@ -11,11 +11,10 @@
 // Over a rollout: the mean and largest per-frame energy and the share of frames whose energy
 // exceeds each threshold of kSelfContactThresholds = {1e-5, 1e-4, 1e-3} J. With lambda_ref = 1
 // N/m the energy is resolution-consistent (per pair ~ lambda h^2, pairs per area ~ 1/h^2). At
-// 32^2 one pair at delta/2 is 1.7e-4 J. What the thresholds separated in the 32^2 study
-// (fnopt repulsion-study, 150 frames): 1e-5 J = the cloth touches itself (a fold resting on
-// itself under repulsion, ~90 % of frames on the folding presets either way); 1e-4 J = pressed
-// contact (7-60 % of frames with repulsion, ~90 % without); 1e-3 J = deep contact, reached
-// only without repulsion (85-94 % of frames) and never with it.
+// 32^2 one pair at delta/2 is 1.7e-4 J. What the thresholds separate (fnopt repulsion-study,
+// docs/design.md §7): 1e-5 J = the cloth touches itself (a fold resting on itself under
+// repulsion); 1e-4 J = pressed contact; 1e-3 J = deep contact, reached only without
+// repulsion.
 #include <array>
 #include <vector>
 

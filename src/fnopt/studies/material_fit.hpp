@@ -37,8 +37,8 @@ struct MaterialFitParams {
                                                    MaterialCoefficient::Bend, MaterialCoefficient::Damping};
   // Search intervals. Stretch stops at 800 N/m: the stiffest entry of ARCSim's gray-interlock
   // table (2 x 414 N/m, above 17 % strain); e_CD keeps falling slowly towards an inextensible
-  // cloth (xy_v2 + rot_h0 at 32^2: 6.12 at 324 N/m, 5.92 at 2649 N/m), which only makes every
-  // step stiffer. The others are far outside any cloth and only keep the search finite.
+  // cloth (docs/design.md §7), which only makes every step stiffer. The others are far outside
+  // any cloth and only keep the search finite.
   CoefficientRange stretch_range{1.0, 800.0};
   CoefficientRange shear_range{1e-3, 1e4};
   CoefficientRange bend_range{1e-9, 1e-2};

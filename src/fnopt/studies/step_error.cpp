@@ -43,8 +43,8 @@ StepErrorBench::StepErrorBench(const Scene& scene, const TrajectoryFrames& refer
   const int available = frames - 1;
   samples = std::min(samples, available);
   // The samples are unrelated states: a factor from the previous one is no preconditioner for the
-  // next, and the first trust region is sized by it. At 128^2 that made Newton take 83-322
-  // iterations on states its rollout solved in 3 (docs/results.md, the Newton reference).
+  // next, and the first trust region is sized by it: Newton then takes many times the iterations
+  // its rollout took on the same states (docs/design.md §6).
   NewtonParams fresh_factor;
   fresh_factor.reuse_factor_across_steps = false;
   NewtonOptimizer newton(fresh_factor);

@@ -13,7 +13,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The super-resolution comparison: each learned method (fnopt, fnopt-ss, fnopt-ss-pqn, ...) at
+// The super-resolution comparison: each learned method (fnopt, fnopt-ss, fnopt, ...) at
 // each budget against every interpolation method, at the same (coarse) budget where it ran that
 // one, else at its first budget (newton-interp32 runs to its tolerance, N = 1000 at most).
 struct SuperresColumns {
@@ -99,7 +99,7 @@ void write_superres_section(MarkdownReport& md, const CompareReport& report, con
   if (!columns.empty()) {
     md.heading("Zero-shot super-resolution");
     md.paragraph(
-        "The learned optimizer's models are trained on coarse grids: `fnopt-ss-32`, `fnopt-ss-pqn` and the other "
+        "The learned optimizer's models are trained on coarse grids: `fnopt-ss-32`, `fnopt` and the other "
         "learned methods run the one trained at 32x32 only, `fnopt-ss` the one trained on 32x32 to 100x100 grids "
         "(unless --model sets one for all). Super-evaluation runs each model unchanged on each grid. "
         "The ablation (`METHOD-interpK`) instead restricts the state (x_t, v_t) bilinearly to the grid with K "

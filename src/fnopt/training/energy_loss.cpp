@@ -25,7 +25,6 @@ std::pair<double, double> penalised(double r) {
 
 torch::Tensor EnergyLoss::forward(torch::autograd::AutogradContext* ctx, torch::Tensor delta, EnergyLossBatch* batch) {
   const int count = static_cast<int>(batch->envs.size());
-  const int k = batch->samples_per_environment;
   auto gradient = torch::zeros_like(delta);
   batch->ratio.assign(count, 0.0);
   std::vector<double> excess(count, 0.0), denominator(count, 0.0);
@@ -36,7 +35,7 @@ torch::Tensor EnergyLoss::forward(torch::autograd::AutogradContext* ctx, torch::
     const Grid& grid = env.grid();
     const double to_acceleration = acceleration_per_grid_unit(grid, env.dt());
     trial = env.acceleration();
-    add_coordinate_samples(to_coordinate_layout(delta.narrow(0, k * e, k)), grid, to_acceleration, trial);
+    add_coordinate_samples(delta.narrow(0, 3 * e, 3), grid, to_acceleration, trial);
     VecX& g = energy_gradient[e];
     StepProblem problem(env.objective(), env.dirichlet());
     double value = problem.value_gradient(trial, g);
@@ -62,8 +61,7 @@ torch::Tensor EnergyLoss::forward(torch::autograd::AutogradContext* ctx, torch::
 
   auto add_gradient = [&](int e, double d_loss_d_value) {
     const Grid& grid = batch->envs[e]->grid();
-    gradient.narrow(0, k * e, k)
-        .copy_(to_model_layout(to_coordinate_samples(energy_gradient[e], grid, d_loss_d_value), k));
+    gradient.narrow(0, 3 * e, 3).copy_(to_coordinate_samples(energy_gradient[e], grid, d_loss_d_value));
   };
   double loss = 0.0;
   const int in_all = batch->environments_in_all > 0 ? batch->environments_in_all : count;

@@ -38,7 +38,6 @@ struct EnergyLossBatch {
   std::vector<double> current_loss;    // L_e(a_e), the iterate before the update
   std::vector<VecX> current_gradient;  // masked gradient of L_e at a_e (for after_subspace_step)
   std::vector<double> ratio;           // r_e, filled by the forward pass
-  int samples_per_environment = 3;     // the model's layout (learned_update.hpp)
   LossNormalisation normalisation = LossNormalisation::PerEnvironment;
   bool after_subspace_step = false;
   // Data-parallel training (meta_trainer.hpp): `envs` are this process's share of a batch of
@@ -50,7 +49,7 @@ struct EnergyLossBatch {
 
 class EnergyLoss : public torch::autograd::Function<EnergyLoss> {
  public:
-  // delta: grid-unit updates in the model's layout, [3E, 1, R, C] or [E, 3, R, C].
+  // delta: grid-unit updates, three coordinate samples per environment [3E, 1, R, C].
   static torch::Tensor forward(torch::autograd::AutogradContext* ctx, torch::Tensor delta, EnergyLossBatch* batch);
   static torch::autograd::tensor_list backward(torch::autograd::AutogradContext* ctx,
                                                torch::autograd::tensor_list grad_outputs);

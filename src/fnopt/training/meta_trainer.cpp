@@ -47,19 +47,16 @@ void TrainOptions::validate() const {
           "train.resolutions", "several resolutions need the energy objective with the per-environment loss");
   require(!score_after_subspace_step || pool.subspace > 0, "train.score_after_subspace_step",
           "needs a pool that takes the subspace step (subspace > 0: fnopt train --subspace K)");
-  require(objective == TrainObjective::Energy || !takes_pqn_direction(model), "train.objective",
-          "the probe objective trains models without pqn's direction as an input");
 }
 
 std::string TrainOptions::signature() const {
   std::ostringstream s;
   s << "res=";
   for (std::size_t i = 0; i < pool.resolutions.size(); ++i) s << (i ? "," : "") << pool.resolutions[i];
-  s << " envs=" << pool.environments << (samples_per_environment(model) == 1 ? " combined" : "")
-    << (takes_pqn_direction(model) ? " pqn_input" : "") << (takes_grid_size(model) ? " grid_size_input" : "")
-    << " width=" << model.width() << " layers=" << model.fourier_layers() << " modes=" << model.modes_x() << "x"
-    << model.modes_y() << " lifting=" << model.lifting_channels() << " projection=" << model.projection_channels()
-    << " batch=" << batch << " lr=" << learning_rate << " newton_weight=" << newton_weight << " seed=" << seed;
+  s << " envs=" << pool.environments << " width=" << model.width() << " layers=" << model.fourier_layers()
+    << " modes=" << model.modes_x() << "x" << model.modes_y() << " lifting=" << model.lifting_channels()
+    << " projection=" << model.projection_channels() << " batch=" << batch << " lr=" << learning_rate
+    << " newton_weight=" << newton_weight << " seed=" << seed;
   if (loss_normalisation == LossNormalisation::Batch) s << " loss=batch";
   if (objective == TrainObjective::Probe) s << " objective=probe";
   if (probe.iterations != 1) s << " probe_iterations=" << probe.iterations;
@@ -73,24 +70,17 @@ MetaTrainer::MetaTrainer(const TrainOptions& options, const std::string& checkpo
   options_.validate();
   require(options_.batch % processes_.size() == 0, "train.batch",
           "must be a multiple of the processes (" + std::to_string(processes_.size()) + ")");
-  options_.pool.pqn_input = takes_pqn_direction(options_.model);
   torch::manual_seed(options_.seed);
   model_ = FNO2d(options_.model);
   if (!options_.initial_model.empty() && checkpoint.empty()) {
-    FNO2d initial = load_fno(options_.initial_model);
-    // A model without pqn's direction or the grid's size as input starts one that reads them, proposing what it
-    // did.
-    if (takes_pqn_direction(options_.model) && !takes_pqn_direction(initial->options))
-      initial = with_pqn_direction_input(initial);
-    if (takes_grid_size(options_.model) && !takes_grid_size(initial->options)) initial = with_grid_size_input(initial);
+    const FNO2d initial = load_learned_model(options_.initial_model);
     const FNO2dOptions& given = initial->options;
     require(given.in_channels() == options_.model.in_channels() && given.width() == options_.model.width() &&
                 given.fourier_layers() == options_.model.fourier_layers() &&
                 given.modes_x() == options_.model.modes_x() && given.modes_y() == options_.model.modes_y() &&
                 given.lifting_channels() == options_.model.lifting_channels() &&
                 given.projection_channels() == options_.model.projection_channels(),
-            options_.initial_model,
-            "not the shape of the model to train (width, layers, modes, lifting, projection, layout)");
+            options_.initial_model, "not the shape of the model to train (width, layers, modes, lifting, projection)");
     torch::NoGradGuard no_grad;
     const auto from = initial->named_parameters();
     for (auto& p : model_->named_parameters()) p.value().copy_(from[p.key()]);
@@ -165,15 +155,14 @@ TrainStepStats MetaTrainer::step() {
   take_gradient_step(loss, stats);
 
   // Each environment takes its update by its proposal rule, as inference would.
-  const int k = samples_per_environment(options_.model);
   double ratio_sum = 0.0;
   int finite = 0;
   for (GroupStep& group : steps)
     for (std::size_t i = 0; i < group.batch.envs.size(); ++i) {
       TrainingEnv& env = *group.batch.envs[i];
       const int j = static_cast<int>(i);
-      const LearnedStep proposal{group.update.delta.narrow(0, k * j, k).detach(),
-                                 group.update.scale.narrow(0, k * j, k).detach()};
+      const LearnedStep proposal{group.update.delta.narrow(0, 3 * j, 3).detach(),
+                                 group.update.scale.narrow(0, 3 * j, 3).detach()};
       if (!std::isfinite(group.batch.ratio[i]) || !torch::isfinite(proposal.delta).all().item<bool>()) {
         env.renew();
         ++stats.renewed;
@@ -185,9 +174,9 @@ TrainStepStats MetaTrainer::step() {
       double value = group.batch.current_loss[i];
       const LearnedState next = env.rule().apply(problem, group.gradients[i], proposal, env.acceleration(), value,
                                                  group.batch.current_gradient[i]);
-      env.previous_gradient = to_coordinate_layout(next.gradient);
-      env.previous_delta = to_coordinate_layout(next.delta);
-      env.scale = next.scale.expand({3, 1, 1, 1}).contiguous();
+      env.previous_gradient = next.gradient;
+      env.previous_delta = next.delta;
+      env.scale = next.scale;
       env.finish_iteration();
     }
   double counts[3] = {ratio_sum, static_cast<double>(finite), static_cast<double>(stats.renewed)};
@@ -199,42 +188,37 @@ TrainStepStats MetaTrainer::step() {
 }
 
 torch::Tensor MetaTrainer::group_forward(const std::vector<int>& members, GroupStep& group, double& newton_loss) {
-  // Environments keep their state per coordinate ([3, 1, R, C], scale [3, 1, 1, 1]); the
-  // model sees it in its own layout (k samples per environment).
-  const int k = samples_per_environment(options_.model);
-  auto scale_to_model = [k](const torch::Tensor& scale) { return k == 3 ? scale : scale.narrow(0, 0, 1); };
+  // Environments keep their state per coordinate ([3, 1, R, C], scale [3, 1, 1, 1]), as the
+  // model sees it.
   const int count = static_cast<int>(members.size());
   EnergyLossBatch& batch = group.batch;
-  batch.samples_per_environment = k;
   batch.normalisation = options_.loss_normalisation;
   batch.after_subspace_step = options_.score_after_subspace_step;
   batch.environments_in_all = options_.batch;
   batch.processes = &processes_;
   batch.current_gradient.resize(count);
-  std::vector<torch::Tensor> previous_gradients, previous_deltas, scales, masks, newton_deltas, pqn_directions;
+  std::vector<torch::Tensor> previous_gradients, previous_deltas, scales, masks, newton_deltas;
   for (int i = 0; i < count; ++i) {
     TrainingEnv& env = *pool_[members[i]];
     VecX& g = batch.current_gradient[i];
     batch.envs.push_back(&env);
     StepProblem problem(env.objective(), env.dirichlet());
     batch.current_loss.push_back(problem.value_gradient(env.acceleration(), g));
-    // fnopt-ss-pqn's pair joins the kept ones before the proposal, so the loss past the subspace
+    // fnopt's pair joins the kept ones before the proposal, so the loss past the subspace
     // step scores the proposal with it.
     env.rule().add_pqn_direction(problem, env.acceleration(), g);
-    if (options_.pool.pqn_input) pqn_directions.push_back(to_model_layout(env.rule().pqn_step_samples(problem), k));
-    group.gradients.push_back(to_model_layout(to_coordinate_samples(g, env.grid()), k));
-    previous_gradients.push_back(to_model_layout(env.previous_gradient, k));
-    previous_deltas.push_back(to_model_layout(env.previous_delta, k));
-    scales.push_back(scale_to_model(env.scale));
-    masks.push_back(free_mask(env.dirichlet(), env.grid()).expand({k, 1, env.grid().rows, env.grid().cols}));
+    group.gradients.push_back(to_coordinate_samples(g, env.grid()));
+    previous_gradients.push_back(env.previous_gradient);
+    previous_deltas.push_back(env.previous_delta);
+    scales.push_back(env.scale);
+    masks.push_back(free_mask(env.dirichlet(), env.grid()).expand({3, 1, env.grid().rows, env.grid().cols}));
     const double to_grid_units = 1.0 / acceleration_per_grid_unit(env.grid(), env.dt());
-    newton_deltas.push_back(to_model_layout(
-        to_coordinate_samples(env.reference_acceleration() - env.acceleration(), env.grid(), to_grid_units), k));
+    newton_deltas.push_back(
+        to_coordinate_samples(env.reference_acceleration() - env.acceleration(), env.grid(), to_grid_units));
   }
   const torch::Tensor gradient = torch::cat(group.gradients);
   const LearnedState state{torch::cat(previous_gradients), torch::cat(previous_deltas), torch::cat(scales)};
-  group.update = learned_step(model_, gradient, state, torch::cat(masks),
-                              pqn_directions.empty() ? torch::Tensor() : torch::cat(pqn_directions));
+  group.update = learned_step(model_, gradient, state, torch::cat(masks));
   torch::Tensor loss = EnergyLoss::apply(group.update.delta, &batch);
   if (options_.newton_weight > 0.0) {
     const auto target = torch::cat(newton_deltas).view({count, -1});
@@ -266,7 +250,6 @@ void MetaTrainer::take_gradient_step(torch::Tensor loss, TrainStepStats& stats) 
 }
 
 void MetaTrainer::probe_step(const std::vector<int>& order, TrainStepStats& stats) {
-  const int k = samples_per_environment(options_.model);
   std::vector<std::unique_ptr<ProbeLoss>> losses;
   std::vector<torch::Tensor> gradients, masks;
   for (const int e : order) {
@@ -277,11 +260,9 @@ void MetaTrainer::probe_step(const std::vector<int>& order, TrainStepStats& stat
     losses.push_back(
         std::make_unique<ProbeLoss>(problem, env.acceleration(), g, options_.probe, &env.reference_acceleration()));
     gradients.push_back(to_coordinate_samples(g, env.grid()));
-    masks.push_back(free_mask(env.dirichlet(), env.grid()).expand({k, 1, env.grid().rows, env.grid().cols}));
+    masks.push_back(free_mask(env.dirichlet(), env.grid()).expand({3, 1, env.grid().rows, env.grid().cols}));
   }
-  std::vector<torch::Tensor> model_gradients;
-  for (const auto& g : gradients) model_gradients.push_back(to_model_layout(g, k));
-  const LearnedStep proposal = learned_step(model_, torch::cat(model_gradients), LearnedState{}, torch::cat(masks));
+  const LearnedStep proposal = learned_step(model_, torch::cat(gradients), LearnedState{}, torch::cat(masks));
 
   // The batch mean of R (1 + log R above 1, as the energy loss), this process's share.
   torch::Tensor loss = torch::zeros({}, torch::kFloat64);
@@ -290,8 +271,7 @@ void MetaTrainer::probe_step(const std::vector<int>& order, TrainStepStats& stat
   for (std::size_t i = 0; i < order.size(); ++i) {
     const ProbeLoss& probe = *losses[i];
     if (!probe.defined()) continue;
-    const torch::Tensor delta =
-        gate_coordinates(to_coordinate_layout(proposal.delta.narrow(0, k * i, k)), gradients[i]);
+    const torch::Tensor delta = gate_coordinates(proposal.delta.narrow(0, 3 * i, 3), gradients[i]);
     const torch::Tensor r = probe.remaining(probe.free_dofs(delta));
     const double value = r.item<double>();
     if (!std::isfinite(value)) continue;

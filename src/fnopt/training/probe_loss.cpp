@@ -88,8 +88,7 @@ ProbeLoss::ProbeLoss(const StepProblem& problem, const VecX& a, const VecX& grad
   gradient_.resize(static_cast<Eigen::Index>(free_dofs_.size()));
   for (std::size_t k = 0; k < free_dofs_.size(); ++k) gradient_[static_cast<Eigen::Index>(k)] = gradient[free_dofs_[k]];
 
-  matrix_ = build_pqn_matrix(problem_.objective(), free_index, options_.pqn.matrix, problem_.grid().rest_positions())
-                .expanded();
+  matrix_ = build_pqn_matrix(problem_.objective(), free_index, problem_.grid().rest_positions()).expanded();
   require(matrix_factor_.factorize_matrix(matrix_), "probe loss", "pqn's matrix is not positive definite");
   maps_->matrix = linear_map([this](VecX& v) { multiply(matrix_, v); });
   maps_->matrix_inverse =

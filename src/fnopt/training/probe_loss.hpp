@@ -38,7 +38,7 @@ enum class ProbeSurface {
 struct ProbeLossOptions {
   int iterations = 1;  // K: pqn's iterations after the probe that R scores, in [1, 100]
   ProbeSurface surface = ProbeSurface::QuadraticModel;
-  PqnParams pqn;  // pqn's matrix, history and line search, as fnopt-pqn runs it
+  PqnParams pqn;  // pqn's history and line search, as fnopt-pqn runs it
 
   void validate() const;  // throws Error("probe.<parameter>: ...")
 };

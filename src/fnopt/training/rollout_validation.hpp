@@ -4,7 +4,7 @@
 // of the same scenes, scored by e_3D (trajectory_error.hpp) averaged over the scenes of each grid, then
 // geometrically over the grids. Why: training at 32^2 keeps lowering the 32^2 error while it can break larger
 // grids (docs/history/training-experiments.md, "Stage 2's end"), and a pool with fine grids gives up 32^2
-// (docs/results.md), so the training loss alone cannot say which checkpoint to ship.
+// (docs/design.md §5), so the training loss alone cannot say which checkpoint to ship.
 #include <limits>
 #include <map>
 #include <memory>
@@ -22,11 +22,11 @@ namespace fnopt {
 
 struct ValidationOptions {
   // N x N grids (default material). With several, the score is the geometric mean of the grids' means: a
-  // checkpoint ranks by relative changes, so a 10 % gain at 32^2 weighs as much as one at 100^2, whose errors
-  // are ten times larger (docs/training.md, "Validation at several grids").
+  // checkpoint ranks by relative changes, so a gain at 32^2 weighs as much as the same relative gain at 100^2,
+  // whose errors are larger (docs/design.md §5).
   std::vector<int> resolutions = {100};
   // Motion names (boundary/trajectory.hpp). Not xy_v2, rot_h0 or xyz_v3 by default: those are the
-  // test scenes of the 64^2 and 100^2 tables in docs/results.md, and a checkpoint chosen on them would
+  // test scenes of the result tables (docs/design.md §5), and a checkpoint chosen on them would
   // make the tables optimistic. Two motions at least, as one alone is a noisy judge
   // (docs/history/training-experiments.md, "Stage 2's end").
   std::vector<std::string> motions = {"xyz_v4", "rot_h1"};
@@ -38,7 +38,7 @@ struct ValidationOptions {
   // proposals (the shipped learned optimizer), or 0 for fnopt-ls, which the validations in
   // docs/history/training-experiments.md before fnopt-ss used.
   int subspace = kFnoptSubspace;
-  bool pqn_direction = false;  // fnopt-ss-pqn's rule (LearnedParams::pqn_direction; needs subspace)
+  bool pqn_direction = false;  // fnopt's rule (LearnedParams::pqn_direction; needs subspace)
 
   void validate() const;  // Error("validate.<field>: ...") for a bad value
   // The fields validate() names mapped to the flags that set them, each `prefix` + its name ("validate-" in

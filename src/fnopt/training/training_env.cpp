@@ -26,13 +26,12 @@ Vec3 random_unit(std::mt19937_64& rng) {
 }
 
 // The rule the pool takes proposals with: as they are, or fnopt-ss's (safeguard and subspace
-// step), or fnopt-ss-pqn's (the same with pqn's direction in the subspace).
+// step), or fnopt's (the same with pqn's direction in the subspace).
 LearnedParams pool_rule(const PoolOptions& options) {
   LearnedParams p;
   p.safeguard = options.subspace > 0;
   p.subspace = options.subspace;
   p.pqn_direction = options.pqn_direction;
-  p.pqn_input = options.pqn_input;
   return p;
 }
 

@@ -58,13 +58,10 @@ struct PoolOptions {
   // shipped model's training); K > 0, as fnopt-ss does at inference: the subspace step over the
   // last K proposals, carried across the environment's time steps, and the energy safeguard.
   int subspace = 0;
-  // Also put pqn's preconditioned gradient in the subspace before each proposal, as fnopt-ss-pqn
+  // Also put pqn's preconditioned gradient in the subspace before each proposal, as fnopt
   // does (LearnedParams::pqn_direction; needs `subspace`), so the model trains for the directions
   // that complement A^-1 g.
   bool pqn_direction = false;
-  // Compute pqn's direction for a model that reads it (LearnedParams::pqn_input): set by the
-  // trainer from the model's inputs, not a user option.
-  bool pqn_input = false;
   // The reference each time step's loss is measured against (L* of energy_loss.hpp): 0, Newton's
   // converged step, the exact minimum (the shipped model's training); K > 0, K iterations of pqn
   // from a_0, an upper bound on L* whose cost does not grow with the material's stiffness (its step

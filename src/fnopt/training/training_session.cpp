@@ -144,22 +144,15 @@ TrainingSessionResult run_training_session(const TrainingSessionOptions& options
                                ", carried across time steps, and the energy safeguard";
       const std::string rule = subspace == 0 ? "as it is"
                                : options.train.pool.pqn_direction
-                                   ? "as fnopt-ss-pqn does: pqn's direction -A^-1 g, then the subspace step" + kept
+                                   ? "as fnopt does: pqn's direction -A^-1 g, then the subspace step" + kept
                                    : "as fnopt-ss does: subspace step" + kept;
       std::fprintf(stderr, "fnopt train: the pool takes each proposal %s\n", rule.c_str());
       std::fprintf(
           stderr, "fnopt train: the loss scores each update %s\n",
           options.train.score_after_subspace_step ? "where the rule ends, past the subspace step" : "at the proposal");
     }
-    if (takes_pqn_direction(options.train.model))
-      std::fprintf(stderr, "fnopt train: the model reads pqn's direction -A^-1 g as an input field\n");
-    if (takes_grid_size(options.train.model))
-      std::fprintf(stderr, "fnopt train: the model reads the grid's size, log2((R - 1)/31) and log2((C - 1)/31)\n");
     if (!options.train.initial_model.empty() && !resuming)
-      std::fprintf(stderr, "fnopt train: starting from the weights of %s%s\n", options.train.initial_model.c_str(),
-                   load_fno_options(options.train.initial_model).in_channels() != options.train.model.in_channels()
-                       ? " (widened: the new inputs' weights zero)"
-                       : "");
+      std::fprintf(stderr, "fnopt train: starting from the weights of %s\n", options.train.initial_model.c_str());
   }
   std::unique_ptr<RolloutValidation> validation;
   if (root && options.validation) {

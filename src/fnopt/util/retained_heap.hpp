@@ -5,8 +5,8 @@
 // threshold (128 KB, raised on the fly to the largest freed block) with a fresh mmap, and
 // returns the top of the heap to the kernel once more than twice that threshold is free.
 // Either way the next pass's tensors land on new pages, which the kernel faults in and zeroes
-// again: at 64² that was a third of fnopt's time per frame (3.7 s of system time in 18.5 s).
-// Fixing both thresholds keeps those pages mapped and reused.
+// again, a large share of fnopt's time per frame (docs/design.md §9). Fixing both thresholds
+// keeps those pages mapped and reused.
 namespace fnopt {
 
 // Blocks up to this size come from the heap, not from mmap: the upper limit mallopt(3)

@@ -4,10 +4,9 @@
 // Why: CHOLMOD 3 (SuiteSparse 5, Debian bookworm) opens the copy loops of its supernodal
 // factorization with a fixed `num_threads(CHOLMOD_OMP_NUM_THREADS)` = 4, whatever
 // omp_set_num_threads() says, and OpenBLAS (OpenMP build) splits each dense block over
-// omp_get_max_threads(). On the 2-core machine the two oversubscribed the cores: at 64^2 the
-// Newton bench spent a third of its time in futex wake-ups (1624 ms/frame at 1 thread,
-// 7138 ms/frame at 2) against 682 ms/frame with CHOLMOD serial. Its supernodes are small at
-// these sizes, so a serial factorization loses nothing; the assembly around it stays parallel.
+// omp_get_max_threads(). The two oversubscribe the cores, and the factorization then spends its
+// time in futex wake-ups (docs/design.md §9). Its supernodes are small at these sizes, so a
+// serial factorization loses nothing; the assembly around it stays parallel.
 //
 // omp_set_num_threads(1) sends OpenBLAS down its serial path (it follows omp_get_max_threads()
 // at each call); max-active-levels 0 makes CHOLMOD's explicit num_threads(4) regions inactive

@@ -36,9 +36,9 @@ std::string file_text(const std::string& path) {
 }
 
 // Sends `size` bytes from `data`, which `owner` keeps alive, as they are. httplib would compress
-// a body set with set_content for a browser that accepts Brotli, at its slowest setting: ~10 s
-// for three.js on a busy core, far more than a local connection saves. Nor is a 47 MB payload
-// copied into the response.
+// a body set with set_content for a browser that accepts Brotli, at its slowest setting: far
+// more time than a local connection saves (docs/design.md §11). Nor is a large payload copied
+// into the response.
 void send_uncompressed(httplib::Response& response, std::shared_ptr<const void> owner, const char* data,
                        std::size_t size, const std::string& content_type) {
   response.set_content_provider(size, content_type,
