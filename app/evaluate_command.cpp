@@ -8,8 +8,9 @@
 #include <fnopt/io/csv_table.hpp>
 #include <fnopt/io/hdf5_file.hpp>
 #include <fnopt/simulation/rollout_file.hpp>
-#include <fnopt/studies/step_error.hpp>
+#include <fnopt/metrics/obstacle_distance.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
+#include <fnopt/studies/step_error.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/output_path.hpp>
 #include "app/commands.hpp"
@@ -119,6 +120,14 @@ void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
     std::printf("e_3D x 10^2 = n/a      (no vertex correspondence: %dx%d against %dx%d)\n", rollout.rows, rollout.cols,
                 reference.rows, reference.cols);
   std::printf("max edge strain of the rollout's frames = %.2f %%\n", 100 * c.max_strain);
+  // An fnopt rollout stores its scene; where that has obstacles, how close the cloth came to them
+  // (docs/design.md §14: at least the contact thickness, never negative).
+  if (!read_rollout_provenance(flags.rollout).version.empty()) {
+    const Scene scene = read_rollout_scene(flags.rollout);
+    if (!scene.obstacles.empty())
+      std::printf("min obstacle distance = %.6g m   (over %zu frames, every vertex and obstacle)\n",
+                  min_obstacle_distance(scene, rollout.positions), rollout.positions.size());
+  }
   if (!flags.per_frame.empty()) {
     write_per_frame_table(flags.per_frame, c);
     std::printf("per-frame errors: %s\n", flags.per_frame.c_str());

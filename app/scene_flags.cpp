@@ -25,7 +25,7 @@ const FlagSpec kFlags[] = {
     {"bend", "bending stiffness k_b [N m]"},
     {"density", "area density rho [kg/m^2]"},
     {"damping", "damping coefficient c [1/s]"},
-    {"handles", "handle preset: corner, diagonal, mid-edge, corner-center, single-mid-edge, single-center"},
+    {"handles", "handle preset: corner, diagonal, mid-edge, corner-center, single-mid-edge, single-center, none"},
     {"handle-vertices", "explicit handle vertices 'i,j;i,j;...' (overrides --handles)"},
     {"motion", "handle motion: xy_v2, ..., rot_h1_opp, static"},
     {"trajectory", "CSV of handle positions (t_s, hK_x, hK_y, hK_z); FILE.csv#MOTION picks rows"},
@@ -35,6 +35,12 @@ const FlagSpec kFlags[] = {
     {"gravity", "gravity vector 'x,y,z' [m/s^2]"},
     {"repulsion-stiffness", "self-repulsion barrier stiffness lambda [N/m] (default 10)"},
     {"repulsion-range", "self-repulsion range delta in cell widths h (default 1)"},
+    {"placement", "the cloth at rest: vertical (hanging in the x-z plane, the default) or horizontal (in the x-y plane "
+                  "at z = 0, centred on the z axis)"},
+    {"let-go", "release every handle at this time [s] (default: never)"},
+    {"contact-stiffness", "obstacle barrier stiffness kappa [N/m] (default 10; docs/design.md §14)"},
+    {"contact-range", "obstacle barrier range dhat in cell widths h (default 0.5)"},
+    {"contact-thickness", "the gap the barrier keeps from every obstacle [m] (default 0.001)"},
 };
 
 }  // namespace
@@ -47,6 +53,10 @@ void SceneFlags::add_to(CLI::App& command, bool with_resolution) {
     if (!with_resolution && (key == "res" || key == "rows" || key == "cols")) continue;
     options_[key] = command.add_option("--" + key, values_[key], flag.help);
   }
+  command.add_option("--obstacle", obstacles_,
+                     "an obstacle, repeatable: 'sphere center=X,Y,Z radius=R', 'plane point=X,Y,Z normal=X,Y,Z', "
+                     "'box center=X,Y,Z size=SX,SY,SZ rounding=R' or 'capsule a=X,Y,Z b=X,Y,Z radius=R', each with "
+                     "optional friction=MU and motion=NAME or path=FILE.csv (docs/design.md §14)");
   repulsion_flag_ = command.add_flag(
       "--repulsion", repulsion_,
       "enable self-repulsion (default: auto, on for the folding presets corner-center and single-mid-edge)");
@@ -67,6 +77,11 @@ Scene SceneFlags::scene() const {
   std::map<std::string, std::string> settings;
   for (const auto& [key, option] : options_)
     if (option->count() > 0) settings[key] = values_.at(key);
+  if (!obstacles_.empty()) {
+    std::string specs;
+    for (const std::string& spec : obstacles_) specs += (specs.empty() ? "" : ";") + spec;
+    settings["obstacle"] = specs;
+  }
   if (repulsion_flag_ && repulsion_flag_->count() > 0) settings["repulsion"] = "true";
   if (no_repulsion_flag_ && no_repulsion_flag_->count() > 0) settings["repulsion"] = "false";
   return apply_scene_settings(base, settings);

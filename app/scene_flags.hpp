@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <map>
 #include <string>
+#include <vector>
 
 #include <fnopt/scenes/scene.hpp>
 
@@ -13,7 +14,9 @@ class SceneFlags {
  public:
   // Adds --scene, --res, --rows, --cols, --size, --handles, --handle-vertices, --motion,
   // --trajectory, --speed, --frames, --dt, --material, --stretch, --shear, --bend, --density,
-  // --damping, --gravity, --repulsion-stiffness, --repulsion-range, --repulsion / --no-repulsion
+  // --damping, --gravity, --repulsion-stiffness, --repulsion-range, --placement, --let-go,
+  // --contact-stiffness, --contact-range, --contact-thickness, --obstacle (repeatable; the specs go
+  // to the scene's obstacle setting, after any of the --scene file), --repulsion / --no-repulsion
   // (self-repulsion on / off; neither: auto, see repulsion_enabled). `with_resolution` false leaves out
   // --res/--rows/--cols (for commands that take a list of resolutions).
   void add_to(CLI::App& command, bool with_resolution = true);
@@ -25,6 +28,7 @@ class SceneFlags {
   std::string scene_file_;
   std::map<std::string, std::string> values_;
   std::map<std::string, CLI::Option*> options_;
+  std::vector<std::string> obstacles_;  // --obstacle, one spec each
   bool repulsion_ = false;
   CLI::Option* repulsion_flag_ = nullptr;
   bool no_repulsion_ = false;

@@ -5,6 +5,7 @@
 
 #include <fnopt/cloth/grid_units.hpp>
 #include <fnopt/io/obj_file.hpp>
+#include <fnopt/metrics/obstacle_distance.hpp>
 #include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/output_path.hpp>
@@ -50,6 +51,8 @@ void run_simulate(const SimulateFlags& flags) {
   std::fprintf(stderr, "self-repulsion: %s (repulsion = %s), lambda %.4g N/m, delta %.4g h\n",
                scene.material.repulsion ? "on" : "off", repulsion_mode_name(scene.repulsion).c_str(),
                scene.material.repulsion_stiffness, scene.material.repulsion_range);
+  for (std::size_t k = 0; k < scene.obstacles.size(); ++k)
+    std::fprintf(stderr, "obstacle %zu: %s\n", k + 1, scene.obstacles[k].to_text().c_str());
   ProgressBar bar("simulate", scene.frames);
   const RolloutResult rollout = run_rollout(resolved, *optimizer, options, [&](int done, int, const StepRecord& s) {
     char status[96];
@@ -87,6 +90,9 @@ void run_simulate(const SimulateFlags& flags) {
       optimizer->name().c_str(), steps, scene.frames, scene.rows, scene.cols, rollout.mean_step_ms(),
       100 * rollout.max_strain(), steps ? static_cast<double>(rollout.total_iterations()) / steps : 0.0, max_iterations,
       convergence.c_str(), rollout.diverged ? rollout.divergence.c_str() : "finite", flags.out.c_str());
+  // Every stored frame, each with its obstacles posed at its time (docs/design.md §14).
+  if (!scene.obstacles.empty())
+    std::printf("min obstacle distance = %.6g m\n", min_obstacle_distance(scene, rollout.positions));
   if (rollout.diverged) throw Error("simulate", rollout.divergence);
 }
 

@@ -1,0 +1,78 @@
+// Obstacles from the command line as a user gives them (docs/design.md §14): a released cloth
+// dropped on a sphere and a table keeps every vertex outside, simulate and evaluate print the
+// smallest distance, and bad obstacle input is one line and exit 2 before any work.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "tests/app/run_fnopt.hpp"
+#include "tests/util/temp_dir.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The number after "min obstacle distance = " in a command's output; NaN where it is missing.
+double min_distance(const std::string& output) {
+  const std::string key = "min obstacle distance = ";
+  const auto at = output.find(key);
+  return at == std::string::npos ? NAN : std::stod(output.substr(at + key.size()));
+}
+
+TEST(ContactCli, AReleasedClothOnASphereStaysOutsideForEveryMethod) {
+  const fnopt::testing::TempDir tmp;
+  const std::string scene =
+      "--res 12 --frames 40 --handles none --placement horizontal --threads 1 "
+      "--obstacle 'sphere center=0,0,-0.25 radius=0.2 friction=0.3' --obstacle 'plane point=0,0,-0.5 normal=0,0,1' ";
+  for (const std::string method : {"newton", "pqn", "lbfgs", "adam", "gd", "fnopt"}) {
+    SCOPED_TRACE(method);
+    const fs::path out = tmp.path() / (method + ".h5");
+    const CommandResult r = run_fnopt("simulate " + scene + "--optimizer " + method + " --out " + out.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("obstacle 1: sphere"), std::string::npos) << r.output;
+    const double simulated = min_distance(r.output);
+    EXPECT_GE(simulated, 0.0) << r.output;
+    EXPECT_LT(simulated, 0.05) << "the cloth must reach the sphere within 40 frames: " << r.output;
+    const CommandResult e = run_fnopt("evaluate --reference " + out.string() + " " + out.string() + " --threads 1");
+    ASSERT_EQ(e.status, 0) << e.output;
+    // The same frames, read back as floats from the file.
+    EXPECT_NEAR(min_distance(e.output), simulated, 1e-6) << e.output;
+  }
+}
+
+TEST(ContactCli, ARolloutWithoutObstaclesPrintsNoDistance) {
+  const fnopt::testing::TempDir tmp;
+  const fs::path out = tmp.path() / "free.h5";
+  const CommandResult r = run_fnopt("simulate --res 8 --frames 3 --threads 1 --out " + out.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(r.output.find("min obstacle distance"), std::string::npos) << r.output;
+}
+
+TEST(ContactCli, BadObstacleInputIsOneLineAndExitTwoBeforeAnyWork) {
+  const fnopt::testing::TempDir tmp;
+  std::ofstream(tmp.path() / "nan.csv") << "t,x,y,z\n0,0,0,-1\n1,nan,0,-1\n";
+  const fs::path out = tmp.path() / "never.h5";
+  const std::string simulate = "simulate --res 8 --frames 3 --threads 1 --out " + out.string() + " --obstacle ";
+  struct Case {
+    std::string obstacle, says;
+  };
+  for (const Case& c : {Case{"'sphere center=0,0,-2 radius=-1'", "radius"},
+                        Case{"'cone center=0,0,-2 radius=1'", "unknown shape 'cone'"},
+                        Case{"'sphere center=0.5,0,-0.5 radius=0.3'", "the cloth starts inside it"},
+                        Case{"'sphere center=0,0,-2 radius=0.1 path=" + (tmp.path() / "nan.csv").string() + "'",
+                             "not finite"}}) {
+    SCOPED_TRACE(c.obstacle);
+    const CommandResult r = run_fnopt(simulate + c.obstacle);
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_EQ(r.output.rfind("fnopt: error: ", 0), 0u) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_NE(r.output.find(c.says), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
+}  // namespace
