@@ -37,7 +37,14 @@ std::map<std::string, std::string> settings_of(const py::kwargs& keywords) {
     std::string name = key.cast<std::string>();
     for (char& c : name)
       if (c == '_') c = '-';
-    settings[name] = setting_text(value);
+    if (name == "obstacles" && !py::isinstance<py::str>(value)) {
+      // A list of obstacle specs, as --obstacle given once for each (docs/design.md §14).
+      std::string specs;
+      for (const py::handle spec : value) specs += (specs.empty() ? "" : ";") + py::str(spec).cast<std::string>();
+      settings["obstacle"] = specs;
+      continue;
+    }
+    settings[name == "obstacles" ? "obstacle" : name] = setting_text(value);
   }
   return settings;
 }
@@ -138,6 +145,14 @@ Scene
       .def_property_readonly(
           "gravity", [](const Scene& s) { return py::make_tuple(s.gravity.x(), s.gravity.y(), s.gravity.z()); },
           "tuple of float: Gravity (x, y, z) in m/s^2.")
+      .def_property_readonly(
+          "obstacles",
+          [](const Scene& s) {
+            std::vector<std::string> specs;
+            for (const Obstacle& o : s.obstacles) specs.push_back(o.to_text());
+            return specs;
+          },
+          "list of str: The obstacles' specs (``Scene(obstacles=[...])``, ``--obstacle``), empty for none.")
       .def_property_readonly("material", &material_record, "Material: The resolved material's values (SI units).")
       .def_property_readonly("text", &to_scene_text, "str: The scene as a scene file's text (exact numbers).")
       .def(

@@ -1,4 +1,5 @@
 """fnopt.Scene: the command line's settings, checks and error texts."""
+import numpy as np
 import pytest
 
 import fnopt
@@ -70,3 +71,19 @@ def test_scenes_are_equal_when_their_files_are_and_print_what_identifies_them():
     text = repr(scene)
     assert text.startswith("Scene(rows=10, cols=10, handles='corner', motion='rot_h0', frames=3, dt=")
     assert float(text.rsplit("dt=", 1)[1].rstrip(")")) == pytest.approx(scene.dt, rel=1e-5)
+
+
+def test_obstacles_are_a_list_of_specs_and_the_cloth_stays_outside():
+    scene = fnopt.Scene(res=10, frames=30, handles="none", placement="horizontal",
+                        obstacles=["sphere center=0,0,-0.25 radius=0.2", "plane point=0,0,-0.5 normal=0,0,1"])
+    assert len(scene.obstacles) == 2 and scene.obstacles[0].startswith("sphere")
+    again = fnopt.Scene(res=10, frames=30, handles="none", placement="horizontal", obstacle=";".join(scene.obstacles))
+    assert again == scene
+    rollout = fnopt.run_rollout(scene, optimizer="pqn")
+    positions = rollout.positions.reshape(-1, 3)
+    assert np.isfinite(positions).all()
+    # Outside the sphere and above the floor at every frame (the sphere is static).
+    assert (np.linalg.norm(positions - np.array([0.0, 0.0, -0.25]), axis=1) >= 0.2).all()
+    assert (positions[:, 2] >= -0.5).all()
+    with pytest.raises(fnopt.Error, match="unknown shape 'cone'"):
+        fnopt.Scene(res=10, obstacles=["cone center=0,0,-1 radius=1"])
