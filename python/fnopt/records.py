@@ -190,6 +190,8 @@ class CompareRow:
         The per-step error.
     max_strain_pct : float
         The largest edge strain in percent.
+    min_obstacle_distance_m : float
+        The smallest vertex-obstacle distance over the rollout in metres; NaN without obstacles.
     diverged : str
         ``no``, ``yes``, or ``error`` for a run that failed.
     frontier : bool
@@ -217,6 +219,7 @@ class CompareRow:
     step_error_mean: float
     step_error_median: float
     max_strain_pct: float
+    min_obstacle_distance_m: float
     diverged: str
     frontier: bool
     e_cd_arcsim_x1e3: float

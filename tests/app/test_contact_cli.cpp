@@ -7,6 +7,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <vector>
 #include <string>
 
 #include "tests/app/run_fnopt.hpp"
@@ -41,6 +43,29 @@ TEST(ContactCli, AReleasedClothOnASphereStaysOutsideForEveryMethod) {
     ASSERT_EQ(e.status, 0) << e.output;
     // The same frames, read back as floats from the file.
     EXPECT_NEAR(min_distance(e.output), simulated, 1e-6) << e.output;
+  }
+}
+
+// compare reports each run's smallest distance in compare.csv (column min_obstacle_distance_m).
+TEST(ContactCli, CompareReportsEveryRunsSmallestDistance) {
+  const fnopt::testing::TempDir tmp;
+  const fs::path dir = tmp.path() / "cmp";
+  const CommandResult r = run_fnopt(
+      "compare --res 10 --frames 30 --handles none --placement horizontal --obstacle 'sphere center=0,0,-0.25 "
+      "radius=0.2' --optimizers newton,pqn,gd --iters 10 --threads 1 --step-samples 1 --cd-samples 100 --out " +
+      dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::string header;
+  const auto rows = csv_rows(dir / "compare.csv", header);
+  std::vector<std::string> columns;
+  std::istringstream names(header);
+  for (std::string name; std::getline(names, name, ',');) columns.push_back(name);
+  const auto column = std::find(columns.begin(), columns.end(), "min_obstacle_distance_m") - columns.begin();
+  ASSERT_LT(column, static_cast<long>(columns.size())) << header;
+  ASSERT_EQ(rows.size(), 3u);
+  for (const auto& row : rows) {
+    ASSERT_GT(row.size(), static_cast<std::size_t>(column)) << row[0];
+    EXPECT_GE(std::stod(row[column]), 0.0) << row[0];
   }
 }
 

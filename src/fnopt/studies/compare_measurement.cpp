@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include <fnopt/metrics/obstacle_distance.hpp>
 #include <fnopt/simulation/rollout_file.hpp>
 
 namespace fnopt {
@@ -69,6 +70,7 @@ void measure_run(const CompareStudy& study, const CompareScene& c, const Optimiz
   r.ms = ms_per_frame(rollout);
   r.iterations = iterations_per_frame(rollout);
   r.strain = rollout.max_strain();
+  if (!scene.obstacles.empty()) r.obstacle_distance = min_obstacle_distance(scene, rollout.positions);
   r.diverged = rollout.diverged;
   if (rollout.diverged) r.note = rollout.divergence;
   const TrajectoryFrames frames = frames_of(rollout);

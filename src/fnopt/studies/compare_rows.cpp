@@ -31,6 +31,7 @@ const std::vector<std::string> kColumns = {"method",
                                            "step_error_mean",
                                            "step_error_median",
                                            "max_strain_pct",
+                                           "min_obstacle_distance_m",
                                            "diverged",
                                            "frontier",
                                            "e_cd_arcsim_x1e3",
@@ -68,6 +69,7 @@ std::vector<std::string> compare_csv_row(const RunResult& r, int threads) {
           num(r.step_mean),
           num(r.step_median),
           num(100.0 * r.strain),
+          num(r.obstacle_distance, 6),
           r.failed ? "error" : (r.diverged ? "yes" : "no"),
           r.frontier ? "yes" : "no",
           std::isnan(r.e_cd_arcsim) ? "" : num(1e3 * r.e_cd_arcsim),
@@ -97,6 +99,7 @@ RunResult run_result_of_row(const RunSpec& spec, const std::vector<std::string>&
   r.step_mean = num("step_error_mean");
   r.step_median = num("step_error_median");
   r.strain = 1e-2 * num("max_strain_pct");
+  r.obstacle_distance = num("min_obstacle_distance_m");
   r.e_cd_arcsim = 1e-3 * num("e_cd_arcsim_x1e3");
   r.diverged = cell("diverged") == "yes";
   r.failed = cell("diverged") == "error";
@@ -112,7 +115,8 @@ std::string encode_run_result(const RunResult& r) {
   s << r.spec.method << kSeparator << r.spec.budget << kSeparator << r.resolution << kSeparator << r.motion
     << kSeparator << r.lr_source << kSeparator << r.note;
   for (double v :
-       {r.lr, r.ms, r.cpu_share, r.iterations, r.e_cd, r.e_3d, r.step_mean, r.step_median, r.strain, r.e_cd_arcsim})
+       {r.lr, r.ms, r.cpu_share, r.iterations, r.e_cd, r.e_3d, r.step_mean, r.step_median, r.strain, r.e_cd_arcsim,
+        r.obstacle_distance})
     s << kSeparator << v;
   s << kSeparator << r.diverged << kSeparator << r.failed << kSeparator << r.frames << kSeparator << r.frames_requested;
   return s.str();
@@ -120,7 +124,7 @@ std::string encode_run_result(const RunResult& r) {
 
 RunResult decode_run_result(const std::string& text) {
   const std::vector<std::string_view> f = split(text, kSeparator);
-  if (f.size() != 20)
+  if (f.size() != 21)
     throw Error("compare", "a run's result arrived damaged (" + std::to_string(f.size()) + " fields)");
   RunResult r;
   auto number = [](std::string_view v) {
@@ -134,13 +138,13 @@ RunResult decode_run_result(const std::string& text) {
   r.motion = f[3];
   r.lr_source = f[4];
   r.note = f[5];
-  double* fields[] = {&r.lr,   &r.ms,        &r.cpu_share,   &r.iterations, &r.e_cd,
-                      &r.e_3d, &r.step_mean, &r.step_median, &r.strain,     &r.e_cd_arcsim};
-  for (int i = 0; i < 10; ++i) *fields[i] = number(f[6 + i]);
-  r.diverged = f[16] == "1";
-  r.failed = f[17] == "1";
-  parse_int(f[18], r.frames);
-  parse_int(f[19], r.frames_requested);
+  double* fields[] = {&r.lr,   &r.ms,        &r.cpu_share,   &r.iterations, &r.e_cd,      &r.e_3d,
+                      &r.step_mean, &r.step_median, &r.strain, &r.e_cd_arcsim, &r.obstacle_distance};
+  for (int i = 0; i < 11; ++i) *fields[i] = number(f[6 + i]);
+  r.diverged = f[17] == "1";
+  r.failed = f[18] == "1";
+  parse_int(f[19], r.frames);
+  parse_int(f[20], r.frames_requested);
   return r;
 }
 

@@ -19,6 +19,8 @@ struct RunResult {
   double ms = NAN, cpu_share = NAN, iterations = NAN, e_cd = NAN, e_3d = NAN, step_mean = NAN, step_median = NAN,
          strain = NAN;
   double e_cd_arcsim = NAN;
+  // The smallest vertex-obstacle distance over the rollout [m] (docs/design.md §14); NaN without obstacles.
+  double obstacle_distance = NAN;
   bool diverged = false, failed = false;
   int frames = 0, frames_requested = 0;
   std::string lr_source;  // where the learning rate came from (given, swept)
