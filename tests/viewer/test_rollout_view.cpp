@@ -8,6 +8,7 @@
 #include <fnopt/cloth/grid.hpp>
 #include <fnopt/cloth/strain.hpp>
 #include <fnopt/io/hdf5_file.hpp>
+#include <fnopt/scenes/scene.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/viewer/rollout_view.hpp>
 #include "tests/util/temp_dir.hpp"
@@ -47,6 +48,39 @@ TEST(ViewerRolloutView, HoldsTheFilesFramesFacesHandlesAndSeries) {
   }
   EXPECT_TRUE(view.distance.empty());
   EXPECT_NE(rollout_metadata_json(view).find("\"reference\":null"), std::string::npos);
+}
+
+// The scene's obstacles, each posed at every frame's time: a sphere that follows a CSV path and a
+// static plane, with their shapes' numbers as the scene gives them.
+TEST(ViewerRolloutView, CarriesTheScenesObstaclesPosedAtEveryFrame) {
+  const testing::TempDir dir;
+  const std::string path = (dir.path() / "r.h5").string(), csv = (dir.path() / "path.csv").string();
+  std::ofstream(csv) << "t,x,y,z\n0,0.5,-1,-1\n1,0.5,-0.5,-1\n";
+  Scene scene;
+  scene.rows = scene.cols = 6;
+  scene.frames = 4;
+  apply_scene_setting(scene, "obstacle", "sphere center=0.5,-1,-1 radius=0.2 path=" + csv +
+                                             ";plane point=0,0,-3 normal=0,0,2");
+  PqnOptimizer pqn;
+  const RolloutResult rollout = run_rollout(resolve(scene), pqn, {});
+  write_rollout_file(path, rollout, to_scene_text(scene), pqn.settings());
+  const RolloutView view = load_rollout_view(path);
+  ASSERT_EQ(view.obstacles.size(), 2u);
+  const ObstacleView& sphere = view.obstacles[0];
+  EXPECT_EQ(sphere.shape, "sphere");
+  EXPECT_EQ(sphere.point, (std::vector<double>{0.5, -1.0, -1.0}));
+  EXPECT_EQ(sphere.radius, 0.2);
+  ASSERT_EQ(sphere.offsets.size(), 3u * view.frames());
+  for (int f = 0; f < view.frames(); ++f) {  // the path moves 0.5 m along y in 1 s
+    EXPECT_FLOAT_EQ(sphere.offsets[3 * f + 1], static_cast<float>(0.5 * view.times[f])) << f;
+    EXPECT_EQ(sphere.offsets[3 * f], 0.0f);
+  }
+  EXPECT_EQ(view.obstacles[1].shape, "plane");
+  EXPECT_EQ(view.obstacles[1].axis, (std::vector<double>{0.0, 0.0, 1.0}));  // the unit normal
+  const std::string meta = rollout_metadata_json(view);
+  EXPECT_NE(meta.find("\"obstacles\":[{\"shape\":\"sphere\""), std::string::npos) << meta;
+  testing::write_test_rollout(path, 6, 6, 2);
+  EXPECT_NE(rollout_metadata_json(load_rollout_view(path)).find("\"obstacles\":[]"), std::string::npos);
 }
 
 TEST(ViewerRolloutView, ReadsAnArcsimLayoutFileWithoutSeries) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include <fnopt/contact/obstacle.hpp>
 #include <fnopt/io/hdf5_file.hpp>
 #include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/util/error.hpp>
@@ -89,6 +90,23 @@ RolloutView load_rollout_view(const std::string& path, const std::string& refere
     rest.assign(view.positions.begin(), view.positions.begin() + 3 * N);
   view.strain = vertex_strain(frames, rest);
 
+  if (file.has_attribute("fnopt_version") && file.has_attribute("scene")) {
+    for (const Obstacle& o : read_rollout_scene(path).obstacles) {
+      ObstacleView shown;
+      shown.shape = shape_name(o.shape());
+      const Vec3 axis = o.shape() == ObstacleShape::Plane ? o.axis().normalized() : o.axis();
+      shown.point = {o.point().x(), o.point().y(), o.point().z()};
+      shown.axis = {axis.x(), axis.y(), axis.z()};
+      shown.radius = o.radius();
+      for (double t : view.times) {
+        const Vec3 offset = o.offset(t);
+        shown.offsets.insert(shown.offsets.end(), {static_cast<float>(offset.x()), static_cast<float>(offset.y()),
+                                                   static_cast<float>(offset.z())});
+      }
+      view.obstacles.push_back(std::move(shown));
+    }
+  }
+
   if (!reference_path.empty()) {
     require_readable_file(reference_path);
     const TrajectoryFrames reference = read_trajectory_frames(reference_path);
@@ -105,6 +123,12 @@ std::string rollout_metadata_json(const RolloutView& view) {
   for (const auto& [name, values] : view.series)
     series += (series.size() > 1 ? "," : "") + json_string(name) + ":" + json_array(values);
   series += "}";
+  std::string obstacles = "[";
+  for (const ObstacleView& o : view.obstacles)
+    obstacles += (obstacles.size() > 1 ? "," : "") + std::string("{\"shape\":") + json_string(o.shape) +
+                 ",\"point\":" + json_array(o.point) + ",\"axis\":" + json_array(o.axis) +
+                 ",\"radius\":" + json_number(o.radius) + ",\"offsets\":" + json_array(o.offsets) + "}";
+  obstacles += "]";
   return "{\"name\":" + json_string(view.name) + ",\"kind\":" + json_string(view.kind) +
          ",\"optimizer\":" + json_string(view.optimizer) + ",\"divergence\":" + json_string(view.divergence) +
          ",\"rows\":" + std::to_string(view.rows) + ",\"cols\":" + std::to_string(view.cols) +
@@ -113,7 +137,8 @@ std::string rollout_metadata_json(const RolloutView& view) {
          ",\"handle_positions\":" + json_array(view.handle_positions) + ",\"series\":" + series +
          ",\"max_strain\":" + json_number(largest_finite(view.strain)) +
          ",\"reference\":" + (view.reference_name.empty() ? "null" : json_string(view.reference_name)) +
-         ",\"max_distance\":" + (view.distance.empty() ? "null" : json_number(largest_finite(view.distance))) + "}";
+         ",\"max_distance\":" + (view.distance.empty() ? "null" : json_number(largest_finite(view.distance))) +
+         ",\"obstacles\":" + obstacles + "}";
 }
 
 }  // namespace fnopt

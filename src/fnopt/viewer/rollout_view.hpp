@@ -8,6 +8,16 @@
 
 namespace fnopt {
 
+// An obstacle as the page draws it (docs/design.md §14): its shape's numbers at t = 0 and its
+// translation at every frame.
+struct ObstacleView {
+  std::string shape;               // "plane", "sphere", "box" or "capsule"
+  std::vector<double> point;       // plane point, sphere/box centre, capsule end a
+  std::vector<double> axis;        // plane unit normal, box size, capsule end b
+  double radius = 0.0;             // sphere/capsule radius, box rounding
+  std::vector<float> offsets;      // [T, 3], m
+};
+
 struct RolloutView {
   std::string name;        // the file's name, for the page's title
   std::string kind;        // "fnopt rollout" or "ARCSim-layout file"
@@ -25,6 +35,7 @@ struct RolloutView {
   std::vector<float> strain;    // [T, R*C] (vertex_scalars.hpp)
   std::string reference_name;   // "" without a reference
   std::vector<float> distance;  // [T, R*C], m; empty without a reference
+  std::vector<ObstacleView> obstacles;  // an fnopt rollout's scene's, posed at each frame's time
 
   int frames() const { return static_cast<int>(times.size()); }
   int vertices() const { return rows * cols; }
@@ -35,7 +46,7 @@ struct RolloutView {
 RolloutView load_rollout_view(const std::string& path, const std::string& reference_path = "");
 
 // Everything but the large arrays, as the page's /meta endpoint sends it: sizes, times, handles,
-// series, the colour ranges (largest strain and distance) and the provenance texts.
+// series, the colour ranges (largest strain and distance), the provenance texts and the obstacles.
 std::string rollout_metadata_json(const RolloutView& view);
 
 }  // namespace fnopt

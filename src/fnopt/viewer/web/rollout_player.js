@@ -33,6 +33,37 @@ function boundsOf(positions) {
   return box;
 }
 
+// An obstacle's mesh (docs/design.md §14), placed at its t = 0 pose; a plane as a square twice the
+// scene's size. Rounded boxes are drawn with sharp edges.
+function obstacleMesh(o, size) {
+  const material = new THREE.MeshPhongMaterial({ color: 0x8899aa, transparent: true, opacity: 0.55, side: THREE.DoubleSide });
+  const point = new THREE.Vector3().fromArray(o.point), axis = new THREE.Vector3().fromArray(o.axis);
+  const group = new THREE.Group();
+  if (o.shape === "sphere") {
+    group.add(new THREE.Mesh(new THREE.SphereBufferGeometry(o.radius, 32, 16), material));
+  } else if (o.shape === "box") {
+    group.add(new THREE.Mesh(new THREE.BoxBufferGeometry(axis.x, axis.y, axis.z), material));
+  } else if (o.shape === "plane") {
+    const plane = new THREE.Mesh(new THREE.PlaneBufferGeometry(2 * size, 2 * size), material);
+    plane.quaternion.setFromUnitVectors(new THREE.Vector3(0, 0, 1), axis);
+    group.add(plane);
+  } else if (o.shape === "capsule") {
+    const along = axis.clone().sub(point), length = along.length();
+    const cylinder = new THREE.Mesh(new THREE.CylinderBufferGeometry(o.radius, o.radius, length, 32), material);
+    cylinder.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), along.clone().normalize());
+    cylinder.position.copy(along).multiplyScalar(0.5);
+    group.add(cylinder);
+    for (const end of [new THREE.Vector3(), along]) {
+      const cap = new THREE.Mesh(new THREE.SphereBufferGeometry(o.radius, 24, 12), material);
+      cap.position.copy(end);
+      group.add(cap);
+    }
+  }
+  group.position.copy(point);
+  group.userData.base = point;
+  return group;
+}
+
 function createScene(stage, meta, positions, faces) {
   const N = meta.rows * meta.cols;
   const renderer = new THREE.WebGLRenderer({ antialias: true });
@@ -63,6 +94,8 @@ function createScene(stage, meta, positions, faces) {
     handles.push(new THREE.Mesh(sphere, handleMaterial));
     scene.add(handles[h]);
   }
+  const obstacles = (meta.obstacles || []).map((o) => obstacleMesh(o, size));
+  for (const mesh of obstacles) scene.add(mesh);
   const grid = new THREE.GridHelper(size * 1.5, 10, 0xcccccc, 0xe4e4e4);
   grid.rotation.x = Math.PI / 2;
   grid.position.set(centre.x, centre.y, box.min.z);
@@ -83,7 +116,7 @@ function createScene(stage, meta, positions, faces) {
   };
   resize();
   new ResizeObserver(resize).observe(stage);
-  return { renderer, scene, camera, geometry, handles };
+  return { renderer, scene, camera, geometry, handles, obstacles };
 }
 
 export async function showRollout(id) {
@@ -146,6 +179,9 @@ export async function showRollout(id) {
     }
     colour.needsUpdate = true;
     for (let h = 0; h < H; ++h) view.handles[h].position.fromArray(meta.handle_positions, 3 * (H * f + h));
+    view.obstacles.forEach((mesh, k) => {
+      mesh.position.fromArray(meta.obstacles[k].offsets, 3 * f).add(mesh.userData.base);
+    });
     slider.value = f;
     timeLabel.textContent = `t = ${meta.times[f].toFixed(3)} s (frame ${f}/${T - 1})`;
     plots.setTime(meta.times[f]);
