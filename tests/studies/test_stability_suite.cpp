@@ -165,6 +165,8 @@ TEST(StabilitySuite, EveryCaseValidatesAndChangesTheFieldsItNames) {
         EXPECT_NE(s.rows, base.rows);
       else if (field == "cols")
         EXPECT_NE(s.cols, base.cols);
+      else if (field == "obstacles")
+        EXPECT_NE(s.obstacles.size(), base.obstacles.size());
       else
         ADD_FAILURE() << "unknown field " << field;
     }
@@ -177,6 +179,7 @@ TEST(StabilitySuite, EveryCaseValidatesAndChangesTheFieldsItNames) {
     restored.handles = base.handles;
     restored.rows = base.rows;
     restored.cols = base.cols;
+    restored.obstacles = base.obstacles;
     EXPECT_EQ(to_scene_text(restored), to_scene_text(base));
   }
   // The named ones change the base scene as their names say.

@@ -1,7 +1,9 @@
 #include <fnopt/studies/stability_cases.hpp>
 
 #include <cmath>
+#include <functional>
 
+#include <fnopt/contact/obstacle_spec.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/parse_text.hpp>
 
@@ -75,6 +77,23 @@ StabilityCase grid_case(int n, int frame_divisor) {
           }};
 }
 
+// The base scene with obstacles (docs/design.md §14), and `change` applied on top: the cloth must
+// stay outside them on every frame and the reference must converge on every step.
+StabilityCase contact_case(const std::string& name, const std::string& what, const std::string& obstacles,
+                           std::vector<std::string> fields, std::function<void(Scene&)> change) {
+  fields.insert(fields.begin(), "obstacles");
+  return {name, what, fields, [obstacles, change](const Scene& base) {
+            Scene s = base;
+            for (Obstacle& o : parse_obstacles(obstacles)) s.obstacles.push_back(std::move(o));
+            change(s);
+            return s;
+          }};
+}
+
+// A sphere behind the hanging cloth, in the way of its swing, and a floor 2 cm below its lower edge.
+constexpr const char* kSwingSphere = "sphere center=0.5,0.3,-0.6 radius=0.25 friction=0.3";
+constexpr const char* kCloseFloor = "plane point=0,0,-1.02 normal=0,0,1 friction=0.3";
+
 }  // namespace
 
 const std::vector<StabilityCase>& stability_cases() {
@@ -104,6 +123,18 @@ const std::vector<StabilityCase>& stability_cases() {
       c.push_back(handles_case(preset));
     c.push_back(grid_case(128, 5));
     c.push_back(grid_case(200, 10));
+    const std::string both = std::string(kSwingSphere) + ";" + kCloseFloor;
+    c.push_back(contact_case("contact", "a sphere in the way of the swing and a floor 2 cm below the cloth", both, {},
+                             [](Scene&) {}));
+    c.push_back(contact_case("contact-fast", "the contact case with the handles x4 faster: the cloth hits the sphere fast",
+                             both, {"speed"}, [](Scene& s) { s.speed *= 4.0; }));
+    c.push_back(contact_case("contact-stiff", "the contact case with stretch stiffness x100", both,
+                             {"material.stretch"}, [](Scene& s) { s.material.stretch *= 100.0; }));
+    c.push_back(contact_case("contact-dt-1/24", "the contact case at dt = 1/24 s (frames scaled)", both,
+                             {"dt", "frames"}, [](Scene& s) {
+                               s.frames = frames_for_dt(s, 1.0 / 24.0);
+                               s.dt = 1.0 / 24.0;
+                             }));
     return c;
   }();
   return cases;
