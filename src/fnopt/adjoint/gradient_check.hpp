@@ -5,7 +5,10 @@
 // The loss is a fixed random linear functional of the positions, L = sum_{f in frames} w_f . x_f
 // (w_f standard normal, from the seed), whose dL/dx_f = w_f is the same at every point, so a
 // difference measures the rollout alone. Each perturbed rollout is recorded like the base one
-// (Newton to RecordOptions' tight tolerance). Per kind:
+// (Newton to RecordOptions' tight tolerance, then exact Newton steps), every step started from the
+// base rollout's acceleration, so that it lands on the continuation of the base's stationary
+// point rather than on another minimum of a step with several (RolloutInputs::
+// start_accelerations). Per kind:
 //  * a material coefficient k: dL/dk against (L(k(1 + e)) - L(k(1 - e))) / (2 e k), or in log
 //    coordinates dL/dlog k against (L(k exp(e)) - L(k exp(-e))) / (2 e), e = material_step;
 //  * a vector (gravity, the handle targets at every step, the handle path's control points, the
