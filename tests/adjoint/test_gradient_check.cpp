@@ -1,7 +1,7 @@
 // The adjoint against central differences of the rollout (adjoint/gradient_check.hpp), for every
 // parameter kind, on scenes that exercise different parts of the step: handles moving fast along
-// the scene's motion, handles given per step along a path of one's own, and a cloth folding onto
-// itself with self-repulsion acting.
+// the scene's motion, handles given per step along a path of one's own, a cloth folding onto
+// itself with self-repulsion acting, and steps that end at saddles.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -97,6 +97,25 @@ TEST(GradientCheck, SelfRepulsionActingOnAFoldingCloth) {
   EXPECT_GE(repelling, 5) << "too few steps with pairs inside the repulsion range";
 
   expect_every_kind_within(gradient_check(resolved, {}, inputs), all_adjoint_parameters().size());
+}
+
+// Hung from opposite corners the cloth is compressed flat and Newton's steps end at saddles of
+// their energy, on the symmetric branch (docs/design.md §6). The material keeps the symmetry and
+// its gradient is that branch's; perturbations that break the symmetry grow along the negative
+// curvature, so differences along them leave the linear range at any usable step (not compared).
+TEST(GradientCheck, ThroughSaddlesTheMaterialGradientIsTheRecordedBranchs) {
+  Scene scene;
+  scene.rows = scene.cols = 8;
+  scene.frames = 31;
+  scene.speed = 4.0;
+  scene.handles = "diagonal";
+  GradientCheckParams params;
+  params.parameters = {AdjointParameter::Stretch, AdjointParameter::Shear, AdjointParameter::Bend,
+                       AdjointParameter::Density, AdjointParameter::Damping};
+  const GradientCheckResult result = gradient_check(resolve(scene), params);
+  EXPECT_EQ(result.status, AdjointStatus::ThroughSaddles);
+  EXPECT_GT(result.saddle_steps, 0);
+  expect_every_kind_within(result, params.parameters.size());
 }
 
 TEST(GradientCheck, ALossFrameOutsideTheRolloutIsAnError) {

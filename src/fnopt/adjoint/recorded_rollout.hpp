@@ -5,7 +5,8 @@
 // An adjoint needs each step at a stationary point of its energy (the implicit function theorem
 // differentiates g_F = 0), so every step ends with the Newton reference (baselines/newton.hpp)
 // run to a tight residual acceleration: either Newton solves the step alone, or any inner
-// optimizer solves it and Newton polishes its result (polished steps are counted). Each step's
+// optimizer solves it and Newton polishes its result (polished steps are counted); then exact
+// Newton steps with a direct solve take the result to the objective's precision. Each step's
 // exact Hessian on its free dofs is classified at the result (adjoint/step_linearization.hpp): a
 // saddle or a singular point is reported here and again by the backward pass, never passed over.
 #include <optional>
