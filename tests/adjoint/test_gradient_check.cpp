@@ -84,7 +84,8 @@ TEST(GradientCheck, SelfRepulsionActingOnAFoldingCloth) {
   ASSERT_TRUE(scene.material.repulsion);
   const ResolvedScene resolved = resolve(scene);
   // An out-of-plane push growing down and across the cloth: without it the cloth falls in its
-  // plane, a symmetric state that is dynamically unstable (a perturbation of 1e-7 grows by 1e7).
+  // plane, a symmetric state that is dynamically unstable, where any perturbation a difference
+  // can resolve has left the linear range (docs/design.md §15, "Branches").
   RolloutInputs inputs;
   VecX v0 = VecX::Zero(resolved.grid.dof_count());
   for (int i = 0; i < scene.rows; ++i)

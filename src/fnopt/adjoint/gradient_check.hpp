@@ -32,9 +32,9 @@ struct GradientCheckParams {
   std::vector<int> frames;       // the loss's frames; empty: every frame after the first
   bool log_coordinates = true;   // material coefficients in log coordinates
   // The steps balance truncation (e^2 times the rollout's third derivative) against the forward
-  // solves' rounding (divided by e). A vector step must stay small: a random perturbation of a flat
-  // cloth's initial positions moves it along its soft out-of-plane modes, where the response is far
-  // from linear already at 1e-5 m.
+  // solves' rounding (divided by e). A vector step must stay smaller than the material's: a random
+  // perturbation of a flat cloth's initial positions moves it along its soft out-of-plane modes,
+  // whose response leaves the linear range first (docs/design.md §15).
   double material_step = 1e-5;   // e: relative, or additive in log k
   double vector_step = 1e-7;     // e along a unit direction, in the parameter's unit (m, m/s, m/s^2)
   int directions = 2;            // random directions per vector kind
