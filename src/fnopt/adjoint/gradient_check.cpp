@@ -60,36 +60,6 @@ std::vector<std::vector<Vec3>> unflatten(const VecX& values, const std::vector<s
   return rows;
 }
 
-double& coefficient(Material& material, AdjointParameter parameter) {
-  switch (parameter) {
-    case AdjointParameter::Stretch:
-      return material.stretch;
-    case AdjointParameter::Shear:
-      return material.shear;
-    case AdjointParameter::Bend:
-      return material.bend;
-    case AdjointParameter::Density:
-      return material.density;
-    default:
-      return material.damping;
-  }
-}
-
-double coefficient(const MaterialGradient& gradient, AdjointParameter parameter) {
-  switch (parameter) {
-    case AdjointParameter::Stretch:
-      return gradient.stretch;
-    case AdjointParameter::Shear:
-      return gradient.shear;
-    case AdjointParameter::Bend:
-      return gradient.bend;
-    case AdjointParameter::Density:
-      return gradient.density;
-    default:
-      return gradient.damping;
-  }
-}
-
 void add_comparison(GradientCheckRow& row, double adjoint, double difference) {
   ++row.comparisons;
   row.adjoint_norm = std::hypot(row.adjoint_norm, adjoint);
@@ -195,12 +165,12 @@ GradientCheckResult gradient_check(const ResolvedScene& scene, const GradientChe
     if (is_material_coefficient(parameter)) {
       const double e = params.material_step;
       ResolvedScene plus = scene, minus = scene;
-      const double k = coefficient(plus.scene.material, parameter);
-      coefficient(plus.scene.material, parameter) = params.log_coordinates ? k * std::exp(e) : k * (1.0 + e);
-      coefficient(minus.scene.material, parameter) = params.log_coordinates ? k * std::exp(-e) : k * (1.0 - e);
+      const double k = material_coefficient(plus.scene.material, parameter);
+      material_coefficient(plus.scene.material, parameter) = params.log_coordinates ? k * std::exp(e) : k * (1.0 + e);
+      material_coefficient(minus.scene.material, parameter) = params.log_coordinates ? k * std::exp(-e) : k * (1.0 - e);
       const double difference = (loss_at(plus, inputs) - loss_at(minus, inputs)) / (2.0 * e);
-      const double adjoint = params.log_coordinates ? coefficient(gradient.log_material, parameter)
-                                                    : k * coefficient(gradient.material, parameter);
+      const double adjoint = params.log_coordinates ? gradient.log_material.coefficient(parameter)
+                                                    : k * gradient.material.coefficient(parameter);
       // Both in log units (k dL/dk) so that the plain form's difference needs no division by k.
       add_comparison(row, adjoint, difference);
     } else {

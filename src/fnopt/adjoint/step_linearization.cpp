@@ -35,16 +35,6 @@ const char* to_string(StepStationarity stationarity) {
   return "unknown";
 }
 
-MaterialGradient& MaterialGradient::operator+=(const MaterialGradient& other) {
-  stretch += other.stretch;
-  shear += other.shear;
-  bend += other.bend;
-  density += other.density;
-  damping += other.damping;
-  gravity += other.gravity;
-  return *this;
-}
-
 StepLinearization::StepLinearization(const ResolvedScene& scene)
     : material_(scene.scene.material),
       objective_(scene.grid, scene.scene.material, scene.scene.dt, scene.scene.gravity),

@@ -23,6 +23,7 @@
 #include <memory>
 #include <vector>
 
+#include <fnopt/adjoint/material_gradient.hpp>
 #include <fnopt/cloth/backward_euler.hpp>
 #include <fnopt/optimizer/sparse_cholesky.hpp>
 #include <fnopt/scenes/scene.hpp>
@@ -36,18 +37,6 @@ enum class StepStationarity {
   Singular,  // a vanishing pivot: the step's result does not depend smoothly on its inputs
 };
 const char* to_string(StepStationarity stationarity);
-
-// The derivatives -lambda^T dg_F/dtheta of one step, for one lambda.
-struct MaterialGradient {
-  double stretch = 0.0;
-  double shear = 0.0;
-  double bend = 0.0;
-  double density = 0.0;
-  double damping = 0.0;
-  Vec3 gravity = Vec3::Zero();
-
-  MaterialGradient& operator+=(const MaterialGradient& other);
-};
 
 class StepLinearization {
  public:
