@@ -74,8 +74,15 @@ RecordedRollout record(const ResolvedScene& scene, InnerOptimizer* optimizer, co
     step.residual_acceleration = problem.objective().residual_acceleration(gradient);
     // Newton's last iterates come from CG, to a forcing tolerance: finish with exact Newton steps,
     // a direct solve with H_FF each, for as long as they lower the residual.
+    // `at_result`: the last linearisation is at the step's result (a step was refused), so the
+    // classification below needs no factorisation of its own.
+    std::optional<StepStationarity> at_result;
     for (int i = 0; i < options.exact_newton_steps; ++i) {
-      if (linearization.linearize(x, v, a) == StepStationarity::Singular) break;
+      const StepStationarity stationarity = linearization.linearize(x, v, a);
+      if (stationarity == StepStationarity::Singular) {
+        at_result = stationarity;
+        break;
+      }
       linearization.solve(gradient, correction);
       const VecX previous = a;
       a -= correction;
@@ -84,6 +91,7 @@ RecordedRollout record(const ResolvedScene& scene, InnerOptimizer* optimizer, co
       if (!(residual < step.residual_acceleration)) {
         a = previous;
         problem.value_gradient(a, gradient);
+        at_result = stationarity;
         break;
       }
       step.residual_acceleration = residual;
@@ -102,7 +110,7 @@ RecordedRollout record(const ResolvedScene& scene, InnerOptimizer* optimizer, co
       break;
     }
     if (options.classify_steps) {
-      step.stationarity = linearization.linearize(x, v, a);
+      step.stationarity = at_result ? *at_result : linearization.linearize(x, v, a);
       step.negative_eigenvalues = linearization.negative_eigenvalues();
     }
     out.accelerations.push_back(a);  // its handle dofs hold the prescription (prepare_step)
