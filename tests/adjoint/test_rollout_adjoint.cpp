@@ -1,11 +1,12 @@
 // The backward pass's contract beyond its values (those are test_gradient_check.cpp's): what it
 // refuses, what it returns for losses whose gradient is known without a rollout, its linearity in
-// the loss, and the steps it reports.
+// the loss, the steps it reports, and checkpoints re-simulated to the same gradient.
 #include <gtest/gtest.h>
 
 #include <random>
 
 #include <fnopt/adjoint/rollout_adjoint.hpp>
+#include <fnopt/baselines/pqn.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
@@ -124,6 +125,41 @@ TEST(RolloutAdjoint, SaddleStepsAreReportedAndCanStopThePass) {
   EXPECT_FALSE(is_complete(stopped.status));
   ASSERT_EQ(stopped.saddle_steps.size(), 1u);
   EXPECT_EQ(stopped.saddle_steps.front(), saddles.back());
+}
+
+// With checkpoints the record keeps a fraction of the states and the backward pass re-simulates
+// every segment (the last one shorter) onto the recorded path: the same gradient.
+TEST(RolloutAdjoint, ACheckpointedRecordGivesTheSameGradient) {
+  const ResolvedScene scene = small_scene();
+  const RecordedRollout whole = record_rollout(scene);
+  RecordOptions options;
+  options.checkpoint_interval = 7;
+  const RecordedRollout checkpointed = record_rollout(scene, options);
+  EXPECT_LT(checkpointed.memory_bytes(), whole.memory_bytes() / 2);
+
+  const std::vector<FrameGradient> loss{{30, random_vector(scene.grid.dof_count(), 6)},
+                                        {12, random_vector(scene.grid.dof_count(), 7)}};
+  const RolloutGradient expected = backpropagate(whole, loss);
+  const RolloutGradient gradient = backpropagate(checkpointed, loss);
+  EXPECT_EQ(gradient.resimulated_steps, checkpointed.step_count());
+  EXPECT_LE(gradient.resimulation_error, 1e-12);
+  const auto near = [](double a, double b) { return std::abs(a - b) <= 1e-8 * std::max(std::abs(a), std::abs(b)); };
+  EXPECT_PRED2(near, gradient.material.stretch, expected.material.stretch);
+  EXPECT_PRED2(near, gradient.material.damping, expected.material.damping);
+  EXPECT_LE((gradient.initial_velocities - expected.initial_velocities).norm(),
+            1e-8 * expected.initial_velocities.norm());
+  EXPECT_LE((gradient.initial_positions - expected.initial_positions).norm(), 1e-8 * expected.initial_positions.norm());
+}
+
+TEST(RolloutAdjoint, CheckpointsNeedNewtonAloneFromRest) {
+  const ResolvedScene scene = small_scene();
+  RecordOptions options;
+  options.checkpoint_interval = 5;
+  PqnOptimizer pqn;
+  EXPECT_EQ(field_of([&] { record_rollout(scene, pqn, {5, 0.0}, options); }), "checkpoint_interval");
+  RolloutInputs inputs;
+  inputs.start_accelerations = std::vector<VecX>(scene.scene.frames - 1, VecX::Zero(scene.grid.dof_count()));
+  EXPECT_EQ(field_of([&] { record_rollout(scene, options, inputs); }), "checkpoint_interval");
 }
 
 }  // namespace

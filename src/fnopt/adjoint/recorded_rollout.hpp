@@ -35,6 +35,14 @@ struct RecordOptions {
   // pass alone says it.
   bool classify_steps = true;
   double divergence_strain = 3.0;  // as RolloutOptions: an edge past (1 + this) x rest diverges
+  // 0: every frame's velocity and every step's acceleration are kept. K > 0: checkpoints: the
+  // velocities only at frames 0, K, 2K, ... and no accelerations (the positions of every frame
+  // stay, the losses read them), so the record holds F + F/K vectors of 3n doubles instead of
+  // 3F - 1; the backward pass re-simulates each segment of K steps from its checkpoint (one more
+  // forward pass in all; K ~ sqrt(F) keeps its buffer of 3K vectors as small as the checkpoints).
+  // Newton then refactorises its preconditioner at every step, so that a re-simulated step takes
+  // the recorded step's path; Newton alone, without start accelerations.
+  int checkpoint_interval = 0;
 
   void validate() const;  // throws Error naming the field
 };
@@ -70,10 +78,12 @@ struct RecordedStep {
 
 struct RecordedRollout {
   ResolvedScene scene;
-  // Per frame f = 0 .. frames - 1 (frame 0 the initial state): positions and velocities.
+  RecordOptions options;  // how it was recorded (the backward pass re-simulates with them)
+  // Per frame f = 0 .. frames - 1 (frame 0 the initial state): positions and velocities (with
+  // checkpoints, empty off the checkpoint frames).
   std::vector<VecX> positions, velocities;
   // Per step s = 0 .. frames - 2, from frame s to s + 1: the acceleration (every dof, the handles'
-  // prescribed) and the handles' targets at frame s + 1.
+  // prescribed; with checkpoints, empty) and the handles' targets at frame s + 1.
   std::vector<VecX> accelerations;
   std::vector<std::vector<Vec3>> handle_targets;
   std::vector<RecordedStep> steps;

@@ -1,10 +1,71 @@
 #include <fnopt/adjoint/rollout_adjoint.hpp>
 
+#include <algorithm>
 #include <chrono>
 
+#include <fnopt/adjoint/exact_stepper.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
+namespace {
+
+// Each step's (x_s, v_s, a_s) for the backward pass, s descending: the record's, or with
+// checkpoints the segment holding s re-simulated from its checkpoint.
+class StepStates {
+ public:
+  explicit StepStates(const RecordedRollout& rollout) : rollout_(&rollout) {}
+
+  void load(int s) {
+    const int interval = rollout_->options.checkpoint_interval;
+    if (interval == 0) {
+      x_ = &rollout_->positions[s];
+      v_ = &rollout_->velocities[s];
+      a_ = &rollout_->accelerations[s];
+      return;
+    }
+    if (begin_ < 0 || s < begin_) resimulate(s / interval * interval, interval);
+    x_ = &x_segment_[s - begin_];
+    v_ = &v_segment_[s - begin_];
+    a_ = &a_segment_[s - begin_];
+  }
+  const VecX& x() const { return *x_; }
+  const VecX& v() const { return *v_; }
+  const VecX& a() const { return *a_; }
+  int resimulated_steps() const { return resimulated_; }
+  double resimulation_error() const { return error_; }
+
+ private:
+  void resimulate(int begin, int interval) {
+    const RecordedRollout& r = *rollout_;
+    const int end = std::min(begin + interval, r.step_count());
+    begin_ = begin;
+    x_segment_.assign(1, r.positions[begin]);
+    v_segment_.assign(1, r.velocities[begin]);
+    a_segment_.clear();
+    ExactStepper stepper(r.scene, r.options, r.positions[begin], r.velocities[begin], begin, true);
+    for (int t = begin; t < end; ++t) {
+      VecX a;
+      stepper.step(r.handle_targets[t], nullptr, nullptr, {}, a);
+      require(!stepper.diverged(), "rollout", "a re-simulated segment " + stepper.divergence());
+      a_segment_.push_back(std::move(a));
+      error_ = std::max(error_, (stepper.positions() - r.positions[t + 1]).cwiseAbs().maxCoeff());
+      ++resimulated_;
+      if (t + 1 < end) {
+        x_segment_.push_back(stepper.positions());
+        v_segment_.push_back(stepper.velocities());
+      }
+    }
+  }
+
+  const RecordedRollout* rollout_;
+  const VecX *x_ = nullptr, *v_ = nullptr, *a_ = nullptr;
+  int begin_ = -1;  // the re-simulated segment's first step
+  std::vector<VecX> x_segment_, v_segment_, a_segment_;
+  int resimulated_ = 0;
+  double error_ = 0.0;
+};
+
+}  // namespace
 
 const char* to_string(AdjointStatus status) {
   switch (status) {
@@ -50,6 +111,7 @@ RolloutGradient backpropagate(const RecordedRollout& rollout, const std::vector<
   const double dt = rollout.scene.scene.dt;
   const int handles = static_cast<int>(rollout.scene.handles.vertices.size());
   StepLinearization step(rollout.scene);
+  StepStates states(rollout);
   RolloutGradient out;
   out.handle_targets.assign(rollout.step_count(), std::vector<Vec3>(handles, Vec3::Zero()));
   VecX xbar = loss.back().size() ? loss.back() : VecX::Zero(dofs);
@@ -57,8 +119,8 @@ RolloutGradient backpropagate(const RecordedRollout& rollout, const std::vector<
   VecX abar, lambda, k_lambda;
   for (int s = rollout.step_count() - 1; s >= 0; --s) {
     if (!is_converged(rollout.steps[s].status)) out.unconverged_steps.insert(out.unconverged_steps.begin(), s);
-    const StepStationarity stationarity =
-        step.linearize(rollout.positions[s], rollout.velocities[s], rollout.accelerations[s]);
+    states.load(s);
+    const StepStationarity stationarity = step.linearize(states.x(), states.v(), states.a());
     if (stationarity == StepStationarity::Singular) {
       out.status = AdjointStatus::Singular;
       out.singular_step = s;
@@ -107,6 +169,8 @@ RolloutGradient backpropagate(const RecordedRollout& rollout, const std::vector<
   out.log_material.bend *= material.bend;
   out.log_material.density *= material.density;
   out.log_material.damping *= material.damping;
+  out.resimulated_steps = states.resimulated_steps();
+  out.resimulation_error = states.resimulation_error();
   out.factorizations = step.factorizations();
   out.solves = step.solves();
   out.backward_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();

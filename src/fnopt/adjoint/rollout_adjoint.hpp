@@ -14,7 +14,8 @@
 //   ybar_s    = abar_H / dt^2,
 //   xbar_s    = xbar_{s+1} - dt^2 K lambda - [abar_H / dt^2 on the handles] + dL/dx_s,
 //   vbar_s    = dt xbar_{s+1} + vbar_{s+1} - dt^3 K lambda - dt^2 c M lambda - [abar_H / dt on the handles].
-// After step 0, xbar_0 and vbar_0 are the gradient with respect to the initial state.
+// After step 0, xbar_0 and vbar_0 are the gradient with respect to the initial state. A
+// checkpointed record's steps are re-simulated segment by segment from its checkpoints, last first.
 #include <vector>
 
 #include <fnopt/adjoint/recorded_rollout.hpp>
@@ -56,6 +57,11 @@ struct RolloutGradient {
   VecX initial_positions, initial_velocities;  // dL/dx_0, dL/dv_0
   std::vector<int> saddle_steps, unconverged_steps;
   int singular_step = -1;  // the step the pass stopped at, -1 if none
+  // With checkpoints (RecordOptions::checkpoint_interval): the steps re-simulated, and the largest
+  // distance of a re-simulated position from the recorded one [m] (0 where the re-simulation took
+  // the recorded path bit for bit).
+  int resimulated_steps = 0;
+  double resimulation_error = 0.0;
   // The pass's cost: wall time, factorisations (Cholesky, and LDL^T where it fails), solves.
   double backward_ms = 0.0;
   long factorizations = 0;
