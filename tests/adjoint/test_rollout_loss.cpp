@@ -1,7 +1,9 @@
 // The losses on a rollout's positions: values and gradients against central differences of the
-// loss itself, zero at a perfect match, and one-line errors for losses that do not fit.
+// loss itself, zero at a perfect match, one-line errors for losses that do not fit, and the
+// Chamfer loss through the backward pass against differences of the whole rollout.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include <fnopt/adjoint/rollout_loss.hpp>
@@ -87,6 +89,42 @@ TEST(RolloutLoss, LossesThatDoNotFitAreErrors) {
   EXPECT_THROW(position_loss(rollout, {{1, VecX::Zero(6)}}), Error);
   EXPECT_THROW(chamfer_loss(rollout, {{1, {}}}), Error);
   EXPECT_THROW(chamfer_loss(RecordedRollout{}, {{0, {Vec3::Zero()}}}), Error);
+}
+
+// End to end: the Chamfer loss against another material's rollout, through the backward pass,
+// against central differences of the whole rollout in log stretch (each perturbed step started at
+// the base rollout's acceleration, gradient_check.hpp's protocol).
+TEST(RolloutLoss, ChamferThroughTheRolloutMatchesDifferencesInLogStretch) {
+  Scene scene;
+  scene.rows = scene.cols = 8;
+  scene.frames = 31;
+  scene.speed = 4.0;
+  Scene other = scene;
+  other.material.stretch *= 1.5;
+  other.material.shear *= 0.5;
+  const RecordedRollout observed_rollout = record_rollout(resolve(other));
+  std::vector<FramePoints> observed;
+  for (int f : {10, 20, 30}) {
+    std::vector<Vec3> points;
+    for (int k = 0; k < observed_rollout.scene.grid.vertex_count(); ++k)
+      points.push_back(observed_rollout.positions[f].segment<3>(3 * k));
+    observed.push_back({f, points});
+  }
+
+  const ResolvedScene resolved = resolve(scene);
+  const RecordedRollout base = record_rollout(resolved);
+  const RolloutLoss loss = chamfer_loss(base, observed);
+  const double adjoint = backpropagate(base, loss.gradient).log_material.stretch;
+  const double e = 1e-5;
+  RolloutInputs on_branch;
+  on_branch.start_accelerations = base.accelerations;
+  ResolvedScene plus = resolved, minus = resolved;
+  plus.scene.material.stretch *= std::exp(e);
+  minus.scene.material.stretch *= std::exp(-e);
+  const double difference = (chamfer_loss(record_rollout(plus, {}, on_branch), observed).value -
+                             chamfer_loss(record_rollout(minus, {}, on_branch), observed).value) /
+                            (2.0 * e);
+  EXPECT_NEAR(adjoint, difference, 1e-4 * std::abs(difference));
 }
 
 }  // namespace
