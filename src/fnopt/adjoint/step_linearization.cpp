@@ -75,7 +75,11 @@ StepStationarity StepLinearization::linearize(const VecX& x, const VecX& v, cons
 
   ++factorizations_;
   use_ldlt_ = true;
-  ldlt_.compute(masked_);
+  if (ldlt_pattern_ != pattern) {
+    ldlt_.analyzePattern(masked_);
+    ldlt_pattern_ = pattern;
+  }
+  ldlt_.factorize(masked_);
   negative_eigenvalues_ = -1;
   if (ldlt_.info() != Eigen::Success) return StepStationarity::Singular;
   const VecX pivots = ldlt_.vectorD();

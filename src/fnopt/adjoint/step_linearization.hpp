@@ -82,6 +82,7 @@ class StepLinearization {
   long masked_pattern_ = -1;
   SparseCholesky cholesky_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt_;
+  long ldlt_pattern_ = -1;  // the pattern ldlt_ analysed last
   bool use_ldlt_ = false;
   int negative_eigenvalues_ = 0;
   VecX gradient_buffer_;
