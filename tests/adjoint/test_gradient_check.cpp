@@ -125,5 +125,11 @@ TEST(GradientCheck, ALossFrameOutsideTheRolloutIsAnError) {
   EXPECT_THROW(gradient_check(fast_corner_scene(), params), Error);
 }
 
+TEST(GradientCheck, ACheckpointedBaseIsRefused) {
+  GradientCheckParams params;
+  params.record.checkpoint_interval = 5;
+  EXPECT_THROW(gradient_check(fast_corner_scene(), params), Error);
+}
+
 }  // namespace
 }  // namespace fnopt

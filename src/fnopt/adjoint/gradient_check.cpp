@@ -75,6 +75,8 @@ void GradientCheckParams::validate() const {
   require(std::isfinite(vector_step) && vector_step > 0.0, "vector_step", "must be positive");
   require(directions >= 1, "directions", "must be at least 1");
   record.validate();
+  require(record.checkpoint_interval == 0, "record.checkpoint_interval",
+          "must be 0: the perturbed rollouts start from the base's accelerations, which checkpoints do not keep");
   path.validate();
 }
 

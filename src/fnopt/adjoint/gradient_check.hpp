@@ -39,7 +39,7 @@ struct GradientCheckParams {
   double vector_step = 1e-7;     // e along a unit direction, in the parameter's unit (m, m/s, m/s^2)
   int directions = 2;            // random directions per vector kind
   std::uint64_t seed = 1;        // of the loss's weights and the directions
-  RecordOptions record;          // every rollout's, the base's and the perturbed ones
+  RecordOptions record;          // every rollout's, the base's and the perturbed ones (no checkpoints)
   HandlePathParams path;         // the handle path's basis (the HandlePath kind), offsets from zero
 
   void validate() const;  // throws Error naming the field
