@@ -27,8 +27,8 @@ packages=(
 # Chromium, for the test that draws the viewer's page headless (~40 s and 81 MB to install; the
 # test is skipped without it, docs/design.md §11).
 ((tests)) && packages+=(chromium)
-# The Python module's tests.
-((tests)) && packages+=(python3-pytest)
+# The Python module's tests; venv and pip for the test of `pip install .` into a virtual environment.
+((tests)) && packages+=(python3-pytest python3-venv python3-pip)
 
 missing=()
 for p in "${packages[@]}"; do

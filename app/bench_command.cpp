@@ -9,7 +9,7 @@
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/fno/fno_bench.hpp>
 #include <fnopt/fno/fno_io.hpp>
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/methods/registry.hpp>
 #include <fnopt/simulation/rollout.hpp>
 #include <fnopt/util/error.hpp>

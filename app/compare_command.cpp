@@ -32,6 +32,7 @@ struct CompareFlags {
   OptimizerChoice settings;  // --model and the other per-method settings
   std::string out;
   std::string arcsim_dir;
+  std::string reference = "newton";
   std::string error_levels = "1,0.3,0.1";  // e_CD x 10^3
   std::string preset;
   int preset_frames = 0;  // the preset's frame count, where --frames was not given
@@ -104,12 +105,12 @@ struct Preset {
   int step_samples;
 };
 
-// The learned optimizer's variants that hold at fine grids (fnopt-ss, fnopt-ss-pqn), each against
-// its own interpolation from 32 vertices, fnopt-ss on the 32^2-only model (fnopt-ss-32: the zero-shot
-// study proper), and the exact coarse step interpolated. Every grid is finer than 32 along its longer
+// The learned optimizers (fnopt, fnopt-ss), each against its own interpolation from 32 vertices,
+// fnopt-ss on the 32^2-only model (fnopt-ss-32: the zero-shot study proper), and the exact coarse
+// step interpolated. Every grid is finer than 32 along its longer
 // edge: an interpolation from 32 is refused on the 32 x 32 grid.
 const Preset kSuperres = {"32x64,64x32,48,48x80,64,100,128",
-                          "fnopt-ss,fnopt-ss-32,fnopt-ss-pqn,fnopt-ss-interp32,fnopt-ss-pqn-interp32,newton-interp32",
+                          "fnopt,fnopt-ss,fnopt-ss-32,fnopt-interp32,fnopt-ss-interp32,newton-interp32",
                           "10",
                           "newton-interp32=300",
                           "xy_v2",
@@ -154,6 +155,7 @@ void run_compare(const CompareFlags& flags) {
   study.learning_rates = {{"gd", number_list("lr-gd", flags.lr_gd)}, {"adam", number_list("lr-adam", flags.lr_adam)}};
   study.out = flags.out;
   study.arcsim_dir = flags.arcsim_dir;
+  study.reference = flags.reference;
   study.preset = flags.preset;
   study.resolutions_text = flags.resolutions;
   study.command_line = process_command_line("fnopt compare");
@@ -211,8 +213,8 @@ const RegisterCommand kRegister([](CLI::App& app) {
               " s of the motion at dt = 1/60, the handles' first swing; the fine-grid Newton references dominate the "
               "cost, ~1 s of CPU per frame at 100^2; for more frames give --frames and a new --out: --resume keeps "
               "rows by method, N, resolution and motion only); the "
-              "fine grid runs fnopt-ss (by default on the multi-resolution model), fnopt-ss-32 (on the 32^2-only "
-              "model) and fnopt-ss-pqn (the 32^2 model) against "
+              "fine grid runs fnopt (on the 32^2-only model), fnopt-ss (by default on the multi-resolution model) and "
+              "fnopt-ss-32 (on the 32^2-only model) against "
               "METHOD-interp32 (solve at 32 vertices along the longer edge, interpolate) and newton-interp32 (exact "
               "coarse step, interpolate); "
               "also writes superres.svg and a super-resolution table in report.md")
@@ -230,6 +232,12 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command
       ->add_option("--error-levels", flags->error_levels,
                    "e_CD x 10^3 levels at which the fastest method is printed (and in report.md)")
+      ->capture_default_str();
+  command
+      ->add_option("--reference", flags->reference,
+                   "the rollout every error is measured against: newton (the exact step), or newton-min, which "
+                   "leaves saddles and ends at minima: the reference off the corner presets (docs/design.md §6)")
+      ->check(CLI::IsMember({"newton", "newton-min"}))
       ->capture_default_str();
   command->add_option("--arcsim-dir", flags->arcsim_dir,
                       "also report e_CD against DIR/arcsim_N{res}_{motion}.h5 where it exists");

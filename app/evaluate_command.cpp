@@ -7,8 +7,8 @@
 
 #include <fnopt/io/csv_table.hpp>
 #include <fnopt/io/hdf5_file.hpp>
-#include <fnopt/io/rollout_file.hpp>
-#include <fnopt/metrics/step_error.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
+#include <fnopt/studies/step_error.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/output_path.hpp>

@@ -16,7 +16,7 @@ namespace {
 
 struct StudyFlags {
   std::string out;
-  std::string optimizers = "newton,fnopt-ls";
+  std::string optimizers = "newton,fnopt";
   int frames = 390;
   int res = 32;
   std::string motion = "xy_v2";

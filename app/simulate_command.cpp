@@ -5,7 +5,7 @@
 
 #include <fnopt/cloth/grid_units.hpp>
 #include <fnopt/io/obj_file.hpp>
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/output_path.hpp>
 #include <fnopt/util/progress_bar.hpp>

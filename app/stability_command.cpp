@@ -23,7 +23,7 @@ struct StabilityFlags {
   SceneFlags scene;
   std::string out;
   std::string cases = "all";
-  std::string optimizers = "newton,fnopt,fnopt-ls,fnopt-ss,lbfgs,lbfgs-ls,adam,gd";
+  std::string optimizers = "newton,pqn,fnopt,fnopt-ss,lbfgs,lbfgs-ls,adam,gd";
   std::vector<std::string> iters_for;  // METHOD=N
   std::string model;
   int threads = 0;  // the default: set_thread_count

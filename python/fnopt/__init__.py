@@ -4,9 +4,11 @@
     scene = fnopt.Scene(res=32, handles="corner", motion="xy_v2", frames=60)
     sim = fnopt.Simulator(scene, optimizer="pqn", iters=10)
     frames = sim.rollout(60)          # (61, 32, 32, 3)
+    sim.last_step                     # StepRecord(wall_ms=..., status='iteration-budget', ...)
 
-Arrays are NumPy arrays shaped (rows, cols, 3) per frame; errors are fnopt.Error, a
-ValueError, with the command line's texts. The whole surface is in docs/api.md.
+Arrays are NumPy arrays shaped (rows, cols, 3) per frame; records (StepRecord, Evaluation, ...)
+are frozen dataclasses; errors are fnopt.Error, a ValueError, with the command line's texts.
+The whole surface is in docs/api.md.
 """
 from ._fnopt import (
     Error,
@@ -18,29 +20,36 @@ from ._fnopt import (
     compare,
     compare_trajectories,
     evaluate_optimizer,
+    multires_model_path,
     optimizer_names,
     read_rollout,
     run_rollout,
     set_threads,
     shipped_model_path,
-    multires_model_path,
     threads,
 )
+from .records import CompareRow, Comparison, Evaluation, Material, RolloutFile, StepRecord
 
 __all__ = [
+    "CompareRow",
+    "Comparison",
     "Error",
+    "Evaluation",
+    "Material",
     "Rollout",
+    "RolloutFile",
     "Scene",
     "Simulator",
     "StepProblem",
+    "StepRecord",
     "compare",
     "compare_trajectories",
     "evaluate_optimizer",
+    "multires_model_path",
     "optimizer_names",
     "read_rollout",
     "run_rollout",
     "set_threads",
     "shipped_model_path",
-    "multires_model_path",
     "threads",
 ]

@@ -26,6 +26,10 @@ VecX grid_vector(const py::handle& values, int rows, int cols, const char* field
 std::vector<Vec3> point_list(const py::handle& values, std::size_t count, const char* field);
 py::array_t<double> point_array(const std::vector<Vec3>& points);
 
+// The record class `name` of python/fnopt/records.py (StepRecord, Material, ...): the module
+// returns those frozen dataclasses, built with keyword arguments.
+py::object record_type(const char* name);
+
 // The thread count in effect (fnopt.set_threads; the command line's default until then).
 int thread_count();
 

@@ -8,7 +8,7 @@
 
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/io/csv_table.hpp>
-#include <fnopt/metrics/step_error.hpp>
+#include <fnopt/studies/step_error.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/studies/compare_study.hpp>
 #include <fnopt/util/error.hpp>
@@ -69,9 +69,9 @@ MethodRun method_of(const py::object& method, const Scene& scene, int iters, con
   return run;
 }
 
-py::dict evaluate_optimizer(const py::object& method, const Scene& scene, int iters, const py::object& reference,
-                            int samples, int cd_stride, int chamfer_samples, const py::object& model,
-                            const py::object& lr, bool gd_curvature_scaled) {
+py::object evaluate_optimizer(const py::object& method, const Scene& scene, int iters, const py::object& reference,
+                              int samples, int cd_stride, int chamfer_samples, const py::object& model,
+                              const py::object& lr, bool gd_curvature_scaled) {
   require(samples >= 1, "samples", "must be positive");
   require(cd_stride >= 1, "cd_stride", "must be at least 1");
   const MethodRun m = method_of(method, scene, iters, model, lr, gd_curvature_scaled);
@@ -97,26 +97,19 @@ py::dict evaluate_optimizer(const py::object& method, const Scene& scene, int it
     StepErrorBench bench(scene, reference_frames, samples);
     steps = bench.evaluate(*m.optimizer, m.options.solve);
   }
-  py::dict row;
-  row["optimizer"] = run.settings;
-  row["iters"] = iters;
-  row["ms_per_frame"] = ms_per_frame(run.result);
+  py::tuple per_step(steps.samples.size());
+  for (std::size_t k = 0; k < steps.samples.size(); ++k) per_step[k] = steps.samples[k].error;
+  using namespace pybind11::literals;
   // As in compare: a diverged run's trajectory errors are undefined (its frames stop early).
-  row["e_cd"] = run.result.diverged ? NAN : 1e3 * c.chamfer;
-  row["e_3d"] = run.result.diverged ? NAN : 1e2 * c.e3d;
-  row["step_error_mean"] = steps.mean;
-  row["step_error_median"] = steps.median;
-  py::list per_step;
-  for (const StepErrorSample& s : steps.samples) per_step.append(s.error);
-  row["step_errors"] = per_step;
-  row["max_strain"] = run.result.max_strain();
-  row["frames"] = static_cast<int>(run.result.positions.size()) - 1;
-  row["diverged"] = run.result.diverged;
-  row["divergence"] = run.result.divergence;
-  return row;
+  return record_type("Evaluation")(
+      "optimizer"_a = run.settings, "iters"_a = iters, "ms_per_frame"_a = ms_per_frame(run.result),
+      "e_cd"_a = run.result.diverged ? NAN : 1e3 * c.chamfer, "e_3d"_a = run.result.diverged ? NAN : 1e2 * c.e3d,
+      "step_error_mean"_a = steps.mean, "step_error_median"_a = steps.median, "step_errors"_a = per_step,
+      "max_strain"_a = run.result.max_strain(), "frames"_a = static_cast<int>(run.result.positions.size()) - 1,
+      "diverged"_a = run.result.diverged, "divergence"_a = run.result.divergence);
 }
 
-// fnopt compare's study on the given scenes; its rows (compare.csv) as dicts of strings.
+// fnopt compare's study on the given scenes; its rows (compare.csv) as CompareRow records.
 py::list compare(const py::object& scenes, const std::vector<std::string>& optimizers, const std::vector<int>& iters,
                  const py::object& out, const py::object& model, int step_samples, int cd_stride, int chamfer_samples,
                  bool resume) {
@@ -156,11 +149,12 @@ py::list compare(const py::object& scenes, const std::vector<std::string>& optim
     run_compare_study(study);
   }
   const CsvTable table = CsvTable::read((std::filesystem::path(study.out) / "compare.csv").string());
+  const py::object from_cells = record_type("CompareRow").attr("from_cells");
   py::list rows;
   for (const auto& values : table.rows()) {
-    py::dict row;
-    for (std::size_t k = 0; k < values.size(); ++k) row[py::str(table.columns()[k])] = values[k];
-    rows.append(row);
+    py::dict cells;
+    for (std::size_t k = 0; k < values.size(); ++k) cells[py::str(table.columns()[k])] = values[k];
+    rows.append(from_cells(cells));
   }
   return rows;
 }
@@ -172,18 +166,65 @@ void define_evaluation(py::module_& m) {
         py::arg("reference") = py::none(), py::arg("samples") = 16, py::arg("cd_stride") = 2,
         py::arg("chamfer_samples") = 10000, py::arg("model") = py::none(), py::arg("lr") = py::none(),
         py::arg("gd_curvature_scaled") = true,
-        R"(compare's row for one optimizer on one scene: ms_per_frame, e_cd (x 10^3) and e_3d (x 10^2)
-against a converged Newton rollout (run now, or `reference`: a Rollout or rollout file of it),
-step_error_mean/median over `samples` reference states, max_strain, frames, diverged.
-optimizer: a name (with model, lr, gd_curvature_scaled as in Simulator) or a Python callable
-fn(problem, a, iters) -> a, called once per time step with the StepProblem, the start a_0
-and the budget.)");
+        R"(Measures one optimizer on one scene as ``fnopt compare`` does.
+
+Its rollout is timed and compared with a converged Newton rollout (e_CD, e_3D), and its
+per-step error is taken from `samples` states of that reference.
+
+Parameters
+----------
+optimizer : str or callable
+    An optimizer's name, or a Python callable ``fn(problem, a, iters) -> a`` called once per
+    time step with the StepProblem, the start a_0 and the budget.
+scene : Scene
+    The scene, its frames included.
+iters : int
+    The budget per step.
+reference : Rollout or str or os.PathLike, optional
+    The converged Newton rollout of the scene (a Rollout or rollout file); default: run now.
+samples : int, optional
+    Reference states the per-step error is measured from.
+cd_stride : int, optional
+    e_CD on every k-th frame only.
+chamfer_samples : int, optional
+    Points sampled on each mesh for e_CD.
+model, lr, gd_curvature_scaled
+    For a named optimizer, as for `Simulator`.
+
+Returns
+-------
+Evaluation
+    ms_per_frame, e_cd, e_3d, the per-step errors, max strain, frames and divergence.)");
   m.def("compare", &compare, py::arg("scenes"), py::arg("optimizers"), py::arg("iters") = std::vector<int>{10},
         py::arg("out") = py::none(), py::arg("model") = py::none(), py::arg("step_samples") = 16,
         py::arg("cd_stride") = 2, py::arg("chamfer_samples") = 10000, py::arg("resume") = false,
-        R"(`fnopt compare` on one Scene or a list of them: every optimizer at every budget in `iters`
-(Newton to its tolerance) against the Newton reference; writes compare.csv, compare.svg and
-report.md to `out` (default: a new temporary directory) and returns compare.csv's rows as dicts.)");
+        R"(Runs ``fnopt compare`` on scenes: every optimizer at every budget against the Newton reference.
+
+Parameters
+----------
+scenes : Scene or list of Scene
+    The scenes.
+optimizers : list of str
+    The optimizers' names (Newton runs to its tolerance).
+iters : list of int, optional
+    The budgets per step.
+out : str or os.PathLike, optional
+    Where compare.csv, compare.svg and report.md go; default: a new temporary directory.
+model : str or os.PathLike, optional
+    The learned optimizers' weights; default: each method's shipped model.
+step_samples : int, optional
+    Reference states the per-step error is measured from.
+cd_stride : int, optional
+    e_CD on every k-th frame only.
+chamfer_samples : int, optional
+    Points sampled on each mesh for e_CD.
+resume : bool, optional
+    Keep the rows an earlier run left in `out` and run only the missing ones.
+
+Returns
+-------
+list of CompareRow
+    compare.csv's rows, in its order.)");
 }
 
 }  // namespace fnopt::python

@@ -1,9 +1,12 @@
-// Whole rollouts from Python: run one, read and write rollout files (HDF5, io/rollout_file.hpp)
+// Whole rollouts from Python: run one, read and write rollout files (HDF5, simulation/rollout_file.hpp)
 // and compare trajectories (metrics/trajectory_error.hpp), with arrays shaped (frames, rows,
 // cols, 3).
-#include <fnopt/io/rollout_file.hpp>
+#include <sstream>
+
 #include <fnopt/metrics/trajectory_error.hpp>
+#include <fnopt/scenes/scene.hpp>
 #include <fnopt/simulation/rollout.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/util/error.hpp>
 
 #include "common.hpp"
@@ -17,9 +20,18 @@ PyRollout run_python_rollout(const Scene& scene, InnerOptimizer& optimizer, cons
   PyRollout rollout;
   rollout.scene_text = to_scene_text(scene);
   rollout.settings = optimizer.settings();
+  rollout.optimizer = optimizer.name();
   py::gil_scoped_release release;
   rollout.result = run_rollout(resolved, optimizer, options);
   return rollout;
+}
+
+py::object step_record(const StepRecord& r) {
+  using namespace pybind11::literals;
+  return record_type("StepRecord")(
+      "wall_ms"_a = r.wall_ms, "status"_a = to_string(r.status), "iterations"_a = r.iterations,
+      "initial_loss"_a = r.initial_loss, "loss"_a = r.loss, "initial_gradient_norm"_a = r.initial_gradient_norm,
+      "gradient_norm"_a = r.gradient_norm, "max_strain"_a = r.max_strain, "energy"_a = r.energy);
 }
 
 TrajectoryFrames frames_from(const py::handle& source) {
@@ -31,50 +43,28 @@ TrajectoryFrames frames_from(const py::handle& source) {
 
 namespace {
 
-py::dict step_arrays(const RolloutResult& r) {
-  const std::size_t n = r.steps.size();
-  py::array_t<double> wall(n), loss(n), gradient(n), strain(n), energy(n);
-  py::array_t<int> iterations(n);
-  py::list status;
-  for (std::size_t k = 0; k < n; ++k) {
-    const StepRecord& s = r.steps[k];
-    wall.mutable_at(k) = s.wall_ms, loss.mutable_at(k) = s.loss, gradient.mutable_at(k) = s.gradient_norm;
-    strain.mutable_at(k) = s.max_strain, energy.mutable_at(k) = s.energy, iterations.mutable_at(k) = s.iterations;
-    status.append(to_string(s.status));
-  }
-  py::dict d;
-  d["wall_ms"] = wall;
-  d["loss"] = loss;
-  d["gradient_norm"] = gradient;
-  d["max_strain"] = strain;
-  d["energy"] = energy;
-  d["iterations"] = iterations;
-  d["status"] = status;
-  return d;
-}
-
-py::dict read_rollout(const std::string& path) {
+py::object read_rollout(const std::string& path) {
+  using namespace pybind11::literals;
   const TrajectoryFrames frames = read_trajectory_frames(path);
-  py::dict d;
-  d["positions"] = frames_array(frames.positions, frames.rows, frames.cols);
-  d["times"] = py::array_t<double>(frames.times.size(), frames.times.data());
-  d["rows"] = frames.rows;
-  d["cols"] = frames.cols;
+  py::object scene = py::none(), optimizer = py::none(), version = py::none(), divergence = py::none();
   // An ARCSim reference file has no scene or provenance.
   try {
-    d["scene"] = read_rollout_scene(path);
+    scene = py::cast(read_rollout_scene(path));
     const RolloutProvenance provenance = read_rollout_provenance(path);
-    d["optimizer"] = provenance.optimizer_settings;
-    d["version"] = provenance.version;
-    d["divergence"] = provenance.divergence;
+    optimizer = py::str(provenance.optimizer_settings);
+    version = py::str(provenance.version);
+    divergence = py::str(provenance.divergence);
   } catch (const Error&) {
-    d["scene"] = py::none();
+    scene = optimizer = version = divergence = py::none();
   }
-  return d;
+  return record_type("RolloutFile")("positions"_a = frames_array(frames.positions, frames.rows, frames.cols),
+                                    "times"_a = py::array_t<double>(frames.times.size(), frames.times.data()),
+                                    "rows"_a = frames.rows, "cols"_a = frames.cols, "scene"_a = scene,
+                                    "optimizer"_a = optimizer, "version"_a = version, "divergence"_a = divergence);
 }
 
-py::dict trajectory_comparison(const py::handle& reference, const py::handle& rollout, double spacing,
-                               int chamfer_samples, int cd_stride) {
+py::object trajectory_comparison(const py::handle& reference, const py::handle& rollout, double spacing,
+                                 int chamfer_samples, int cd_stride) {
   const TrajectoryFrames ref = frames_from(reference), run = frames_from(rollout);
   TrajectoryComparisonOptions options;
   options.chamfer.samples = chamfer_samples;
@@ -88,40 +78,84 @@ py::dict trajectory_comparison(const py::handle& reference, const py::handle& ro
     py::gil_scoped_release release;
     c = compare_trajectories(ref, run, spacing, options);
   }
-  py::dict d;
-  d["e_cd"] = 1e3 * c.chamfer;
-  d["e_3d"] = 1e2 * c.e3d;
-  d["max_strain"] = c.max_strain;
-  d["matched"] = c.describe_matching();
-  return d;
+  using namespace pybind11::literals;
+  return record_type("Comparison")("e_cd"_a = 1e3 * c.chamfer, "e_3d"_a = 1e2 * c.e3d, "max_strain"_a = c.max_strain,
+                                   "matched"_a = c.describe_matching());
+}
+
+std::string rollout_repr(const PyRollout& r) {
+  std::ostringstream text;
+  text << "Rollout(frames=" << r.result.positions.size() - 1 << ", rows=" << r.result.grid.rows
+       << ", cols=" << r.result.grid.cols << ", optimizer='" << r.optimizer
+       << "', diverged=" << (r.result.diverged ? "True" : "False") << ")";
+  return text.str();
 }
 
 }  // namespace
 
 void define_rollouts(py::module_& m) {
-  py::class_<PyRollout>(m, "Rollout", "A whole rollout: its frames, times and every step's record.")
+  py::class_<PyRollout>(m, "Rollout", R"(A whole rollout: its frames, times and every step's record.
+
+Made by `run_rollout`; `write` stores it as ``fnopt simulate --out`` does.)")
       .def_property_readonly(
           "positions",
           [](const PyRollout& r) { return frames_array(r.result.positions, r.result.grid.rows, r.result.grid.cols); },
-          "(frames, rows, cols, 3), frame 0 the rest state")
+          "numpy.ndarray: (frames + 1, rows, cols, 3), frame 0 the rest state.")
       .def_property_readonly(
-          "times", [](const PyRollout& r) { return py::array_t<double>(r.result.times.size(), r.result.times.data()); })
+          "times", [](const PyRollout& r) { return py::array_t<double>(r.result.times.size(), r.result.times.data()); },
+          "numpy.ndarray: (frames + 1,), each frame's time in seconds.")
       .def_property_readonly(
-          "steps", [](const PyRollout& r) { return step_arrays(r.result); },
-          "Per step: wall_ms, loss, gradient_norm, max_strain, energy, iterations, status")
+          "steps",
+          [](const PyRollout& r) {
+            py::list steps;
+            for (const StepRecord& step : r.result.steps) steps.append(step_record(step));
+            return steps;
+          },
+          "list of StepRecord: Every step's record, in order.")
+      .def_property_readonly(
+          "scene", [](const PyRollout& r) { return load_scene_text(r.scene_text, "rollout"); },
+          "Scene: The scene it ran, as its file stores it.")
+      .def_property_readonly(
+          "rows", [](const PyRollout& r) { return r.result.grid.rows; }, "int: The grid's rows of vertices.")
+      .def_property_readonly(
+          "cols", [](const PyRollout& r) { return r.result.grid.cols; }, "int: The grid's columns of vertices.")
       .def_property_readonly(
           "ms_per_frame", [](const PyRollout& r) { return ms_per_frame(r.result); },
-          "Mean wall time of a step after warm-up, as compare reports it")
-      .def_property_readonly("max_strain", [](const PyRollout& r) { return r.result.max_strain(); })
-      .def_property_readonly("diverged", [](const PyRollout& r) { return r.result.diverged; })
-      .def_property_readonly("divergence", [](const PyRollout& r) { return r.result.divergence; })
-      .def_property_readonly("optimizer_settings", [](const PyRollout& r) { return r.settings; })
+          "float: Mean wall time of a step after warm-up, as compare reports it.")
+      .def_property_readonly(
+          "max_strain", [](const PyRollout& r) { return r.result.max_strain(); },
+          "float: The largest edge strain over all frames.")
+      .def_property_readonly(
+          "diverged", [](const PyRollout& r) { return r.result.diverged; }, "bool: Whether a step diverged.")
+      .def_property_readonly(
+          "divergence", [](const PyRollout& r) { return r.result.divergence; },
+          "str: Why it diverged, empty if it did not.")
+      .def_property_readonly(
+          "optimizer", [](const PyRollout& r) { return r.optimizer; }, "str: The optimizer's name.")
+      .def_property_readonly(
+          "optimizer_settings", [](const PyRollout& r) { return r.settings; },
+          "str: The optimizer and its settings, as the rollout file stores them.")
       .def(
           "write",
           [](const PyRollout& r, const std::string& path) {
             write_rollout_file(path, r.result, r.scene_text, r.settings);
           },
-          py::arg("path"), "Writes the rollout file (HDF5) `fnopt simulate --out` writes");
+          py::arg("path"), R"(Writes the rollout file (HDF5) that ``fnopt simulate --out`` writes.
+
+Parameters
+----------
+path : str
+    The file to write.
+
+Returns
+-------
+None)")
+      .def("__repr__", &rollout_repr, R"(The rollout's size, optimizer and outcome.
+
+Returns
+-------
+str
+    ``Rollout(frames=390, rows=32, cols=32, optimizer='pqn', diverged=False)``)");
 
   m.def(
       "run_rollout",
@@ -132,14 +166,50 @@ void define_rollouts(py::module_& m) {
       },
       py::arg("scene"), py::arg("optimizer") = "pqn", py::arg("iters") = 0, py::arg("model") = py::none(),
       py::arg("lr") = py::none(), py::arg("gd_curvature_scaled") = true, py::arg("warm_start") = false,
-      "The scene's frames with the optimizer, as `fnopt simulate` runs them (the same keywords as Simulator)");
-  m.def("read_rollout", &read_rollout, py::arg("path"),
-        "A rollout file (fnopt's or ARCSim's): dict of positions (frames, rows, cols, 3), times, rows, cols, "
-        "scene (a Scene, None for ARCSim's), optimizer, version, divergence");
+      R"(Runs the scene's frames, as ``fnopt simulate`` does.
+
+Parameters
+----------
+scene : Scene
+    The scene, its frames included.
+optimizer, iters, model, lr, gd_curvature_scaled, warm_start
+    As for `Simulator`.
+
+Returns
+-------
+Rollout
+    The frames and every step's record.)");
+  m.def("read_rollout", &read_rollout, py::arg("path"), R"(Reads a rollout file, fnopt's or ARCSim's.
+
+Parameters
+----------
+path : str
+    The HDF5 rollout file.
+
+Returns
+-------
+RolloutFile
+    Its positions (float32 as stored), times, grid, and for fnopt's files the scene,
+    optimizer settings, version and divergence.)");
   m.def("compare_trajectories", &trajectory_comparison, py::arg("reference"), py::arg("rollout"),
         py::arg("spacing") = 0.0, py::arg("chamfer_samples") = 10000, py::arg("cd_stride") = 1,
-        "e_CD x 10^3, e_3D x 10^2 and max strain of a rollout against a reference, each a Rollout or a "
-        "rollout file; spacing: the rollout's rest edge length (taken from a Rollout)");
+        R"(Measures a rollout against a reference trajectory, frames matched by time.
+
+Parameters
+----------
+reference, rollout : Rollout or str or os.PathLike
+    Each a Rollout or a rollout file.
+spacing : float, optional
+    The rollout's rest edge length, for its strain; taken from a Rollout when 0.
+chamfer_samples : int, optional
+    Points sampled on each mesh for e_CD.
+cd_stride : int, optional
+    e_CD on every k-th matched frame only (e_3D uses all).
+
+Returns
+-------
+Comparison
+    e_CD x 10^3, e_3D x 10^2, the rollout's max strain and how the frames matched.)");
 }
 
 }  // namespace fnopt::python

@@ -2,7 +2,7 @@
 // fnopt.Rollout, shared by the rollout functions and the evaluation of optimizers.
 #include <string>
 
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/simulation/rollout.hpp>
 
 #include "common.hpp"
@@ -12,7 +12,11 @@ namespace fnopt::python {
 struct PyRollout {
   RolloutResult result;
   std::string scene_text, settings;  // stored in its file
+  std::string optimizer;             // the optimizer's name
 };
+
+// A step's record as fnopt.records.StepRecord.
+py::object step_record(const StepRecord& record);
 
 // The scene's frames with `optimizer`, the GIL released.
 PyRollout run_python_rollout(const Scene& scene, InnerOptimizer& optimizer, const RolloutOptions& options);

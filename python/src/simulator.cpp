@@ -2,30 +2,19 @@
 // and out, for closed-loop control and for optimizers written in Python.
 #include <pybind11/stl.h>
 
+#include <sstream>
+
 #include <fnopt/scenes/scene.hpp>
 #include <fnopt/simulation/simulator.hpp>
 #include <fnopt/util/error.hpp>
 
 #include "common.hpp"
 #include "method.hpp"
+#include "rollouts.hpp"
 #include "step_problem.hpp"
 
 namespace fnopt::python {
 namespace {
-
-py::dict record_dict(const StepRecord& r) {
-  py::dict d;
-  d["wall_ms"] = r.wall_ms;
-  d["status"] = to_string(r.status);
-  d["iterations"] = r.iterations;
-  d["initial_loss"] = r.initial_loss;
-  d["loss"] = r.loss;
-  d["initial_gradient_norm"] = r.initial_gradient_norm;
-  d["gradient_norm"] = r.gradient_norm;
-  d["max_strain"] = r.max_strain;
-  d["energy"] = r.energy;
-  return d;
-}
 
 class PySimulator {
  public:
@@ -94,14 +83,20 @@ class PySimulator {
   }
   py::array_t<double> trajectory_targets(double t) const { return point_array(simulator_->trajectory_targets(t)); }
   py::object last_step() const {
-    return simulator_->steps_done() == 0 && !simulator_->diverged() ? py::object(py::none())
-                                                                    : py::object(record_dict(last_));
+    return simulator_->steps_done() == 0 && !simulator_->diverged() ? py::object(py::none()) : step_record(last_);
   }
   int rows() const { return resolved_.grid.rows; }
   int cols() const { return resolved_.grid.cols; }
   const Simulator& simulator() const { return *simulator_; }
   const Scene& scene() const { return resolved_.scene; }
   std::string settings() const { return optimizer_->settings(); }
+  std::string repr() const {
+    std::ostringstream text;
+    text << "Simulator(rows=" << rows() << ", cols=" << cols() << ", optimizer='" << optimizer_->name()
+         << "', steps_done=" << simulator_->steps_done() << ", time=" << simulator_->time()
+         << ", diverged=" << (simulator_->diverged() ? "True" : "False") << ")";
+    return text.str();
+  }
 
  private:
   std::vector<Vec3> targets_of(const py::object& handles) const {
@@ -126,52 +121,163 @@ class PySimulator {
 void define_simulator(py::module_& m) {
   py::class_<PySimulator>(m, "Simulator", R"(A rollout one step at a time, from rest.
 
-optimizer: a name of `fnopt --help` (pqn, newton, fnopt-ss, gd, ...); iters: its budget per
-step (0: the method's default); model: the learned optimizer's weights (default: the shipped
-model); lr: gd's or adam's learning rate; gd_curvature_scaled: gd's lr in units of
-1/lambda_max (True, as on the command line) or a fixed step along inverse_metric * g (False).
-Positions, velocities and accelerations are arrays shaped (rows, cols, 3).)")
+Positions, velocities and accelerations are float64 arrays shaped (rows, cols, 3).
+
+Parameters
+----------
+scene : Scene
+    The scene to run.
+optimizer : str, optional
+    An optimizer's name (`optimizer_names`: pqn, newton, fnopt-ss, gd, ...).
+iters : int, optional
+    Its budget per step; 0: the method's default.
+model : str or os.PathLike, optional
+    The learned optimizer's weights; default: the method's shipped model.
+lr : float, optional
+    gd's or adam's learning rate; default: the method's.
+gd_curvature_scaled : bool, optional
+    gd's lr in units of 1/lambda_max (True, as on the command line) or a fixed step along
+    inverse_metric * g (False).
+warm_start : bool, optional
+    Start each step from the previous step's acceleration instead of a_0.)")
       .def(py::init<const Scene&, const std::string&, int, const py::object&, const py::object&, bool, bool>(),
            py::arg("scene"), py::arg("optimizer") = "pqn", py::arg("iters") = 0, py::arg("model") = py::none(),
            py::arg("lr") = py::none(), py::arg("gd_curvature_scaled") = true, py::arg("warm_start") = false)
       .def("step", &PySimulator::step, py::arg("handles") = py::none(), py::arg("acceleration") = py::none(),
-           R"(One time step; returns the new positions. handles: this step's handle positions, (H, 3) in the
-order of handle_vertices (default: the scene's motion). acceleration: the step's answer from an
-optimizer of one's own instead of the built-in one (its handle entries are ignored).)")
-      .def("rollout", &PySimulator::rollout, py::arg("frames"),
-           "`frames` steps along the scene's motion; returns (frames + 1, rows, cols, 3), the current state first "
-           "(double precision; a rollout file stores float32)")
-      .def("problem", &PySimulator::problem, py::arg("handles") = py::none(),
-           "The next step's StepProblem (handles as in step), valid until the state moves")
+           R"(Takes one time step.
+
+Parameters
+----------
+handles : array_like, optional
+    This step's handle positions, (H, 3) in the order of `handle_vertices`; default: where
+    the scene's motion puts them.
+acceleration : array_like, optional
+    The step's answer, (rows, cols, 3), from an optimizer of one's own instead of the built-in
+    one (its handle entries are ignored).
+
+Returns
+-------
+numpy.ndarray
+    The new positions, (rows, cols, 3).)")
+      .def("rollout", &PySimulator::rollout, py::arg("frames"), R"(Steps along the scene's motion.
+
+A divergence stops it with a RuntimeWarning.
+
+Parameters
+----------
+frames : int
+    The steps to take.
+
+Returns
+-------
+numpy.ndarray
+    (frames + 1, rows, cols, 3) in double precision, the current state first (a rollout file
+    stores float32).)")
+      .def("problem", &PySimulator::problem, py::arg("handles") = py::none(), R"(The next step's problem.
+
+Parameters
+----------
+handles : array_like, optional
+    The step's handle positions, as in `step`.
+
+Returns
+-------
+StepProblem
+    Valid until the state moves.)")
       .def(
           "energy", [](PySimulator& s, const py::handle& a) { return s.problem(py::none()).energy(a); }, py::arg("a"),
-          "L(a) of the next step (the scene's motion)")
+          R"(The next step's objective, the handles on the scene's motion.
+
+Parameters
+----------
+a : array_like
+    Accelerations, (rows, cols, 3).
+
+Returns
+-------
+float
+    L(a).)")
       .def(
           "gradient", [](PySimulator& s, const py::handle& a) { return s.problem(py::none()).gradient(a); },
-          py::arg("a"), "grad L(a) of the next step, zero at the handles")
+          py::arg("a"), R"(The next step's gradient, the handles on the scene's motion.
+
+Parameters
+----------
+a : array_like
+    Accelerations, (rows, cols, 3).
+
+Returns
+-------
+numpy.ndarray
+    grad L(a), (rows, cols, 3), zero at the handles.)")
       .def(
           "hessian",
           [](PySimulator& s, const py::handle& a, bool project) { return s.problem(py::none()).hessian(a, project); },
-          py::arg("a"), py::arg("project") = false, "hess L(a) of the next step (SciPy sparse)")
+          py::arg("a"), py::arg("project") = false, R"(The next step's Hessian, the handles on the scene's motion.
+
+Parameters
+----------
+a : array_like
+    Accelerations, (rows, cols, 3).
+project : bool, optional
+    Project each stencil's block to positive semi-definite.
+
+Returns
+-------
+scipy.sparse.csc_matrix
+    hess L(a) over all 3 rows cols dofs, the identity on the handles'.)")
       .def("set_state", &PySimulator::set_state, py::arg("positions"), py::arg("velocities"),
-           py::arg("steps") = py::none(),
-           "Sets the state; `steps`: the steps done, so that time = steps * dt (default: unchanged)")
-      .def_property_readonly("positions", &PySimulator::positions)
-      .def_property_readonly("velocities", &PySimulator::velocities)
-      .def_property_readonly("time", [](const PySimulator& s) { return s.simulator().time(); })
-      .def_property_readonly("steps_done", [](const PySimulator& s) { return s.simulator().steps_done(); })
-      .def_property_readonly("diverged", [](const PySimulator& s) { return s.simulator().diverged(); })
-      .def_property_readonly("divergence", [](const PySimulator& s) { return s.simulator().divergence(); })
-      .def_property_readonly("handle_vertices", &PySimulator::handle_vertices, "(H, 2): (row, column) of each handle")
-      .def("trajectory_targets", &PySimulator::trajectory_targets, py::arg("t"),
-           "(H, 3): the handles' positions the scene's motion prescribes at time t")
+           py::arg("steps") = py::none(), R"(Sets the cloth's state.
+
+Parameters
+----------
+positions, velocities : array_like
+    (rows, cols, 3).
+steps : int, optional
+    The steps done, so that time = steps * dt; default: unchanged.
+
+Returns
+-------
+None)")
+      .def_property_readonly("positions", &PySimulator::positions, "numpy.ndarray: The positions, (rows, cols, 3).")
+      .def_property_readonly("velocities", &PySimulator::velocities, "numpy.ndarray: The velocities, (rows, cols, 3).")
       .def_property_readonly(
-          "last_step", &PySimulator::last_step,
-          "The last step's record (wall_ms, status, iterations, loss, max_strain, ...), None before one")
-      .def_property_readonly("scene", &PySimulator::scene)
-      .def_property_readonly("optimizer_settings", &PySimulator::settings)
-      .def_property_readonly("rows", &PySimulator::rows)
-      .def_property_readonly("cols", &PySimulator::cols);
+          "time", [](const PySimulator& s) { return s.simulator().time(); }, "float: The time in seconds.")
+      .def_property_readonly(
+          "steps_done", [](const PySimulator& s) { return s.simulator().steps_done(); }, "int: The steps taken.")
+      .def_property_readonly(
+          "diverged", [](const PySimulator& s) { return s.simulator().diverged(); },
+          "bool: Whether a step diverged (every later step raises).")
+      .def_property_readonly(
+          "divergence", [](const PySimulator& s) { return s.simulator().divergence(); },
+          "str: Why it diverged, empty if it did not.")
+      .def_property_readonly("handle_vertices", &PySimulator::handle_vertices,
+                             "numpy.ndarray: (H, 2), the (row, column) of each handle.")
+      .def("trajectory_targets", &PySimulator::trajectory_targets, py::arg("t"),
+           R"(Where the scene's motion puts the handles.
+
+Parameters
+----------
+t : float
+    A time in seconds.
+
+Returns
+-------
+numpy.ndarray
+    (H, 3), in the order of `handle_vertices`.)")
+      .def_property_readonly("last_step", &PySimulator::last_step,
+                             "StepRecord or None: The last step's record; None before the first step.")
+      .def_property_readonly("scene", &PySimulator::scene, "Scene: The scene it runs.")
+      .def_property_readonly("optimizer_settings", &PySimulator::settings,
+                             "str: The optimizer and its settings, as a rollout file stores them.")
+      .def_property_readonly("rows", &PySimulator::rows, "int: The grid's rows of vertices.")
+      .def_property_readonly("cols", &PySimulator::cols, "int: The grid's columns of vertices.")
+      .def("__repr__", &PySimulator::repr, R"(The grid, optimizer and progress.
+
+Returns
+-------
+str
+    ``Simulator(rows=8, cols=8, optimizer='pqn', steps_done=3, time=0.05, diverged=False)``)");
 }
 
 }  // namespace fnopt::python

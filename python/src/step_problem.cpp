@@ -2,6 +2,7 @@
 
 #include <pybind11/eigen.h>
 
+#include <sstream>
 #include <vector>
 
 #include <fnopt/baselines/first_order.hpp>
@@ -15,6 +16,8 @@ StepProblemView::StepProblemView(StepProblem& problem, const VecX& start, std::s
       cols_(problem.grid().cols),
       start_(start),
       inverse_metric_(ClothSmoothProblem(problem).inverse_metric()),
+      handle_count_(static_cast<int>(problem.dirichlet().fixed_vertices().size())),
+      dt_(problem.objective().dt()),
       alive_(std::move(alive)) {}
 
 void StepProblemView::check_alive() const {
@@ -86,28 +89,101 @@ py::array_t<double> StepProblemView::velocities() const {
   return grid_array(problem_->objective().start_velocities(), rows_, cols_);
 }
 
+std::string StepProblemView::repr() const {
+  std::ostringstream text;
+  text << "StepProblem(rows=" << rows_ << ", cols=" << cols_ << ", dt=" << dt_ << ", handles=" << handle_count_
+       << ", valid=" << (*alive_ ? "True" : "False") << ")";
+  return text.str();
+}
+
 void define_step_problem(py::module_& m) {
   py::class_<StepProblemView>(m, "StepProblem",
                               R"(One time step's problem: minimise the backward-Euler objective L(a) over the
 next step's accelerations a, shaped (rows, cols, 3), with the handles' entries prescribed.
-Valid while its step lasts.)")
-      .def("energy", &StepProblemView::energy, py::arg("a"), "L(a)")
-      .def("gradient", &StepProblemView::gradient, py::arg("a"), "grad L(a), zero at the handles")
-      .def("energy_gradient", &StepProblemView::energy_gradient, py::arg("a"), "(L(a), grad L(a))")
+
+Valid while its step lasts (`Simulator.problem`, or one call of an optimizer written in
+Python); afterwards every call raises fnopt.Error.)")
+      .def("energy", &StepProblemView::energy, py::arg("a"), R"(The objective.
+
+Parameters
+----------
+a : array_like
+    Accelerations, (rows, cols, 3) or flat.
+
+Returns
+-------
+float
+    L(a).)")
+      .def("gradient", &StepProblemView::gradient, py::arg("a"), R"(The objective's gradient.
+
+Parameters
+----------
+a : array_like
+    Accelerations, (rows, cols, 3) or flat.
+
+Returns
+-------
+numpy.ndarray
+    grad L(a), (rows, cols, 3), zero at the handles.)")
+      .def("energy_gradient", &StepProblemView::energy_gradient, py::arg("a"),
+           R"(The objective and its gradient at once.
+
+Parameters
+----------
+a : array_like
+    Accelerations, (rows, cols, 3) or flat.
+
+Returns
+-------
+tuple of (float, numpy.ndarray)
+    L(a) and grad L(a).)")
       .def("hessian", &StepProblemView::hessian, py::arg("a"), py::arg("project") = false,
-           "hess L(a) as a SciPy sparse matrix over all 3 rows cols dofs (identity on the handles' dofs); "
-           "project=True projects each stencil to positive semi-definite")
+           R"(The objective's Hessian over all 3 rows cols dofs.
+
+Parameters
+----------
+a : array_like
+    Accelerations, (rows, cols, 3) or flat.
+project : bool, optional
+    Project each stencil's block to positive semi-definite.
+
+Returns
+-------
+scipy.sparse.csc_matrix
+    hess L(a), the identity on the handles' dofs, so that a Newton step with the gradient
+    leaves the handles where they are.)")
       .def("residual_acceleration", &StepProblemView::residual_acceleration, py::arg("a"),
-           "max_i |g_i| / (m_i dt^2) in m/s^2: 0 at the solution")
-      .def_property_readonly("start", &StepProblemView::start, "a_0: 0 on the free dofs, the handles' prescription")
-      .def_property_readonly("inverse_metric", &StepProblemView::inverse_metric,
-                             "1 / (dt^2 m_i) per dof: a first-order step is a -= lr * inverse_metric * g")
-      .def_property_readonly("free_mask", &StepProblemView::free_mask, "(rows, cols): True where a vertex is free")
-      .def_property_readonly("positions", &StepProblemView::positions, "x_t, the state the step starts from")
-      .def_property_readonly("velocities", &StepProblemView::velocities, "v_t")
-      .def_property_readonly("rows", &StepProblemView::rows)
-      .def_property_readonly("cols", &StepProblemView::cols)
-      .def_property_readonly("dt", &StepProblemView::dt);
+           R"(The unbalanced force per mass.
+
+Parameters
+----------
+a : array_like
+    Accelerations, (rows, cols, 3) or flat.
+
+Returns
+-------
+float
+    max_i |g_i| / (m_i dt^2) in m/s^2: 0 at the solution.)")
+      .def_property_readonly("start", &StepProblemView::start,
+                             "numpy.ndarray: a_0, 0 on the free dofs and the handles' prescription.")
+      .def_property_readonly(
+          "inverse_metric", &StepProblemView::inverse_metric,
+          "numpy.ndarray: 1 / (dt^2 m_i) per dof: a first-order step is a -= lr * inverse_metric * g.")
+      .def_property_readonly("free_mask", &StepProblemView::free_mask,
+                             "numpy.ndarray: (rows, cols) booleans, True where a vertex is free.")
+      .def_property_readonly("positions", &StepProblemView::positions,
+                             "numpy.ndarray: x_t, the state the step starts from, (rows, cols, 3).")
+      .def_property_readonly("velocities", &StepProblemView::velocities, "numpy.ndarray: v_t, (rows, cols, 3).")
+      .def_property_readonly("rows", &StepProblemView::rows, "int: The grid's rows of vertices.")
+      .def_property_readonly("cols", &StepProblemView::cols, "int: The grid's columns of vertices.")
+      .def_property_readonly("dt", &StepProblemView::dt, "float: The time step in seconds.")
+      .def_property_readonly("valid", &StepProblemView::valid, "bool: Whether its step still lasts.")
+      .def("__repr__", &StepProblemView::repr, R"(The grid, time step, handles and whether it is still valid.
+
+Returns
+-------
+str
+    ``StepProblem(rows=8, cols=8, dt=0.0166667, handles=2, valid=True)``)");
 }
 
 }  // namespace fnopt::python

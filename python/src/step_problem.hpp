@@ -5,6 +5,7 @@
 #include <Eigen/SparseCore>
 
 #include <memory>
+#include <string>
 
 #include <fnopt/optimizer/step_problem.hpp>
 
@@ -34,10 +35,12 @@ class StepProblemView {
   py::array_t<bool> free_mask() const;
   int rows() const { return rows_; }
   int cols() const { return cols_; }
-  double dt() const { return problem_->objective().dt(); }
+  double dt() const { return dt_; }
   // The state the step starts from, (rows, cols, 3).
   py::array_t<double> positions() const;
   py::array_t<double> velocities() const;
+  bool valid() const { return *alive_; }
+  std::string repr() const;
 
  private:
   VecX vector_of(const py::handle& a) const;
@@ -46,6 +49,8 @@ class StepProblemView {
   StepProblem* problem_;
   int rows_, cols_;
   VecX start_, inverse_metric_;
+  int handle_count_;
+  double dt_;
   std::shared_ptr<const bool> alive_;
 };
 

@@ -17,11 +17,11 @@ def test_a_16x16_rollout_equals_the_command_lines_bit_for_bit(run_cli, tmp_path)
     scene = fnopt.Scene(res=16, frames=20)
     frames = fnopt.Simulator(scene, optimizer="pqn", iters=10).rollout(20)
     assert frames.shape == (21, 16, 16, 3) and frames.dtype == np.float64
-    assert np.array_equal(frames.astype(np.float32), expected["positions"])  # the file stores float32
+    assert np.array_equal(frames.astype(np.float32), expected.positions)  # the file stores float32
     whole = fnopt.run_rollout(scene, optimizer="pqn", iters=10)
-    assert np.array_equal(whole.positions, expected["positions"])
-    assert np.array_equal(whole.times, expected["times"])
-    assert expected["scene"].text == scene.text
+    assert np.array_equal(whole.positions, expected.positions)
+    assert np.array_equal(whole.times, expected.times)
+    assert expected.scene == scene and whole.scene == scene
 
 
 def test_a_rollout_file_round_trips(tmp_path):
@@ -29,10 +29,60 @@ def test_a_rollout_file_round_trips(tmp_path):
     path = tmp_path / "r.h5"
     rollout.write(str(path))
     back = fnopt.read_rollout(str(path))
-    assert np.array_equal(back["positions"], rollout.positions)
-    assert back["optimizer"] == rollout.optimizer_settings
-    assert back["version"] == fnopt.__version__
-    assert rollout.steps["iterations"].shape == (5,)
+    assert isinstance(back, fnopt.RolloutFile)
+    assert np.array_equal(back.positions, rollout.positions)
+    assert (back.rows, back.cols, back.divergence) == (8, 8, "")
+    assert back.optimizer == rollout.optimizer_settings
+    assert back.version == fnopt.__version__
+    assert back == fnopt.read_rollout(str(path))
+    assert back != fnopt.RolloutFile(**{**vars(back), "positions": back.positions + 1})
+
+
+def test_a_rollouts_step_records_are_those_the_simulator_reports():
+    scene = fnopt.Scene(res=8, frames=4)
+    rollout = fnopt.run_rollout(scene, optimizer="lbfgs", iters=5)
+    sim = fnopt.Simulator(scene, optimizer="lbfgs", iters=5)
+    assert sim.last_step is None
+    assert len(rollout.steps) == 4 and all(isinstance(s, fnopt.StepRecord) for s in rollout.steps)
+    for expected in rollout.steps:
+        sim.step()
+        mine = sim.last_step
+        # the same step, only its wall time differs
+        assert mine == fnopt.StepRecord(**{**vars(expected), "wall_ms": mine.wall_ms})
+        assert mine.iterations <= 5 and mine.loss <= mine.initial_loss
+    with pytest.raises(AttributeError):
+        mine.loss = 0.0
+    assert repr(mine).startswith("StepRecord(wall_ms=")
+
+
+def test_reprs_say_what_a_rollout_simulator_and_problem_are():
+    rollout = fnopt.run_rollout(fnopt.Scene(res=8, frames=3), optimizer="newton")
+    assert repr(rollout) == "Rollout(frames=3, rows=8, cols=8, optimizer='newton', diverged=False)"
+    assert (rollout.rows, rollout.cols, rollout.optimizer) == (8, 8, "newton")
+    sim = fnopt.Simulator(fnopt.Scene(res=6, frames=3), optimizer="pqn", iters=4)
+    sim.step()
+    assert repr(sim) == f"Simulator(rows=6, cols=6, optimizer='pqn', steps_done=1, time={sim.time:g}, diverged=False)"
+    problem = sim.problem()
+    handles = len(sim.handle_vertices)
+    assert repr(problem) == f"StepProblem(rows=6, cols=6, dt={problem.dt:g}, handles={handles}, valid=True)"
+    sim.step()
+    assert not problem.valid and repr(problem).endswith("valid=False)")
+
+
+def test_optimizer_names_is_a_list_of_the_names_the_simulator_takes():
+    names = fnopt.optimizer_names()
+    assert isinstance(names, list) and {"pqn", "newton", "lbfgs", "gd", "fnopt-ss"} <= set(names)
+    assert len(names) == len(set(names))
+    # The names the command line's error lists, in its order, before the METHOD-interpK pattern.
+    with pytest.raises(fnopt.Error) as raised:
+        fnopt.Simulator(fnopt.Scene(res=8), optimizer="no-such-method")
+    listed = str(raised.value).split("choose from: ", 1)[1].split(", METHOD-interpK")[0]
+    methods, ablations = listed.split("; ablations: ")
+    assert fnopt.optimizer_names(ablations=False) == methods.split(", ")
+    assert names == methods.split(", ") + ablations.split(", ")
+    for name in names:
+        sim = fnopt.Simulator(fnopt.Scene(res=12, frames=1), optimizer=name, iters=2)
+        assert f"optimizer='{name}'" in repr(sim)
 
 
 def test_stepping_with_the_trajectorys_handles_equals_the_rollout():
@@ -129,8 +179,8 @@ def test_another_python_thread_runs_while_a_rollout_does():
 
 
 def test_the_learned_optimizer_with_pqns_direction_runs_by_name_on_the_shipped_model():
-    rollout = fnopt.run_rollout(fnopt.Scene(res=16, frames=4), optimizer="fnopt-ss-pqn", iters=3)
-    assert "fnopt-ss-pqn" in rollout.optimizer_settings and "pqn_direction=isotropic" in rollout.optimizer_settings
+    rollout = fnopt.run_rollout(fnopt.Scene(res=16, frames=4), optimizer="fnopt", iters=3)
+    assert "fnopt:" in rollout.optimizer_settings and "pqn_direction=isotropic" in rollout.optimizer_settings
     assert rollout.positions.shape == (5, 16, 16, 3) and np.isfinite(rollout.positions).all()
     with pytest.raises(fnopt.Error, match="fnopt-ss-pqm"):
         fnopt.run_rollout(fnopt.Scene(res=8, frames=2), optimizer="fnopt-ss-pqm")

@@ -32,12 +32,10 @@
 
 #include <fnopt/simulation/newton_reference.hpp>
 #include <fnopt/simulation/rollout.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/simulation/simulator.hpp>
 
-#include <fnopt/io/rollout_file.hpp>
-
 #include <fnopt/metrics/chamfer.hpp>
-#include <fnopt/metrics/step_error.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
 
 #include <fnopt/adjoint/adjoint_bench.hpp>

@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include <fnopt/baselines/newton.hpp>
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/util/parse_text.hpp>
 #include "tests/app/run_fnopt.hpp"
 #include "tests/util/temp_dir.hpp"

@@ -159,14 +159,14 @@ TEST(CompareCli, TheSuperResolutionTablesCoverEveryLearnedMethod) {
   const fnopt::testing::TempDir tmp;
   const auto dir = tmp.path() / "out";
   const CommandResult r = run_fnopt(
-      "compare --res 12,16 --frames 2 --optimizers fnopt-ss,fnopt-ss-32,fnopt-ss-pqn,fnopt-ss-pqn-interp8,pqn --iters "
+      "compare --res 12,16 --frames 2 --optimizers fnopt,fnopt-ss,fnopt-ss-32,fnopt-interp8,pqn --iters "
       "2 "
       "--threads 1 --step-samples 1 --cd-samples 100 --out " +
       dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string report = read_text(dir / "report.md");
   EXPECT_NE(report.find("## Zero-shot super-resolution"), std::string::npos) << report;
-  for (const std::string learned : {"fnopt-ss", "fnopt-ss-32", "fnopt-ss-pqn"}) {
+  for (const std::string learned : {"fnopt", "fnopt-ss", "fnopt-ss-32"}) {
     EXPECT_NE(report.find("### " + learned + " at N = 2"), std::string::npos) << learned << "\n" << report;
     EXPECT_NE(report.find("Super-evaluation (" + learned +
                           " N=2) has a lower e_CD than each interpolation method run "
@@ -200,6 +200,33 @@ TEST(CompareCli, NewtonMinIsRunNotTakenFromTheReference) {
   EXPECT_EQ(newton_min.find("the reference rollout itself"), std::string::npos) << newton_min;
   const auto fields = split_csv(newton_min);
   EXPECT_GT(std::stod(fields[13]), 0.0) << "e_3D of newton-min against the reference: " << newton_min;
+}
+
+// --reference newton-min: every error is measured against the rollout that ends at minima, so the
+// newton-min run reproduces it (the same solver on the same scene) and Newton's saddles show as error.
+TEST(CompareCli, TheNewtonMinReferenceMeasuresAgainstMinima) {
+  const fnopt::testing::TempDir tmp;
+  const auto dir = tmp.path() / "out";
+  const CommandResult r = run_fnopt(
+      "compare --res 12 --motions xz_v2 --frames 50 --optimizers newton,newton-min --reference newton-min "
+      "--threads 1 --step-samples 2 --cd-samples 100 --out " +
+      dir.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::istringstream lines(read_text(dir / "compare.csv"));
+  std::string line, newton, newton_min;
+  while (std::getline(lines, line)) {
+    if (line.rfind("newton,", 0) == 0) newton = line;
+    if (line.rfind("newton-min,", 0) == 0) newton_min = line;
+  }
+  ASSERT_FALSE(newton.empty());
+  ASSERT_FALSE(newton_min.empty());
+  EXPECT_EQ(newton.find("the reference rollout itself"), std::string::npos) << newton;
+  EXPECT_EQ(std::stod(split_csv(newton_min)[13]), 0.0) << newton_min;
+  EXPECT_GT(std::stod(split_csv(newton)[13]), 0.0) << newton;
+  EXPECT_NE(read_text(dir / "report.md").find("newton-min (Newton that ends at minima)"), std::string::npos);
+  const CommandResult bad = run_fnopt("compare --res 12 --reference lbfgs --out " + (tmp.path() / "bad").string());
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.output.find("--reference"), std::string::npos) << bad.output;
 }
 
 TEST(CompareCli, AnUnknownPresetIsRejected) {

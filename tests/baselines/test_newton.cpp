@@ -17,7 +17,7 @@
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/cloth/backward_euler.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
-#include <fnopt/optimizer/sparse_cholesky.hpp>
+#include <fnopt/linalg/sparse_cholesky.hpp>
 #include <fnopt/scenes/scene.hpp>
 #include <fnopt/simulation/rollout.hpp>
 

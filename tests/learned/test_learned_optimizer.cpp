@@ -103,7 +103,7 @@ TEST(LearnedOptimizer, LineSearchEndsEachUpdateNearTheMinimumAlongIt) {
     LearnedParams params;
     params.line_search = line_search;
     LearnedOptimizer learned(path, params);
-    EXPECT_EQ(learned.name(), line_search ? "fnopt-ls" : "fnopt");
+    EXPECT_EQ(learned.name(), line_search ? "fnopt-ls" : "fnopt-plain");
     EnergyLog log(learned);
     solve_step(log, step.problem, step.a, {10, 0.0});
     for (std::size_t k = 1; k < log.values.size(); ++k) EXPECT_LE(log.values[k], log.values[k - 1]);
@@ -133,7 +133,7 @@ TEST(LearnedOptimizer, SubspaceStepLeavesLessErrorThanTheSecantStepAlongANewtonT
   with_pqn.pqn_direction = true;
   LearnedOptimizer ls(path, secant), ss(path, carried), ss_cleared(path, cleared), ss_pqn(path, with_pqn);
   EXPECT_EQ(ss.name(), "fnopt-ss");
-  EXPECT_EQ(ss_pqn.name(), "fnopt-ss-pqn");
+  EXPECT_EQ(ss_pqn.name(), "fnopt");
   NewtonOptimizer newton;
   Shadows shadows(newton, {&ls, &ss, &ss_cleared, &ss_pqn}, {10, 0.0});
   Scene scene;

@@ -3,6 +3,7 @@
 // METHOD-interpK names and their grids, and the errors of unknown names and bad settings.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <set>
 #include <string>
@@ -24,19 +25,7 @@ using testing::throws_error;
 std::string shipped_model() { return std::string(FNOPT_SOURCE_DIR) + "/models/fnopt-32.pt"; }
 
 // The registry's table, read from optimizer_names() ("pqn, newton, ..., METHOD-interpK (...)").
-std::vector<std::string> table_names() {
-  const std::string names = optimizer_names();
-  std::vector<std::string> out;
-  for (std::size_t at = 0; at < names.size();) {
-    std::size_t end = names.find(", ", at);
-    if (end == std::string::npos) end = names.size();
-    const std::string name = names.substr(at, end - at);
-    if (name.rfind("METHOD-interpK", 0) == 0) break;  // the last entry, with commas of its own
-    out.push_back(name);
-    at = end + 2;
-  }
-  return out;
-}
+std::vector<std::string> table_names() { return optimizer_list(); }
 
 OptimizerChoice choice(const std::string& name) {
   OptimizerChoice c;
@@ -59,12 +48,42 @@ Error thrown_error(Call&& call) {
 
 TEST(Registry, TableHoldsEveryMethodOnceAndTheHelpTextNamesTheInterpolation) {
   const std::vector<std::string> names = table_names();
-  EXPECT_EQ(names,
-            (std::vector<std::string>{"pqn", "newton", "newton-min", "implicit-euler", "fnopt", "fnopt-ls", "fnopt-ss",
-                                      "fnopt-ss-32", "fnopt-ss-pqn", "fnopt-pqn", "gd", "adam", "lbfgs", "lbfgs-ls"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"pqn", "newton", "newton-min", "implicit-euler", "fnopt", "fnopt-ss", "gd",
+                                             "adam", "lbfgs", "lbfgs-ls", "fnopt-plain", "fnopt-ls", "fnopt-ss-32",
+                                             "fnopt-pqn"}));
   EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
   EXPECT_NE(optimizer_names().find("METHOD-interpK"), std::string::npos);
   EXPECT_EQ(OptimizerChoice{}.name, "pqn");  // the default method is in the table
+}
+
+// --help lists the methods first and the ablation variants after them, each name once.
+TEST(Registry, HelpTextListsTheAblationsApart) {
+  const std::string text = optimizer_names();
+  const std::string marker = "; ablations: ";
+  const std::size_t at = text.find(marker);
+  ASSERT_NE(at, std::string::npos) << text;
+  // "a, b, c" -> {a, b, c}, up to the interpolation's entry (whose text has commas of its own).
+  const auto split = [](const std::string& list) {
+    std::vector<std::string> names;
+    for (std::size_t from = 0; from < list.size();) {
+      std::size_t end = list.find(", ", from);
+      if (end == std::string::npos) end = list.size();
+      const std::string name = list.substr(from, end - from);
+      if (name.rfind("METHOD-interpK", 0) == 0) break;
+      names.push_back(name);
+      from = end + 2;
+    }
+    return names;
+  };
+  EXPECT_EQ(split(text.substr(0, at)), optimizer_list(false));
+  const std::vector<std::string> ablations = split(text.substr(at + marker.size()));
+  EXPECT_EQ(ablations, (std::vector<std::string>{"fnopt-plain", "fnopt-ls", "fnopt-ss-32", "fnopt-pqn"}));
+  for (const std::string& name : table_names()) {
+    const bool listed_apart = std::find(ablations.begin(), ablations.end(), name) != ablations.end();
+    EXPECT_EQ(method_traits(name).ablation, listed_apart) << name;
+  }
+  EXPECT_NE(text.find("METHOD-interpK", at), std::string::npos);
+  EXPECT_TRUE(method_traits("fnopt-interp32").ablation);
 }
 
 TEST(Registry, EveryNameBuildsTheOptimizerOfThatName) {
@@ -84,7 +103,7 @@ TEST(Registry, LearnedMethodsDefaultToTheShippedModel) {
   ASSERT_TRUE(std::filesystem::exists(shipped)) << shipped;
   EXPECT_EQ(shipped.filename(), "fnopt-32.pt");
   EXPECT_EQ(std::filesystem::file_size(shipped), std::filesystem::file_size(shipped_model()));
-  for (const std::string name : {"fnopt", "fnopt-ss-32", "fnopt-ss-pqn", "fnopt-pqn"}) {
+  for (const std::string name : {"fnopt", "fnopt-plain", "fnopt-ss-32", "fnopt-pqn"}) {
     OptimizerChoice c;
     c.name = name;  // no model: the 32^2 one
     const auto optimizer = c.make();
@@ -131,7 +150,7 @@ TEST(Registry, NewtonIsTheOnlyReference) {
 TEST(Registry, TheLearnedMethodsAreThoseThatRunAModel) {
   for (const std::string& name : table_names())
     EXPECT_EQ(method_traits(name).learned, name.rfind("fnopt", 0) == 0) << name;
-  EXPECT_FALSE(method_traits("fnopt-ss-pqn-interp32").learned);
+  EXPECT_FALSE(method_traits("fnopt-interp32").learned);
 }
 
 TEST(Registry, TraitsOfLearningRatesAndBudgetKinds) {

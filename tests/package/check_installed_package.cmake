@@ -29,6 +29,11 @@ run("closed_loop" ${WORK_DIR}/examples/closed_loop)
 message(STATUS "${output}")
 
 file(GLOB site ${prefix}/lib/python3*/dist-packages)
+foreach(name _fnopt.pyi py.typed records.py)
+  if(NOT EXISTS ${site}/fnopt/${name})
+    message(FATAL_ERROR "cmake --install did not install fnopt/${name}")
+  endif()
+endforeach()
 run("import fnopt" ${CMAKE_COMMAND} -E env PYTHONPATH=${site} OMP_WAIT_POLICY=PASSIVE ${PYTHON}
     ${CMAKE_CURRENT_LIST_DIR}/import_installed.py)
 if(NOT output MATCHES "^${prefix}/lib/python3[^\n]*/fnopt/__init__.py\n${prefix}/share/fnopt/models/fnopt-32.pt")

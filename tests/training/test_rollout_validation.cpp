@@ -9,7 +9,7 @@
 
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/fno/fno_io.hpp>
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/training/rollout_validation.hpp>
 #include <fnopt/util/error.hpp>
 #include "tests/util/temp_dir.hpp"
@@ -211,7 +211,7 @@ TEST(RolloutValidation, NamesTheOptimizerItValidatesWith) {
   ValidationOptions v;
   EXPECT_EQ(v.optimizer(), "fnopt-ss");
   v.pqn_direction = true;
-  EXPECT_EQ(v.optimizer(), "fnopt-ss-pqn");
+  EXPECT_EQ(v.optimizer(), "fnopt");
   v.subspace = 4;
   EXPECT_EQ(v.optimizer(), "fnopt-ss-k4-pqn");
   v.pqn_direction = false;

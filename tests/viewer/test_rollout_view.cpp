@@ -1,5 +1,5 @@
 // Loading a rollout for the viewer: an fnopt rollout's arrays against the file read
-// independently (io/rollout_file.hpp, io/hdf5_file.hpp), an ARCSim-layout file without per-step
+// independently (simulation/rollout_file.hpp, io/hdf5_file.hpp), an ARCSim-layout file without per-step
 // data, and bad files as one-line errors naming the file.
 #include <gtest/gtest.h>
 

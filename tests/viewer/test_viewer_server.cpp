@@ -1,5 +1,5 @@
 // The viewer's server, started in-process on an ephemeral port and queried with httplib's
-// client: the data endpoints against the files read independently (io/rollout_file.hpp), a
+// client: the data endpoints against the files read independently (simulation/rollout_file.hpp), a
 // compare directory's kept rollouts and references, 404 for everything off the whitelist
 // (path traversal included), and one-line errors before serving.
 #include <gtest/gtest.h>

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include <fnopt/baselines/pqn.hpp>
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/simulation/rollout.hpp>
 #include <fnopt/viewer/viewer_server.hpp>
 

@@ -25,7 +25,7 @@
 
 #include <fnopt/adjoint/material_gradient.hpp>
 #include <fnopt/cloth/backward_euler.hpp>
-#include <fnopt/optimizer/sparse_cholesky.hpp>
+#include <fnopt/linalg/sparse_cholesky.hpp>
 #include <fnopt/scenes/scene.hpp>
 
 namespace fnopt {

@@ -14,7 +14,7 @@
 #include <string>
 
 #include <fnopt/optimizer/inner_optimizer.hpp>
-#include <fnopt/optimizer/sparse_cholesky.hpp>
+#include <fnopt/linalg/sparse_cholesky.hpp>
 
 namespace fnopt {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include <fnopt/optimizer/matrix_inertia.hpp>
+#include <fnopt/linalg/matrix_inertia.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/parse_text.hpp>
 #include <fnopt/util/serial_openmp_scope.hpp>

@@ -2,7 +2,7 @@
 // The Newton reference solve (docs/design.md §6): it defines the exact backward-Euler step of the
 // energy, the ground truth of every error fnopt reports. A trust-region Newton method (Nocedal &
 // Wright 2006, Alg. 4.1) on the exact Hessian H, each subproblem solved by Steihaug–Toint CG
-// (optimizer/steihaug_cg.hpp) preconditioned by one positive-definite matrix,
+// (linalg/steihaug_cg.hpp) preconditioned by one positive-definite matrix,
 //   P = dt^2 M (1 + c dt) + dt^4 K+,   K+ the per-stencil PSD-projected elastic Hessian,
 // which is built rarely: its sparse Cholesky factor (on fine grids, a multigrid V-cycle on it) is
 // kept across iterations and time steps and rebuilt only when a subproblem needed more than
@@ -22,11 +22,11 @@
 // a - f(x)/m, the part of Newton's second law the step leaves unbalanced
 // (reference_solve_options()); its size against the errors it measures is in docs/results.md, "The Newton
 // reference: a trust region", "The stop".
-#include <fnopt/optimizer/block_multigrid.hpp>
+#include <fnopt/linalg/block_multigrid.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
-#include <fnopt/optimizer/single_precision_factor.hpp>
-#include <fnopt/optimizer/sparse_cholesky.hpp>
-#include <fnopt/optimizer/steihaug_cg.hpp>
+#include <fnopt/linalg/single_precision_factor.hpp>
+#include <fnopt/linalg/sparse_cholesky.hpp>
+#include <fnopt/linalg/steihaug_cg.hpp>
 
 namespace fnopt {
 
@@ -62,7 +62,7 @@ struct NewtonParams {
   // the products but took another path through a buckling step of xy_v2, whose rollout then moved by e_CD x 10^3
   // 0.021 (docs/results.md, "CG stops on a stale factor").
   bool truncate_cg_on_stale_factor = true;
-  // Apply P^-1 with a float copy of its factor (optimizer/single_precision_factor.hpp): half the
+  // Apply P^-1 with a float copy of its factor (linalg/single_precision_factor.hpp): half the
   // memory traffic of the solves that dominate an iteration at 100^2, the same convergence.
   bool single_precision_preconditioner = true;
   // From this many entries the float copy keeps its values in bfloat16: a factor whose floats do not
@@ -71,7 +71,7 @@ struct NewtonParams {
   // with 1 % fewer CG products (docs/results.md, "The factor's solves in panels of four columns").
   long bfloat16_factor_from_entries = 4000000;
   // On steps with at least this many free dofs, P^-1 is applied approximately, by one V-cycle of a
-  // geometric multigrid on P (optimizer/block_multigrid.hpp), instead of with P's Cholesky factor:
+  // geometric multigrid on P (linalg/block_multigrid.hpp), instead of with P's Cholesky factor:
   // no factorisation and a cheaper product, for more CG iterations: 1.4x faster at 100^2, as fast
   // at 32^2 (docs/results.md, "A multigrid preconditioner on fine grids"). From about 82^2, so that
   // the references of 32^2 and 64^2, where it gains less, stay those of the factor. 0: always. Where
@@ -117,7 +117,7 @@ class NewtonOptimizer final : public InnerOptimizer {
   std::optional<SolveStatus> iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) override;
   // With escape_saddles, at a stationary point where the exact Hessian H has negative pivots in its
   // LDL^T factorisation: a moves along -sign(g.z) z, z the direction of negative curvature they
-  // give (optimizer/matrix_inertia.hpp, Moré & Sorensen 1979), from the trust radius in the mass
+  // give (linalg/matrix_inertia.hpp, Moré & Sorensen 1979), from the trust radius in the mass
   // metric down until L falls. False (a not moved) at a minimum.
   bool leave_stationary_point(StepProblem& problem, VecX& a, double& value, VecX& gradient) override;
 

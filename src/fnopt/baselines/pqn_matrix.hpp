@@ -18,7 +18,7 @@
 #include <vector>
 
 #include <fnopt/cloth/backward_euler.hpp>
-#include <fnopt/optimizer/sparse_cholesky.hpp>
+#include <fnopt/linalg/sparse_cholesky.hpp>
 #include <fnopt/optimizer/step_problem.hpp>
 
 namespace fnopt {

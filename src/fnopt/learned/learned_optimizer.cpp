@@ -23,8 +23,8 @@ LearnedParams LearnedOptimizer::with_model_inputs(LearnedParams params, const FN
 std::string LearnedOptimizer::name() const {
   if (!method_name_.empty()) return method_name_;
   const LearnedParams& p = rule_.params();
-  if (p.subspace > 0) return p.pqn_direction ? "fnopt-ss-pqn" : "fnopt-ss";
-  return p.line_search ? "fnopt-ls" : "fnopt";
+  if (p.subspace > 0) return p.pqn_direction ? "fnopt" : "fnopt-ss";
+  return p.line_search ? "fnopt-ls" : "fnopt-plain";
 }
 
 std::string LearnedOptimizer::settings() const {

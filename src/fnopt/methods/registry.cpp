@@ -12,7 +12,7 @@
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/learned/learned_optimizer.hpp>
 #include <fnopt/learned/learned_pqn.hpp>
-#include <fnopt/optimizer/interpolated_optimizer.hpp>
+#include <fnopt/baselines/interpolated_optimizer.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/flag_names.hpp>
 #include <fnopt/util/installed_data.hpp>
@@ -35,6 +35,8 @@ struct OptimizerEntry {
 // The last field: the stability suite's budget per step (0: to tolerance).
 constexpr MethodTraits kBudgeted{BudgetKind::Iterations, false, false, 1.0, 100};
 constexpr MethodTraits kLearned{BudgetKind::Iterations, false, false, 10.0, 10, true};
+// A learned variant kept for the studies that take it apart (docs/design.md §4): listed apart in --help.
+constexpr MethodTraits kLearnedAblation{BudgetKind::Iterations, false, false, 10.0, 10, true, true};
 
 // The learned optimizer on --model (default: `default_model`, the 32^2 model unless said): plain, with the
 // secant step along its updates, or with the subspace step (and pqn's direction in it); `name`, if given,
@@ -80,27 +82,15 @@ const std::vector<OptimizerEntry>& optimizer_table() {
       {"implicit-euler",
        {BudgetKind::OneSolve, false, false, 30.0, 1},
        [](const OptimizerChoice&) { return std::make_unique<ImplicitEulerOptimizer>(); }},
-      {"fnopt", kLearned, [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false); }},
-      {"fnopt-ls", kLearned, [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/true); }},
-      {"fnopt-ss", kLearned,
-       [](const OptimizerChoice& c) {
-         return make_learned(c, /*line_search=*/false, kFnoptSubspace, /*pqn_direction=*/false, multires_model_path());
-       }},
-      {"fnopt-ss-32", kLearned,
-       [](const OptimizerChoice& c) {
-         return make_learned(c, /*line_search=*/false, kFnoptSubspace, /*pqn_direction=*/false, shipped_model_path(),
-                             "fnopt-ss-32");
-       }},
-      {"fnopt-ss-pqn", kLearned,
+      // The learned optimizer: the FNO's updates with pqn's preconditioned gradient in its subspace step.
+      {"fnopt", kLearned,
        [](const OptimizerChoice& c) {
          return make_learned(c, /*line_search=*/false, kFnoptSubspace, /*pqn_direction=*/true);
        }},
-      {"fnopt-pqn",
-       {BudgetKind::Iterations, false, false, 2.0, 10, true},
+      // The FNOPT paper's method: the FNO's updates and the subspace step over them alone.
+      {"fnopt-ss", kLearned,
        [](const OptimizerChoice& c) {
-         LearnedPqnParams params;
-         params.pqn = pqn_params(c);
-         return std::make_unique<LearnedPqnOptimizer>(c.model.empty() ? shipped_model_path() : c.model, params);
+         return make_learned(c, /*line_search=*/false, kFnoptSubspace, /*pqn_direction=*/false, multires_model_path());
        }},
       {"gd",
        {BudgetKind::Iterations, false, true, 1.0, 500},
@@ -130,11 +120,28 @@ const std::vector<OptimizerEntry>& optimizer_table() {
          params.line_search = true;
          return std::make_unique<LbfgsOptimizer>(params);
        }},
+      // Ablations, listed apart: the learned update alone, with a secant step, the paper's method on the
+      // 32^2 model, pqn with one learned probe per step (docs/design.md §4, §13).
+      {"fnopt-plain", kLearnedAblation,
+       [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/false); }},
+      {"fnopt-ls", kLearnedAblation, [](const OptimizerChoice& c) { return make_learned(c, /*line_search=*/true); }},
+      {"fnopt-ss-32", kLearnedAblation,
+       [](const OptimizerChoice& c) {
+         return make_learned(c, /*line_search=*/false, kFnoptSubspace, /*pqn_direction=*/false, shipped_model_path(),
+                             "fnopt-ss-32");
+       }},
+      {"fnopt-pqn",
+       {BudgetKind::Iterations, false, false, 2.0, 10, true, true},
+       [](const OptimizerChoice& c) {
+         LearnedPqnParams params;
+         params.pqn = pqn_params(c);
+         return std::make_unique<LearnedPqnOptimizer>(c.model.empty() ? shipped_model_path() : c.model, params);
+       }},
   };
   return table;
 }
 
-// The interpolation ablation (optimizer/interpolated_optimizer.hpp): "METHOD-interpK" solves each
+// The interpolation ablation (baselines/interpolated_optimizer.hpp): "METHOD-interpK" solves each
 // step with METHOD on the grid with K vertices along the longer edge and prolongs its answer.
 // The choice's budget, learning rate and model go to METHOD; the fine grid takes one iteration.
 constexpr const char* kInterpTag = "-interp";
@@ -160,11 +167,19 @@ std::unique_ptr<InnerOptimizer> make_interpolated(const OptimizerChoice& c) {
 
 }  // namespace
 
-std::string optimizer_names() {
+std::vector<std::string> optimizer_list(bool ablations) {
   std::vector<std::string> names;
-  for (const auto& entry : optimizer_table()) names.push_back(entry.name);
-  names.push_back("METHOD-interpK (METHOD on a K-vertex coarse grid, interpolated: fnopt-interp32, newton-interp32)");
-  return joined(names);
+  for (const auto& entry : optimizer_table())
+    if (ablations || !entry.traits.ablation) names.push_back(entry.name);
+  return names;
+}
+
+std::string optimizer_names() {
+  std::vector<std::string> ablations;
+  for (const auto& entry : optimizer_table())
+    if (entry.traits.ablation) ablations.push_back(entry.name);
+  ablations.push_back("METHOD-interpK (METHOD on a K-vertex coarse grid, interpolated: fnopt-interp32, newton-interp32)");
+  return joined(optimizer_list(false)) + "; ablations: " + joined(ablations);
 }
 
 std::string reference_method() {
@@ -183,6 +198,7 @@ MethodTraits method_traits(const std::string& name) {
     traits.budget = BudgetKind::Iterations;
     traits.reference = false;
     traits.learned = false;  // an ablation of super-evaluation, not its subject
+    traits.ablation = true;
     traits.iteration_cost *= 0.25;
     return traits;
   }

@@ -4,6 +4,7 @@
 // reference, whether it takes a learning rate, its default budgets and its relative cost.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <fnopt/baselines/gradient_descent.hpp>
 #include <fnopt/baselines/pqn.hpp>
@@ -26,6 +27,7 @@ struct MethodTraits {
   double iteration_cost = 1.0;  // relative cost of one iteration, for progress ETAs only
   int suite_budget = 100;       // iterations per step in the stability suite (0: to tolerance)
   bool learned = false;         // runs a trained model (--model): the super-resolution study's subject
+  bool ablation = false;        // a variant kept for the studies that take a method apart, listed apart
 };
 
 // Throws Error("optimizer", "...") for an unknown name.
@@ -60,7 +62,10 @@ struct OptimizerChoice {
   void check_grid(int rows, int cols) const;
 };
 
-std::string optimizer_names();  // "newton" ... for help texts
+// Every optimizer's registry name (the ablations too, if asked), in the registry's order.
+std::vector<std::string> optimizer_list(bool ablations = true);
+// The names for help texts: the methods, then "; ablations: " and the ablation variants.
+std::string optimizer_names();
 // The method whose traits say it is the reference (newton): every error is measured against it.
 std::string reference_method();
 // The model trained at 32^2 only (models/fnopt-32.pt): the zero-shot super-resolution study's, and the

@@ -9,7 +9,10 @@
 
 namespace fnopt {
 
-// DIR/newton_reference_<label>_<hash>.h5; `label` (e.g. "64_xy_v2") is for people only.
+// DIR/newton_reference_<label>_<hash>.h5; `label` (e.g. "64_xy_v2") is for people only. The hash
+// covers `solver_settings` (NewtonOptimizer::settings(): the reference's, or newton-min's).
+std::string newton_reference_path(const std::string& directory, const std::string& label, const Scene& scene,
+                                  const std::string& solver_settings);
 std::string newton_reference_path(const std::string& directory, const std::string& label, const Scene& scene);
 
 }  // namespace fnopt

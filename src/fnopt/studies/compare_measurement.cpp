@@ -6,7 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 
 namespace fnopt {
 

@@ -6,7 +6,7 @@
 #include <memory>
 #include <optional>
 
-#include <fnopt/metrics/step_error.hpp>
+#include <fnopt/studies/step_error.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/simulation/rollout.hpp>
 #include <fnopt/studies/compare_study.hpp>

@@ -64,7 +64,10 @@ void CompareSweep::write_outputs(const std::vector<RunResult>& results, const st
   std::vector<std::string> notes = {
       joined(frame_texts, " or ") + " frames" + (frames.size() > 1 ? " (see each row)" : "") +
           " at dt = " + dt_text(base.dt) +
-          " s; N = iterations per time step; errors vs the converged Newton rollout (residual acceleration <= " +
+          " s; N = iterations per time step; errors vs the converged " +
+          (study_.reference == "newton-min" ? std::string("newton-min (Newton that ends at minima) rollout")
+                                            : std::string("Newton rollout")) +
+          " (residual acceleration <= " +
           NewtonOptimizer::reference_stop_text() + "); " + "per-step error on " +
           (state_texts.empty() ? std::to_string(study_.step_samples) : joined(state_texts, " or ")) +
           " reference states; e_CD with " + std::to_string(study_.chamfer.samples) + " points per mesh",

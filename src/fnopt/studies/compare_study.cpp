@@ -35,6 +35,8 @@ void CompareStudy::validate() const {
   require(!scenes.empty(), "compare.scenes", "give at least one scene");
   require(!methods.empty(), "compare.methods", "give at least one optimizer");
   require(!out.empty(), "compare.out", "an output directory is required");
+  require(reference == "newton" || reference == "newton-min", "compare.reference",
+          "'" + reference + "': choose newton or newton-min");
   for (const auto& method : methods) {  // a bad name fails before any work
     OptimizerChoice choice = settings;
     choice.name = method;

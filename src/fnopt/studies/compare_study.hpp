@@ -32,6 +32,10 @@ struct CompareStudy {
                                                                {"adam", {0.0003, 0.001, 0.003, 0.01}}};
   std::string out;                                            // the output directory (made and checked writable)
   std::string arcsim_dir;                                     // "" for none
+  // The reference every error is measured against: "newton" (the registry's reference), or
+  // "newton-min", which leaves saddles and ends at minima (docs/design.md §6): the reference off
+  // the corner presets, where Newton's step can end at a saddle.
+  std::string reference = "newton";
   std::string preset;                                         // "superres" or ""
   std::string resolutions_text;                               // as given, for the banner
   std::string command_line;                                   // for report.md

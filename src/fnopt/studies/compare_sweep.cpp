@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include <fnopt/baselines/newton.hpp>
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/simulation/newton_reference.hpp>
 #include <fnopt/studies/compare_rows.hpp>
 #include <fnopt/util/error.hpp>
@@ -87,7 +87,8 @@ std::vector<SweepTask> CompareSweep::plan() {
     for (int i = 0; i < static_cast<int>(runs_.size()); ++i) {
       const RunSpec& run = runs_[i];
       if (rows_.resumed(slot(s, i))) continue;
-      if (is_reference_run(run) && fresh_references.count(s) && !study_.warm_start) continue;
+      if (is_reference_run(run) && fresh_references.count(s) && !study_.warm_start && study_.reference == "newton")
+        continue;
       const double cost = scene.frames * frame_cost(run.method, run.budget, is_converged_run(run), vertices);
       runs.push_back({1, cost, run_label(run, scene)});
       run_tasks.push_back({s, i});
@@ -99,8 +100,15 @@ std::vector<SweepTask> CompareSweep::plan() {
   return references;
 }
 
+NewtonParams CompareSweep::reference_params() const {
+  NewtonParams params;
+  params.escape_saddles = study_.reference == "newton-min";
+  return params;
+}
+
 std::string CompareSweep::reference_file(const Scene& scene) const {
-  return newton_reference_path(study_.out, resolution_text(scene) + "_" + motion_text(scene), scene);
+  return newton_reference_path(study_.out, resolution_text(scene) + "_" + motion_text(scene), scene,
+                               NewtonOptimizer(reference_params()).settings());
 }
 
 std::string CompareSweep::run_label(const RunSpec& run, const Scene& scene) const {
@@ -146,7 +154,7 @@ void CompareSweep::run(std::size_t task, SweepTaskRun<CompareTaskResult>& run) {
 void CompareSweep::run_reference(std::size_t task, SweepTaskRun<CompareTaskResult>& run) {
   const std::size_t s = tasks_[task].scene;
   const Scene& scene = study_.scenes[s];
-  NewtonOptimizer newton;
+  NewtonOptimizer newton(reference_params());
   RolloutOptions options;
   options.solve = NewtonOptimizer::reference_solve_options();
   ResolvedScene resolved = resolve(scene);
@@ -156,8 +164,9 @@ void CompareSweep::run_reference(std::size_t task, SweepTaskRun<CompareTaskResul
     SweepRunner::print_line("warning: the Newton reference of %s/%s %s\n", resolution_text(scene).c_str(),
                             motion_text(scene).c_str(), reference.rollout.divergence.c_str());
   const auto converged = std::find_if(runs_.begin(), runs_.end(), is_reference_run);
-  const bool newton_row =
-      converged != runs_.end() && !rows_.resumed(slot(s, converged - runs_.begin())) && !study_.warm_start;
+  // The converged newton run is the reference rollout itself only where newton is the reference.
+  const bool newton_row = study_.reference == "newton" && converged != runs_.end() &&
+                          !rows_.resumed(slot(s, converged - runs_.begin())) && !study_.warm_start;
   const bool later = later_scenes_.count(s) > 0;
   CompareTaskResult result;
   if (newton_row || later) {

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include <fnopt/baselines/newton.hpp>
 #include <fnopt/io/csv_table.hpp>
 #include <fnopt/studies/compare_measurement.hpp>
 #include <fnopt/studies/compare_study.hpp>
@@ -53,6 +54,8 @@ class CompareSweep final : public SweepWork<CompareTaskResult> {
   // compare_sweep.cpp: the plan and the tasks.
   std::vector<SweepTask> plan();
   std::size_t slot(std::size_t scene, int run) const { return scene * runs_.size() + run; }
+  // The reference's solver (newton, or newton-min) and its cached rollout of a scene.
+  NewtonParams reference_params() const;
   std::string reference_file(const Scene& scene) const;
   std::string run_label(const RunSpec& run, const Scene& scene) const;
   StepCallback progress(SweepTaskRun<CompareTaskResult>& task, const std::string& label) const;

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include <fnopt/cloth/material.hpp>
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/metrics/chamfer.hpp>
 #include <fnopt/scenes/scene.hpp>
 

@@ -24,7 +24,7 @@
 #include <memory>
 
 #include <fnopt/baselines/pqn.hpp>
-#include <fnopt/optimizer/sparse_cholesky.hpp>
+#include <fnopt/linalg/sparse_cholesky.hpp>
 #include <fnopt/optimizer/step_problem.hpp>
 
 namespace fnopt {

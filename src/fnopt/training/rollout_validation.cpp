@@ -190,7 +190,8 @@ std::unique_ptr<RolloutValidation> RolloutValidation::open(const ValidationOptio
 
 std::string ValidationOptions::optimizer() const {
   if (subspace == 0) return "fnopt-ls";
-  const std::string rule = subspace == kFnoptSubspace ? "fnopt-ss" : "fnopt-ss-k" + std::to_string(subspace);
+  if (subspace == kFnoptSubspace) return pqn_direction ? "fnopt" : "fnopt-ss";
+  const std::string rule = "fnopt-ss-k" + std::to_string(subspace);
   return pqn_direction ? rule + "-pqn" : rule;
 }
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include <fnopt/fno/fno2d.hpp>
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/learned/proposal_rule.hpp>
 #include <fnopt/scenes/scene.hpp>
 #include <fnopt/simulation/rollout.hpp>

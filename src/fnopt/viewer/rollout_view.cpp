@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include <fnopt/io/hdf5_file.hpp>
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/viewer/json_text.hpp>
 #include <fnopt/viewer/vertex_scalars.hpp>

@@ -3,7 +3,7 @@
 // vertex and frame, [T, R*C], computed on the server so that the page only maps them to colours.
 #include <vector>
 
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 
 namespace fnopt {
 

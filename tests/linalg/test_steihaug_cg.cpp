@@ -6,7 +6,7 @@
 
 #include <Eigen/Dense>
 
-#include <fnopt/optimizer/steihaug_cg.hpp>
+#include <fnopt/linalg/steihaug_cg.hpp>
 
 namespace fnopt {
 namespace {

@@ -1,4 +1,4 @@
-#include <fnopt/optimizer/single_precision_factor.hpp>
+#include <fnopt/linalg/single_precision_factor.hpp>
 
 #include <algorithm>
 #include <cstring>

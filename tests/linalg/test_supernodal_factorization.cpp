@@ -8,7 +8,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include <fnopt/optimizer/sparse_cholesky.hpp>
+#include <fnopt/linalg/sparse_cholesky.hpp>
 #include <fnopt/util/serial_openmp_scope.hpp>
 #include "tests/util/swinging_cloth_hessian.hpp"
 

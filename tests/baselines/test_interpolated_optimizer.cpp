@@ -1,4 +1,4 @@
-// The interpolation ablation (optimizer/interpolated_optimizer.hpp): with Newton on a coarse
+// The interpolation ablation (baselines/interpolated_optimizer.hpp): with Newton on a coarse
 // grid equal to the fine one it is the Newton step; handles never move; on a smooth state of a
 // finer grid its answer lowers the step energy from a = 0.
 #include <gtest/gtest.h>
@@ -7,7 +7,7 @@
 
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/cloth/backward_euler.hpp>
-#include <fnopt/optimizer/interpolated_optimizer.hpp>
+#include <fnopt/baselines/interpolated_optimizer.hpp>
 #include <fnopt/simulation/rollout.hpp>
 #include <fnopt/util/error.hpp>
 

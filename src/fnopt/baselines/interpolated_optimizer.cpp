@@ -1,4 +1,4 @@
-#include <fnopt/optimizer/interpolated_optimizer.hpp>
+#include <fnopt/baselines/interpolated_optimizer.hpp>
 
 #include <map>
 #include <utility>

@@ -11,7 +11,7 @@
 // CHOLMOD analyses both; the supernodal numeric phase is supernodal_factorization.hpp's.
 #include <Eigen/CholmodSupport>
 
-#include <fnopt/optimizer/supernodal_factorization.hpp>
+#include <fnopt/linalg/supernodal_factorization.hpp>
 
 namespace fnopt {
 

@@ -1,4 +1,4 @@
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 
 #include <utility>
 #include <vector>

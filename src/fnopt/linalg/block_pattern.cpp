@@ -1,4 +1,4 @@
-#include <fnopt/optimizer/block_pattern.hpp>
+#include <fnopt/linalg/block_pattern.hpp>
 
 #include <fnopt/util/error.hpp>
 

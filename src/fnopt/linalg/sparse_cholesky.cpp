@@ -1,4 +1,4 @@
-#include <fnopt/optimizer/sparse_cholesky.hpp>
+#include <fnopt/linalg/sparse_cholesky.hpp>
 
 #include <cassert>
 #include <cstring>

@@ -7,7 +7,7 @@
 #include <random>
 
 #include <fnopt/cloth/backward_euler.hpp>
-#include <fnopt/optimizer/matrix_inertia.hpp>
+#include <fnopt/linalg/matrix_inertia.hpp>
 
 namespace fnopt {
 namespace {

@@ -1,4 +1,4 @@
-#include <fnopt/metrics/step_error.hpp>
+#include <fnopt/studies/step_error.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <utility>
 
 #include <fnopt/baselines/newton.hpp>
-#include <fnopt/optimizer/matrix_inertia.hpp>
+#include <fnopt/linalg/matrix_inertia.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/median.hpp>
 

@@ -7,8 +7,8 @@
 
 #include <set>
 
-#include <fnopt/optimizer/single_precision_factor.hpp>
-#include <fnopt/optimizer/sparse_cholesky.hpp>
+#include <fnopt/linalg/single_precision_factor.hpp>
+#include <fnopt/linalg/sparse_cholesky.hpp>
 #include "tests/util/error_message.hpp"
 #include "tests/util/preconditioned_cg.hpp"
 #include "tests/util/swinging_cloth_hessian.hpp"

@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <vector>
 
-#include <fnopt/optimizer/sparse_cholesky.hpp>
+#include <fnopt/linalg/sparse_cholesky.hpp>
 #include <fnopt/util/types.hpp>
 
 namespace fnopt {

@@ -20,7 +20,7 @@
 
 #include <fnopt/boundary/dirichlet.hpp>
 #include <fnopt/cloth/backward_euler.hpp>
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
 #include <fnopt/scenes/scene.hpp>
 

@@ -1,4 +1,4 @@
-#include <fnopt/optimizer/supernodal_factorization.hpp>
+#include <fnopt/linalg/supernodal_factorization.hpp>
 
 #include <algorithm>
 #include <cassert>

@@ -11,7 +11,7 @@
 
 #include <fnopt/boundary/dirichlet.hpp>
 #include <fnopt/cloth/backward_euler.hpp>
-#include <fnopt/optimizer/block_multigrid.hpp>
+#include <fnopt/linalg/block_multigrid.hpp>
 #include "tests/util/error_message.hpp"
 #include "tests/util/preconditioned_cg.hpp"
 

@@ -7,7 +7,7 @@
 
 #include <fnopt/io/hdf5_file.hpp>
 #include <fnopt/io/obj_file.hpp>
-#include <fnopt/io/rollout_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {

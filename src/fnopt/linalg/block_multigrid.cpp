@@ -1,8 +1,8 @@
-#include <fnopt/optimizer/block_multigrid.hpp>
+#include <fnopt/linalg/block_multigrid.hpp>
 
 #include <algorithm>
 
-#include <fnopt/optimizer/block_pattern.hpp>
+#include <fnopt/linalg/block_pattern.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {

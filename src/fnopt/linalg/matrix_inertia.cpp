@@ -1,4 +1,4 @@
-#include <fnopt/optimizer/matrix_inertia.hpp>
+#include <fnopt/linalg/matrix_inertia.hpp>
 
 #include <Eigen/SparseCholesky>
 

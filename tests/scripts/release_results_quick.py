@@ -1,0 +1,51 @@
+#!/usr/bin/python3
+"""ctest release_results_quick: scripts/release-results.py --quick on the built fnopt, then a check that
+the assembled results.md has every section, each headed by its command, and no empty table."""
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+SECTIONS = ["The error–time frontier at 12²", "The error–time frontier at 16²", "The Newton reference's cost",
+            "Zero-shot super-resolution", "Off the corners at 12²", "Against ARCSim", "Stability",
+            "The paper's tables beside ours"]
+
+
+def main():
+    if len(sys.argv) != 3:
+        print("usage: release_results_quick.py FNOPT_BINARY OUT_DIR", file=sys.stderr)
+        return 2
+    binary, out = sys.argv[1], sys.argv[2]
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "release-results.py")
+    shutil.rmtree(out, ignore_errors=True)
+    r = subprocess.run([sys.executable, script, "--quick", "--binary", binary, "--out", out])
+    if r.returncode != 0:
+        print("release-results.py --quick exited with %d" % r.returncode)
+        return 1
+    text = open(os.path.join(out, "results.md"), encoding="utf-8").read()
+    parts = re.split(r"^## ", text, flags=re.M)[1:]
+    found = {p.splitlines()[0].strip(): p for p in parts}
+    failures = []
+    for title in SECTIONS:
+        body = found.get(title)
+        if body is None:
+            failures.append("no section '%s'" % title)
+            continue
+        if title == "Against ARCSim" and "Skipped" in body:
+            continue  # no ARCSim runs in the repository
+        if title != "The paper's tables beside ours" and "```\nfnopt " not in body:
+            failures.append("section '%s' is not headed by its command" % title)
+        rows = [l for l in body.splitlines() if l.startswith("| ")]
+        if len(rows) < 2:
+            failures.append("section '%s' has no table rows" % title)
+        elif any(set(c.strip()) <= {"—", ""} for c in rows[1].strip("|").split("|")[:1]):
+            failures.append("section '%s': an empty first cell" % title)
+    for f in failures:
+        print("results.md: " + f)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
