@@ -6,7 +6,7 @@ import pytest
 
 import fnopt
 
-# 6 x 6 over 10 steps, the corner handles' xy_v2 four times faster so that they move within it.
+# 6 x 6 over 10 steps, the two corner handles' xy_v2 four times faster so that they move within it.
 SCENE = fnopt.Scene(res=6, frames=10, speed=4)
 
 
@@ -19,7 +19,7 @@ def test_a_recorded_rollout_has_the_frames_of_a_rollout():
     reference = fnopt.run_rollout(SCENE, optimizer="newton")
     assert recorded.positions.shape == (11, 6, 6, 3)
     assert repr(recorded) == "RecordedRollout(frames=10, rows=6, cols=6, optimizer='newton', diverged=False)"
-    assert recorded.handle_count == 4 and not recorded.diverged
+    assert recorded.handle_count == 2 and not recorded.diverged
     # Newton to a far tighter tolerance: the same frames to well below a millimetre.
     assert np.abs(recorded.positions - reference.positions).max() < 1e-4
 
@@ -31,7 +31,7 @@ def test_the_gradients_match_differences_of_the_rollout():
     assert set(g) >= {"stretch", "log_stretch", "damping", "gravity", "handle_targets", "initial_positions",
                       "initial_velocities"}
     assert g["gravity"].shape == (3,)
-    assert g["handle_targets"].shape == (10, 4, 3)
+    assert g["handle_targets"].shape == (10, 2, 3)
     assert g["initial_positions"].shape == (6, 6, 3)
     assert g["log_stretch"] == pytest.approx(473.2 * g["stretch"])
 
@@ -62,10 +62,10 @@ def test_a_dict_of_frames_is_the_same_loss_as_the_whole_array():
 
 
 def test_the_handle_path_gradient_is_the_chain_rule_of_the_targets():
-    path = np.zeros((4, 3, 3))
+    path = np.zeros((2, 3, 3))
     recorded = fnopt.record_rollout(SCENE, handle_path=path, path_basis="linear")
     g = recorded.gradients(linear_loss_weights(recorded))
-    assert g["handle_path"].shape == (4, 3, 3)
+    assert g["handle_path"].shape == (2, 3, 3)
     # The linear basis: offsets interpolate linearly between 0 at t = 0 and control point k at
     # t = (k + 1) T dt / K; dL/dc_k = sum_s B_k(t_{s+1}) dL/dy_s with those hat functions.
     steps, points = 10, 3
@@ -86,11 +86,11 @@ def test_bad_input_raises_the_one_line_errors():
     with pytest.raises(fnopt.Error, match=r"^dL_dX: expected shape \(6, 6, 3\) or \(108,\)$"):
         recorded.gradients({3: np.zeros((6, 3))})
     with pytest.raises(fnopt.Error, match=r"^path_basis: expected cubic-bspline or linear, got 'spline'$"):
-        fnopt.record_rollout(SCENE, handle_path=np.zeros((4, 2, 3)), path_basis="spline")
-    with pytest.raises(fnopt.Error, match=r"^handle_path: expected shape \(4, K, 3\)"):
+        fnopt.record_rollout(SCENE, handle_path=np.zeros((2, 2, 3)), path_basis="spline")
+    with pytest.raises(fnopt.Error, match=r"^handle_path: expected shape \(2, K, 3\)"):
         fnopt.record_rollout(SCENE, handle_path=np.zeros((3, 2, 3)))
-    with pytest.raises(fnopt.Error, match=r"^handle_targets: expected shape \(10, 4, 3\)$"):
-        fnopt.record_rollout(SCENE, handle_targets=np.zeros((9, 4, 3)))
+    with pytest.raises(fnopt.Error, match=r"^handle_targets: expected shape \(10, 2, 3\)$"):
+        fnopt.record_rollout(SCENE, handle_targets=np.zeros((9, 2, 3)))
     with pytest.raises(fnopt.Error, match=r"^initial_positions: expected shape \(6, 6, 3\)"):
         fnopt.record_rollout(SCENE, initial_positions=np.zeros((5, 6, 3)))
 
@@ -103,7 +103,7 @@ def test_the_torch_bridge_passes_gradcheck():
     rest = fnopt.record_rollout(scene.replace(frames=1))
     dtype = torch.float64
     log_k = torch.log(torch.tensor([473.2, 29.18, 2e-5, 0.187, 4.0], dtype=dtype)).requires_grad_()
-    path = torch.zeros((4, 2, 3), dtype=dtype, requires_grad=True)
+    path = torch.zeros((2, 2, 3), dtype=dtype, requires_grad=True)
     x0 = torch.tensor(rest.positions[0], dtype=dtype, requires_grad=True)
     v0 = torch.zeros((4, 4, 3), dtype=dtype, requires_grad=True)
 

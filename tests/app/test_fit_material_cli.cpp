@@ -78,7 +78,7 @@ TEST(FitMaterialCli, GradientFitRecoversAHiddenMaterialFromAnFnoptRollout) {
                 .status,
             0);
   const CommandResult fit = run_fnopt("fit-material --reference " + reference +
-                                      " --fit stretch,shear,damping,density --iterations 12 --cd-samples 2000 --out " +
+                                      " --fit stretch,shear,damping,density --iterations 20 --cd-samples 2000 --out " +
                                       material + " --threads 1");
   ASSERT_EQ(fit.status, 0) << fit.output;
   EXPECT_NE(fit.output.find("position loss (an fnopt rollout"), std::string::npos) << fit.output;
