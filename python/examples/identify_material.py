@@ -3,7 +3,7 @@
 The default material scaled by --hidden is rolled out (exact steps, fnopt.record_rollout); its
 frames 1 .. --frames, with Gaussian noise of --noise metres on every coordinate, are the
 observations. From the default material, SciPy's L-BFGS-B in the logarithms of the --fit
-coefficients (each within a factor 10 of its start) minimises the squared distance of the
+coefficients (each within a factor --range of its start) minimises the squared distance of the
 rollout's vertices to the observed ones, each evaluation one recorded forward and one backward
 pass (RecordedRollout.gradients, docs/design.md §15). Prints CSV, a row per fitted coefficient:
 its hidden, start and fitted values and fitted / hidden; then, on stderr, the rollouts taken and
@@ -32,6 +32,7 @@ def main():
     parser.add_argument("--noise", type=float, default=0.0, help="observation noise, std in metres")
     parser.add_argument("--fit", default=",".join(NAMES))
     parser.add_argument("--hidden", default="1.6,0.6,2.0,1.3,0.7", help="the hidden material / the default, per coefficient")
+    parser.add_argument("--range", type=float, default=3.0, help="each coefficient within start / this .. start x this")
     parser.add_argument("--seed", type=int, default=1)
     args = parser.parse_args()
     fit = args.fit.split(",")
@@ -47,13 +48,15 @@ def main():
         nonlocal rollouts
         rollouts += 1
         rollout = fnopt.record_rollout(scene.replace(**{n: float(np.exp(v)) for n, v in zip(fit, log_k)}))
+        if rollout.diverged:  # a trial too soft for its mass: a loss above any other, for the line search to step back
+            return 1e6, np.zeros(len(fit))
         residual = rollout.positions - observed
         gradients = rollout.gradients(2.0 * residual)
         return float((residual**2).sum()), np.array([gradients["log_" + n] for n in fit])
 
     x0 = np.log([start[n] for n in fit])
     result = minimize(loss_and_gradient, x0, jac=True, method="L-BFGS-B",
-                      bounds=[(x - np.log(10.0), x + np.log(10.0)) for x in x0],
+                      bounds=[(x - np.log(args.range), x + np.log(args.range)) for x in x0],
                       options={"maxiter": 100, "ftol": 1e-15, "gtol": 1e-12})
     fitted = dict(zip(fit, np.exp(result.x)))
     print("coefficient,hidden,start,fitted,fitted_over_hidden")

@@ -2,6 +2,7 @@
 // line, its bad --params, and bench adjoint's table at a tiny size.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <regex>
 
