@@ -42,13 +42,14 @@ def main():
     truth = fnopt.record_rollout(scene.replace(**{n: hidden[n] for n in fit})).positions
     observed = truth + args.noise * np.random.default_rng(args.seed).standard_normal(truth.shape)
     observed[0] = truth[0]  # the initial state is the rest state, known
-    rollouts = 0
+    rollouts = diverged = 0
 
     def loss_and_gradient(log_k):
-        nonlocal rollouts
+        nonlocal rollouts, diverged
         rollouts += 1
         rollout = fnopt.record_rollout(scene.replace(**{n: float(np.exp(v)) for n, v in zip(fit, log_k)}))
         if rollout.diverged:  # a trial too soft for its mass: a loss above any other, for the line search to step back
+            diverged += 1
             return 1e6, np.zeros(len(fit))
         residual = rollout.positions - observed
         gradients = rollout.gradients(2.0 * residual)
@@ -64,7 +65,7 @@ def main():
         print(f"{n},{hidden[n]:.6g},{start[n]:.6g},{fitted[n]:.6g},{fitted[n] / hidden[n]:.5f}")
     final = fnopt.record_rollout(scene.replace(**{n: float(v) for n, v in fitted.items()})).positions
     rms = np.sqrt(((final - truth) ** 2).sum(axis=-1).mean())
-    print(f"{rollouts} evaluations ({rollouts} forward + {rollouts} backward passes), {result.nit} iterations; "
+    print(f"{rollouts} evaluations ({rollouts} forward + {rollouts} backward passes, {diverged} diverged), {result.nit} iterations ({result.message}); "
           f"RMS distance from the noise-free truth {rms:.3g} m", file=sys.stderr)
 
 
