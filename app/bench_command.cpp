@@ -12,9 +12,9 @@
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/fno/fno_bench.hpp>
 #include <fnopt/fno/fno_io.hpp>
-#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/methods/registry.hpp>
 #include <fnopt/simulation/rollout.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/median.hpp>
 #include <fnopt/util/parse_text.hpp>
@@ -194,8 +194,8 @@ void bench_adjoint_rows(const BenchFlags& flags, int threads) {
     const double steps = std::max(1, row.steps);
     std::printf("%4d^2 %12.1f %12.1f %9.2f %10.2f %10.2f %10.1f %11.0f %9d %s\n", n, row.forward_ms_per_frame,
                 row.backward_ms_per_frame, row.backward_ms_per_frame / row.forward_ms_per_frame,
-                row.factorizations / steps, row.solves / steps, row.record_bytes / 1e6, peak_rss_mb(),
-                row.saddle_steps, to_string(row.status));
+                row.factorizations / steps, row.solves / steps, row.record_bytes / 1e6, peak_rss_mb(), row.saddle_steps,
+                to_string(row.status));
     std::fflush(stdout);
   }
 }
@@ -217,7 +217,8 @@ void run_bench(const BenchFlags& flags) {
 
 const RegisterCommand kRegister([](CLI::App& app) {
   auto flags = std::make_shared<BenchFlags>();
-  CLI::App* command = app.add_subcommand("bench", "timing tables: the Newton step, the FNO passes, a rollout's adjoint");
+  CLI::App* command =
+      app.add_subcommand("bench", "timing tables: the Newton step, the FNO passes, a rollout's adjoint");
   command
       ->add_option("what", flags->what,
                    "newton, fno, adjoint (a recorded rollout's forward and backward passes; not part of all) or all")

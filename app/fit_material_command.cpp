@@ -45,8 +45,9 @@ struct FitFlags {
 
 std::string material_text(const Material& m) {
   char text[240];
-  std::snprintf(text, sizeof text, "stretch %.4g N/m, shear %.4g N/m, bend %.4g N m, density %.4g kg/m^2, damping %.4g 1/s",
-                m.stretch, m.shear, m.bend, m.density, m.damping);
+  std::snprintf(text, sizeof text,
+                "stretch %.4g N/m, shear %.4g N/m, bend %.4g N m, density %.4g kg/m^2, damping %.4g 1/s", m.stretch,
+                m.shear, m.bend, m.density, m.damping);
   return text;
 }
 
@@ -116,7 +117,8 @@ GradientReference gradient_reference(const FitReference& reference, const Materi
       r.points.push_back(std::move(points));
     }
   }
-  require(!r.targets.empty() || !r.points.empty(), reference.path, "no frame after the first matches the rollout's times");
+  require(!r.targets.empty() || !r.points.empty(), reference.path,
+          "no frame after the first matches the rollout's times");
   return r;
 }
 
@@ -193,21 +195,22 @@ GradientFit fit_by_gradient(const std::vector<GradientReference>& references, co
 // density's; --range entries override them.
 std::map<AdjointParameter, CoefficientRange> gradient_ranges(const FitFlags& flags) {
   const MaterialFitParams defaults;
-  std::map<AdjointParameter, CoefficientRange> ranges = {
-      {AdjointParameter::Stretch, defaults.stretch_range}, {AdjointParameter::Shear, defaults.shear_range},
-      {AdjointParameter::Bend, defaults.bend_range},       {AdjointParameter::Density, {1e-3, 1e2}},
-      {AdjointParameter::Damping, defaults.damping_range}};
+  std::map<AdjointParameter, CoefficientRange> ranges = {{AdjointParameter::Stretch, defaults.stretch_range},
+                                                         {AdjointParameter::Shear, defaults.shear_range},
+                                                         {AdjointParameter::Bend, defaults.bend_range},
+                                                         {AdjointParameter::Density, {1e-3, 1e2}},
+                                                         {AdjointParameter::Damping, defaults.damping_range}};
   for (const auto& text : flags.ranges) {
     std::string name;
     CoefficientRange range;
     require(parse_named_interval(text, name, range.low, range.high), "range",
             "expected COEFFICIENT=LOW:HIGH, got '" + text + "'");
-    const auto found = std::find_if(ranges.begin(), ranges.end(),
-                                    [&](const auto& entry) { return name == to_string(entry.first); });
+    const auto found =
+        std::find_if(ranges.begin(), ranges.end(), [&](const auto& entry) { return name == to_string(entry.first); });
     require(found != ranges.end(), "range",
             "unknown coefficient '" + name + "' (choose from stretch, shear, bend, density, damping)");
-    require(std::isfinite(range.low) && std::isfinite(range.high) && range.low > 0.0 && range.low < range.high,
-            "range", "'" + text + "' must be 0 < LOW < HIGH");
+    require(std::isfinite(range.low) && std::isfinite(range.high) && range.low > 0.0 && range.low < range.high, "range",
+            "'" + text + "' must be 0 < LOW < HIGH");
     found->second = range;
   }
   return ranges;
@@ -358,7 +361,9 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--range", flags->ranges,
                       "search interval COEFFICIENT=LOW:HIGH (defaults: stretch 1:800 N/m, shear 0.001:1e4 N/m, "
                       "bend 1e-9:0.01 N m, damping 0.001:100 1/s; gradient: density 0.001:100 kg/m^2)");
-  command->add_option("--start", flags->start, "material to start from: a preset or a material file (the references' own material is never used)")
+  command
+      ->add_option("--start", flags->start,
+                   "material to start from: a preset or a material file (the references' own material is never used)")
       ->capture_default_str();
   command->add_option("--frames", flags->params.frames, "time steps per rollout (0: the reference's whole duration)")
       ->capture_default_str();

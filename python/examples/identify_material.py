@@ -31,8 +31,10 @@ def main():
     parser.add_argument("--speed", type=float, default=4.0, help="handle speed (xy_v2 x this)")
     parser.add_argument("--noise", type=float, default=0.0, help="observation noise, std in metres")
     parser.add_argument("--fit", default=",".join(NAMES))
-    parser.add_argument("--hidden", default="1.6,0.6,2.0,1.3,0.7", help="the hidden material / the default, per coefficient")
-    parser.add_argument("--range", type=float, default=3.0, help="each coefficient within start / this .. start x this")
+    parser.add_argument("--hidden", default="1.6,0.6,2.0,1.3,0.7",
+                        help="the hidden material over the default, per coefficient")
+    parser.add_argument("--range", type=float, default=3.0,
+                        help="each coefficient within start / this .. start x this")
     parser.add_argument("--seed", type=int, default=1)
     args = parser.parse_args()
     fit = args.fit.split(",")
@@ -48,7 +50,7 @@ def main():
         nonlocal rollouts, diverged
         rollouts += 1
         rollout = fnopt.record_rollout(scene.replace(**{n: float(np.exp(v)) for n, v in zip(fit, log_k)}))
-        if rollout.diverged:  # a trial too soft for its mass: a loss above any other, for the line search to step back
+        if rollout.diverged:  # a trial too soft for its mass: a loss above any other, the line search steps back
             diverged += 1
             return 1e6, np.zeros(len(fit))
         residual = rollout.positions - observed
@@ -65,8 +67,9 @@ def main():
         print(f"{n},{hidden[n]:.6g},{start[n]:.6g},{fitted[n]:.6g},{fitted[n] / hidden[n]:.5f}")
     final = fnopt.record_rollout(scene.replace(**{n: float(v) for n, v in fitted.items()})).positions
     rms = np.sqrt(((final - truth) ** 2).sum(axis=-1).mean())
-    print(f"{rollouts} evaluations ({rollouts} forward + {rollouts} backward passes, {diverged} diverged), {result.nit} iterations ({result.message}); "
-          f"RMS distance from the noise-free truth {rms:.3g} m", file=sys.stderr)
+    print(f"{rollouts} evaluations ({rollouts} forward + {rollouts} backward passes, {diverged} diverged), "
+          f"{result.nit} iterations ({result.message}); RMS distance from the noise-free truth {rms:.3g} m",
+          file=sys.stderr)
 
 
 if __name__ == "__main__":

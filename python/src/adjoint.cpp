@@ -69,7 +69,8 @@ std::vector<std::vector<Vec3>> step_targets(const py::handle& values, int steps,
 }
 
 py::array_t<double> targets_array(const std::vector<std::vector<Vec3>>& targets, int handles) {
-  py::array_t<double> array({static_cast<py::ssize_t>(targets.size()), static_cast<py::ssize_t>(handles), py::ssize_t{3}});
+  py::array_t<double> array(
+      {static_cast<py::ssize_t>(targets.size()), static_cast<py::ssize_t>(handles), py::ssize_t{3}});
   auto out = array.mutable_unchecked<3>();
   for (std::size_t s = 0; s < targets.size(); ++s)
     for (int h = 0; h < handles; ++h)
@@ -89,7 +90,8 @@ PyRecordedRollout record(const Scene& scene, const std::string& optimizer, int i
   PyRecordedRollout result;
   result.optimizer = optimizer;
   RolloutInputs inputs;
-  if (!initial_positions.is_none()) inputs.initial_positions = grid_vector(initial_positions, rows, cols, "initial_positions");
+  if (!initial_positions.is_none())
+    inputs.initial_positions = grid_vector(initial_positions, rows, cols, "initial_positions");
   if (!initial_velocities.is_none())
     inputs.initial_velocities = grid_vector(initial_velocities, rows, cols, "initial_velocities");
   require(handle_targets.is_none() || handle_path.is_none(), "handle_path",
@@ -132,8 +134,9 @@ std::vector<FrameGradient> loss_gradient(const PyRecordedRollout& r, const py::h
   const DoubleArray array = double_array(values, "dL_dX");
   require(array.ndim() == 4 && array.shape(0) == frames && array.shape(1) == rows && array.shape(2) == cols &&
               array.shape(3) == 3,
-          "dL_dX", "expected shape " + shape_text({frames, rows, cols, 3}) + " (the positions') or a dict frame -> " +
-                       shape_text({rows, cols, 3}));
+          "dL_dX",
+          "expected shape " + shape_text({frames, rows, cols, 3}) + " (the positions') or a dict frame -> " +
+              shape_text({rows, cols, 3}));
   const Eigen::Index size = 3 * static_cast<Eigen::Index>(rows) * cols;
   for (int f = 0; f < frames; ++f) gradient.push_back({f, Eigen::Map<const VecX>(array.data() + f * size, size)});
   return gradient;
@@ -146,8 +149,9 @@ py::dict gradients(const PyRecordedRollout& r, const py::handle& dL_dX) {
     py::gil_scoped_release release;
     g = backpropagate(r.record, loss);
   }
-  require(is_complete(g.status), "rollout",
-          std::string("no complete gradient (") + to_string(g.status) + ", step " + std::to_string(g.singular_step) + ")");
+  require(
+      is_complete(g.status), "rollout",
+      std::string("no complete gradient (") + to_string(g.status) + ", step " + std::to_string(g.singular_step) + ")");
   const int rows = r.record.scene.grid.rows, cols = r.record.scene.grid.cols;
   const int handles = static_cast<int>(r.record.scene.handles.vertices.size());
   py::dict out;
@@ -165,8 +169,8 @@ py::dict gradients(const PyRecordedRollout& r, const py::handle& dL_dX) {
   out["handle_targets"] = targets_array(g.handle_targets, handles);
   if (r.path) {
     const HandleControlPoints c = r.path->control_gradient(g.handle_targets);
-    py::array_t<double> array({static_cast<py::ssize_t>(handles), static_cast<py::ssize_t>(r.path->control_points()),
-                               py::ssize_t{3}});
+    py::array_t<double> array(
+        {static_cast<py::ssize_t>(handles), static_cast<py::ssize_t>(r.path->control_points()), py::ssize_t{3}});
     auto a = array.mutable_unchecked<3>();
     for (int h = 0; h < handles; ++h)
       for (int k = 0; k < r.path->control_points(); ++k)
@@ -201,12 +205,14 @@ acceleration kept, so that `gradients` runs the adjoint of any loss on the posit
           },
           "numpy.ndarray: (frames + 1, rows, cols, 3), frame 0 the initial state.")
       .def_property_readonly(
-          "rows", [](const PyRecordedRollout& r) { return r.record.scene.grid.rows; }, "int: The grid's rows of vertices.")
+          "rows", [](const PyRecordedRollout& r) { return r.record.scene.grid.rows; },
+          "int: The grid's rows of vertices.")
       .def_property_readonly(
           "cols", [](const PyRecordedRollout& r) { return r.record.scene.grid.cols; },
           "int: The grid's columns of vertices.")
       .def_property_readonly(
-          "handle_count", [](const PyRecordedRollout& r) { return static_cast<int>(r.record.scene.handles.vertices.size()); },
+          "handle_count",
+          [](const PyRecordedRollout& r) { return static_cast<int>(r.record.scene.handles.vertices.size()); },
           "int: The handle vertices, the second axis of handle_targets.")
       .def_property_readonly(
           "forward_ms", [](const PyRecordedRollout& r) { return r.record.forward_ms; },

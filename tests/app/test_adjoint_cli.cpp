@@ -22,8 +22,8 @@ TEST(GradcheckCli, EveryKindOnTheDefaultSceneAgreesWithDifferences) {
   ASSERT_EQ(check.status, 0) << check.output;
   for (const char* kind : {"stretch", "shear", "bend", "density", "damping", "gravity", "handle-positions",
                            "handle-path", "initial-positions", "initial-velocities"})
-    EXPECT_TRUE(std::regex_search(check.output, std::regex(std::string("\n") + kind + " +[0-9]+ ")))
-        << kind << "\n" << check.output;
+    EXPECT_TRUE(std::regex_search(check.output, std::regex(std::string("\n") + kind + " +[0-9]+ "))) << kind << "\n"
+                                                                                                     << check.output;
   EXPECT_NE(check.output.find("10x10, 30 steps"), std::string::npos) << check.output;
   // The last line, and the error it gives: the adjoint is exact up to the differences' own error.
   const std::string last = "max relative error = ";
@@ -43,8 +43,9 @@ TEST(GradcheckCli, ChosenKindsOnAChosenSceneAndBadNames) {
 
   const CommandResult bad = run_fnopt("gradcheck --params stretch,stiffness");
   EXPECT_EQ(bad.status, 2);
-  EXPECT_EQ(bad.output, "fnopt: error: params: unknown 'stiffness' (known: stretch, shear, bend, density, damping, "
-                        "gravity, handle-positions, handle-path, initial-positions, initial-velocities)\n");
+  EXPECT_EQ(bad.output,
+            "fnopt: error: params: unknown 'stiffness' (known: stretch, shear, bend, density, damping, "
+            "gravity, handle-positions, handle-path, initial-positions, initial-velocities)\n");
 }
 
 TEST(BenchAdjointCli, ATableRowPerResolution) {

@@ -52,8 +52,9 @@ TEST(FitMaterialCli, TinyFitWritesAMaterialThatSimulateReads) {
       run_fnopt("simulate --res 6 --frames 8 --dt 1/30 --damping 2 --optimizer newton --threads 1 --out " + reference)
           .status,
       0);
-  const CommandResult fit = run_fnopt("fit-material --reference " + reference +
-                                      " --method compass --fit damping --max-evaluations 4 --cd-samples 500 --out " + material);
+  const CommandResult fit =
+      run_fnopt("fit-material --reference " + reference +
+                " --method compass --fit damping --max-evaluations 4 --cd-samples 500 --out " + material);
   ASSERT_EQ(fit.status, 0) << fit.output;
   EXPECT_NE(fit.output.find("fitted:"), std::string::npos) << fit.output;
   const std::string text = read_text(material);
@@ -74,7 +75,8 @@ TEST(FitMaterialCli, GradientFitRecoversAHiddenMaterialFromAnFnoptRollout) {
   std::filesystem::create_directories(dir);
   const std::string reference = (dir / "ref.h5").string(), material = (dir / "fitted.txt").string();
   ASSERT_EQ(run_fnopt("simulate --res 10 --frames 20 --speed 4 --stretch 700 --shear 20 --damping 2.5 --density 0.25 "
-                      "--optimizer newton --threads 1 --out " + reference)
+                      "--optimizer newton --threads 1 --out " +
+                      reference)
                 .status,
             0);
   const CommandResult fit = run_fnopt("fit-material --reference " + reference +
@@ -83,8 +85,9 @@ TEST(FitMaterialCli, GradientFitRecoversAHiddenMaterialFromAnFnoptRollout) {
   ASSERT_EQ(fit.status, 0) << fit.output;
   EXPECT_NE(fit.output.find("position loss (an fnopt rollout"), std::string::npos) << fit.output;
   EXPECT_NE(fit.output.find("from default (stretch 473.2 N/m"), std::string::npos) << fit.output;
-  const std::regex last("e_CD x 10\\^3 = ([0-9.e+-]+) fitted, ([0-9.e+-]+) start material; ([0-9]+) rollouts \\(([0-9]+) "
-                        "recorded forward \\+ ([0-9]+) backward passes\\), and 2 Newton rollouts for e_CD\n$");
+  const std::regex last(
+      "e_CD x 10\\^3 = ([0-9.e+-]+) fitted, ([0-9.e+-]+) start material; ([0-9]+) rollouts \\(([0-9]+) "
+      "recorded forward \\+ ([0-9]+) backward passes\\), and 2 Newton rollouts for e_CD\n$");
   std::smatch match;
   ASSERT_TRUE(std::regex_search(fit.output, match, last)) << fit.output;
   EXPECT_LT(std::stod(match[1]), 0.5 * std::stod(match[2])) << fit.output;
@@ -96,7 +99,9 @@ TEST(FitMaterialCli, GradientFitRecoversAHiddenMaterialFromAnFnoptRollout) {
   EXPECT_NE(text.find("# fitted by fnopt fit-material --method gradient (stretch,shear,damping,density)"),
             std::string::npos)
       << text;
-  const auto value = [&](const std::string& key) { return std::stod(text.substr(text.find(key + " = ") + key.size() + 3)); };
+  const auto value = [&](const std::string& key) {
+    return std::stod(text.substr(text.find(key + " = ") + key.size() + 3));
+  };
   EXPECT_LT(std::abs(std::log(value("stretch") / 700)), std::abs(std::log(473.2 / 700))) << text;
   EXPECT_LT(std::abs(std::log(value("damping") / 2.5)), std::abs(std::log(4.0 / 2.5))) << text;
 }
