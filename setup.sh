@@ -29,6 +29,9 @@ packages=(
 ((tests)) && packages+=(chromium)
 # The Python module's tests; venv and pip for the test of `pip install .` into a virtual environment.
 ((tests)) && packages+=(python3-pytest python3-venv python3-pip)
+# The PyTorch bridge fnopt.torch under torch.autograd.gradcheck (python/tests/test_adjoint.py;
+# skipped without it).
+((tests)) && packages+=(python3-torch)
 
 missing=()
 for p in "${packages[@]}"; do

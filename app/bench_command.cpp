@@ -1,17 +1,20 @@
 // fnopt bench: timing tables measured in one run (docs/design.md §9): the Newton reference step at
-// several resolutions, and the FNO's forward/backward passes.
+// several resolutions, the FNO's forward/backward passes, and a rollout's adjoint (§15).
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <sstream>
 
+#include <fnopt/adjoint/adjoint_bench.hpp>
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/fno/fno_bench.hpp>
 #include <fnopt/fno/fno_io.hpp>
-#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/methods/registry.hpp>
 #include <fnopt/simulation/rollout.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/median.hpp>
 #include <fnopt/util/parse_text.hpp>
@@ -163,6 +166,40 @@ void bench_newton(const BenchFlags& flags, int threads) {
     }
 }
 
+// The process's peak resident set so far [MB] (getrusage's ru_maxrss, in KiB on Linux).
+double peak_rss_mb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;
+}
+
+// The recorded forward pass (exact Newton steps) and the backward pass of a loss on its last frame
+// (adjoint/adjoint_bench.hpp), one row per resolution; peak RSS is the process's so far, so a
+// row's is at least the rows' before it.
+void bench_adjoint_rows(const BenchFlags& flags, int threads) {
+  std::printf(
+      "adjoint of a rollout: recorded forward pass (Newton to %g m/s^2, then exact steps) and the backward pass of "
+      "L = |x_last - x_rest|^2, corner handles, motion xy_v2, %d frames, dt = 1/60, %d thread%s\n",
+      RecordOptions{}.acceleration_tolerance, flags.frames, threads, threads == 1 ? "" : "s");
+  std::printf("%6s %12s %12s %9s %10s %10s %10s %11s %9s %s\n", "res", "fwd ms/fr", "bwd ms/fr", "bwd/fwd", "factor/st",
+              "solves/st", "record MB", "peak RSS MB", "saddles", "status");
+  for (int n : parse_resolutions(flags.resolutions)) {
+    Scene scene;
+    scene.rows = scene.cols = n;
+    scene.frames = flags.frames + 1;  // --frames steps after the initial frame
+    ProgressBar bar("adjoint " + std::to_string(n) + "^2", 1);
+    const AdjointBenchRow row = bench_adjoint(resolve(scene));
+    bar.update(1);
+    bar.finish();
+    const double steps = std::max(1, row.steps);
+    std::printf("%4d^2 %12.1f %12.1f %9.2f %10.2f %10.2f %10.1f %11.0f %9d %s\n", n, row.forward_ms_per_frame,
+                row.backward_ms_per_frame, row.backward_ms_per_frame / row.forward_ms_per_frame,
+                row.factorizations / steps, row.solves / steps, row.record_bytes / 1e6, peak_rss_mb(), row.saddle_steps,
+                to_string(row.status));
+    std::fflush(stdout);
+  }
+}
+
 void run_bench(const BenchFlags& flags) {
   const int threads = set_thread_count(flags.threads);
   if (flags.what == "newton" || flags.what == "all") bench_newton(flags, threads);
@@ -173,17 +210,22 @@ void run_bench(const BenchFlags& flags) {
     run_fno_bench(table, threads, load_fno_options(model), parse_resolutions(flags.resolutions));
     std::printf("%s", table.str().c_str());
   }
-  if (flags.what != "newton" && flags.what != "fno" && flags.what != "all")
-    throw Error("bench", "unknown benchmark '" + flags.what + "' (choose newton, fno or all)");
+  if (flags.what == "adjoint") bench_adjoint_rows(flags, threads);
+  if (flags.what != "newton" && flags.what != "fno" && flags.what != "adjoint" && flags.what != "all")
+    throw Error("bench", "unknown benchmark '" + flags.what + "' (choose newton, fno, adjoint or all)");
 }
 
 const RegisterCommand kRegister([](CLI::App& app) {
   auto flags = std::make_shared<BenchFlags>();
-  CLI::App* command = app.add_subcommand("bench", "timing tables: the Newton step, the FNO passes");
-  command->add_option("what", flags->what, "newton, fno or all")->capture_default_str();
+  CLI::App* command =
+      app.add_subcommand("bench", "timing tables: the Newton step, the FNO passes, a rollout's adjoint");
+  command
+      ->add_option("what", flags->what,
+                   "newton, fno, adjoint (a recorded rollout's forward and backward passes; not part of all) or all")
+      ->capture_default_str();
   command->add_option("--res", flags->resolutions, "resolutions, comma-separated")->capture_default_str();
   command->add_option("--model", flags->model, "fno: the model whose shape is timed (default: the shipped model)");
-  command->add_option("--frames", flags->frames, "frames per resolution (newton)")->capture_default_str();
+  command->add_option("--frames", flags->frames, "frames per resolution (newton, adjoint)")->capture_default_str();
   add_threads_flag(*command, flags->threads);
   command
       ->add_option(

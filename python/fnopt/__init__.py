@@ -8,10 +8,12 @@
 
 Arrays are NumPy arrays shaped (rows, cols, 3) per frame; records (StepRecord, Evaluation, ...)
 are frozen dataclasses; errors are fnopt.Error, a ValueError, with the command line's texts.
-The whole surface is in docs/api.md.
+Gradients through rollouts: fnopt.record_rollout and RecordedRollout.gradients, and the PyTorch
+bridge fnopt.torch (imported on its own: it imports torch). The whole surface is in docs/api.md.
 """
 from ._fnopt import (
     Error,
+    RecordedRollout,
     Rollout,
     Scene,
     Simulator,
@@ -23,6 +25,7 @@ from ._fnopt import (
     multires_model_path,
     optimizer_names,
     read_rollout,
+    record_rollout,
     run_rollout,
     set_threads,
     shipped_model_path,
@@ -36,6 +39,7 @@ __all__ = [
     "Error",
     "Evaluation",
     "Material",
+    "RecordedRollout",
     "Rollout",
     "RolloutFile",
     "Scene",
@@ -48,6 +52,7 @@ __all__ = [
     "multires_model_path",
     "optimizer_names",
     "read_rollout",
+    "record_rollout",
     "run_rollout",
     "set_threads",
     "shipped_model_path",

@@ -1,7 +1,7 @@
 # Type stub of the extension module fnopt._fnopt (python/src). python/tests/test_stubs.py
 # checks that it names exactly the module's public names, members and arguments.
 import os
-from typing import Any, Callable, List, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -150,6 +150,21 @@ class Rollout:
     @property
     def optimizer_settings(self) -> str: ...
 
+class RecordedRollout:
+    def gradients(self, dL_dX: Union[_Array, Dict[int, _Array]]) -> Dict[str, Union[float, np.ndarray]]: ...
+    @property
+    def positions(self) -> np.ndarray: ...
+    @property
+    def rows(self) -> int: ...
+    @property
+    def cols(self) -> int: ...
+    @property
+    def handle_count(self) -> int: ...
+    @property
+    def forward_ms(self) -> float: ...
+    @property
+    def diverged(self) -> bool: ...
+
 def set_threads(threads: int) -> int: ...
 def threads() -> int: ...
 def optimizer_names(ablations: bool = True) -> List[str]: ...
@@ -164,6 +179,18 @@ def run_rollout(
     gd_curvature_scaled: bool = True,
     warm_start: bool = False,
 ) -> Rollout: ...
+def record_rollout(
+    scene: Scene,
+    optimizer: str = "newton",
+    iters: int = 0,
+    model: Optional[_Path] = None,
+    lr: Optional[float] = None,
+    initial_positions: Optional[_Array] = None,
+    initial_velocities: Optional[_Array] = None,
+    handle_targets: Optional[_Array] = None,
+    handle_path: Optional[_Array] = None,
+    path_basis: str = "cubic-bspline",
+) -> RecordedRollout: ...
 def read_rollout(path: str) -> RolloutFile: ...
 def compare_trajectories(
     reference: Union[Rollout, _Path],

@@ -38,5 +38,6 @@ void define_step_problem(py::module_& m);
 void define_simulator(py::module_& m);
 void define_rollouts(py::module_& m);
 void define_evaluation(py::module_& m);
+void define_adjoint(py::module_& m);
 
 }  // namespace fnopt::python

@@ -96,4 +96,5 @@ str
   define_simulator(m);
   define_rollouts(m);
   define_evaluation(m);
+  define_adjoint(m);
 }

@@ -19,3 +19,14 @@ def test_step_error_spectrum_splits_the_error_into_bands_that_add_up():
         assert 0.0 < float(bands[0]["step_error"]) < 1.0
         # The bands split |e|^2 (an orthonormal DCT; the handles' entries are zero before and after).
         assert abs(sum(float(b["l2_share"]) for b in bands) - 1.0) < 0.02
+
+
+def test_identify_material_recovers_a_hidden_material_from_noise_free_frames():
+    run = subprocess.run([sys.executable, str(EXAMPLES / "identify_material.py"), "--res", "6", "--frames", "8",
+                          "--fit", "stretch,damping"], capture_output=True, text=True, check=True)
+    rows = list(csv.DictReader(io.StringIO(run.stdout)))
+    assert [r["coefficient"] for r in rows] == ["stretch", "damping"]
+    for r in rows:
+        assert abs(float(r["fitted_over_hidden"]) - 1.0) < 1e-3, r
+        assert abs(float(r["start"]) / float(r["hidden"]) - 1.0) > 0.3, r
+    assert "forward +" in run.stderr

@@ -126,7 +126,7 @@ def documented():
         member = getattr(_fnopt, name)
         if callable(member) and not isinstance(member, type):
             yield name, member
-    for cls in (_fnopt.Scene, _fnopt.Simulator, _fnopt.StepProblem, _fnopt.Rollout):
+    for cls in (_fnopt.Scene, _fnopt.Simulator, _fnopt.StepProblem, _fnopt.Rollout, _fnopt.RecordedRollout):
         for name, member in vars(cls).items():
             if not name.startswith("_") or name in ("__eq__", "__repr__"):
                 yield f"{cls.__name__}.{name}", member
@@ -149,7 +149,7 @@ def test_every_class_and_record_says_what_it_is_and_its_constructors_parameters(
     for cls in (_fnopt.Scene, _fnopt.Simulator, fnopt.StepRecord, fnopt.Material, fnopt.Comparison, fnopt.CompareRow,
                 fnopt.Evaluation, fnopt.RolloutFile):
         assert "Parameters\n    ----------\n" in cls.__doc__ or "Parameters\n----------\n" in cls.__doc__, cls
-    for cls in (_fnopt.StepProblem, _fnopt.Rollout, _fnopt.Error):
+    for cls in (_fnopt.StepProblem, _fnopt.Rollout, _fnopt.RecordedRollout, _fnopt.Error):
         assert len(cls.__doc__.split()) > 10, cls
 
 

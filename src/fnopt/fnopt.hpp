@@ -1,6 +1,7 @@
 #pragma once
 // fnopt::core in one include (docs/api.md): scenes, the cloth's backward-Euler step, the
-// classical inner optimizers, rollouts step by step or whole, rollout files and the metrics.
+// classical inner optimizers, rollouts step by step or whole, rollout files, the metrics and
+// gradients through rollouts (adjoint/).
 // The learned optimizers and the registry of optimizers by name are <fnopt/learned.hpp>.
 #include <fnopt/version.hpp>
 
@@ -36,3 +37,11 @@
 
 #include <fnopt/metrics/chamfer.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
+
+#include <fnopt/adjoint/adjoint_bench.hpp>
+#include <fnopt/adjoint/gradient_check.hpp>
+#include <fnopt/adjoint/gradient_material_fit.hpp>
+#include <fnopt/adjoint/handle_path.hpp>
+#include <fnopt/adjoint/recorded_rollout.hpp>
+#include <fnopt/adjoint/rollout_adjoint.hpp>
+#include <fnopt/adjoint/rollout_loss.hpp>

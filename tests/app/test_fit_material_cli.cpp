@@ -1,6 +1,10 @@
-// fnopt fit-material as a user runs it: help, bad ranges, and a tiny fit that writes a material
-// file which simulate reads back with --material.
+// fnopt fit-material as a user runs it: help, bad ranges, a tiny compass fit that writes a
+// material file which simulate reads back with --material, and a gradient fit that recovers a
+// hidden material.
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <regex>
 
 #include "tests/app/run_fnopt.hpp"
 
@@ -23,9 +27,20 @@ TEST(FitMaterialCli, HelpAndBadInput) {
   const CommandResult range = run_fnopt("fit-material --reference " + reference + " --range stretch=3");
   EXPECT_NE(range.status, 0);
   EXPECT_NE(range.output.find("range: expected COEFFICIENT=LOW:HIGH"), std::string::npos) << range.output;
-  const CommandResult coefficient = run_fnopt("fit-material --reference " + reference + " --fit density");
+  const CommandResult coefficient =
+      run_fnopt("fit-material --method compass --reference " + reference + " --fit density");
   EXPECT_NE(coefficient.status, 0);
   EXPECT_NE(coefficient.output.find("unknown coefficient 'density'"), std::string::npos) << coefficient.output;
+  const CommandResult gravity = run_fnopt("fit-material --reference " + reference + " --fit stretch,gravity");
+  EXPECT_EQ(gravity.status, 2);
+  EXPECT_EQ(gravity.output,
+            "fnopt: error: fit: unknown coefficient 'gravity' (choose from stretch, shear, bend, density, damping)\n");
+  const CommandResult method = run_fnopt("fit-material --reference " + reference + " --method newton");
+  EXPECT_EQ(method.status, 2);
+  EXPECT_EQ(method.output, "fnopt: error: method: expected gradient or compass, got 'newton'\n");
+  const CommandResult density = run_fnopt("fit-material --reference " + reference + " --range density=2:1");
+  EXPECT_EQ(density.status, 2);
+  EXPECT_NE(density.output.find("range: 'density=2:1' must be 0 < LOW < HIGH"), std::string::npos) << density.output;
 }
 
 TEST(FitMaterialCli, TinyFitWritesAMaterialThatSimulateReads) {
@@ -37,16 +52,58 @@ TEST(FitMaterialCli, TinyFitWritesAMaterialThatSimulateReads) {
       run_fnopt("simulate --res 6 --frames 8 --dt 1/30 --damping 2 --optimizer newton --threads 1 --out " + reference)
           .status,
       0);
-  const CommandResult fit = run_fnopt("fit-material --reference " + reference +
-                                      " --fit damping --max-evaluations 4 --cd-samples 500 --out " + material);
+  const CommandResult fit =
+      run_fnopt("fit-material --reference " + reference +
+                " --method compass --fit damping --max-evaluations 4 --cd-samples 500 --out " + material);
   ASSERT_EQ(fit.status, 0) << fit.output;
   EXPECT_NE(fit.output.find("fitted:"), std::string::npos) << fit.output;
   const std::string text = read_text(material);
-  EXPECT_NE(text.find("# fitted by fnopt fit-material (damping)"), std::string::npos) << text;
+  EXPECT_NE(text.find("# fitted by fnopt fit-material --method compass (damping)"), std::string::npos) << text;
   EXPECT_NE(text.find("damping = "), std::string::npos) << text;
   const CommandResult use = run_fnopt("simulate --res 6 --frames 2 --optimizer newton --threads 1 --material " +
                                       material + " --out " + (dir / "use.h5").string());
   EXPECT_EQ(use.status, 0) << use.output;
+}
+
+// A 10 x 10 fnopt rollout of a hidden material (stiffer, less damped, denser than the default)
+// as the reference: the gradient fit of all four, from the default material (never the reference
+// file's), lands nearer it than the start, by e_CD and by its coefficients, and says how many
+// rollouts it took.
+TEST(FitMaterialCli, GradientFitRecoversAHiddenMaterialFromAnFnoptRollout) {
+  const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_fit_cli_gradient";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string reference = (dir / "ref.h5").string(), material = (dir / "fitted.txt").string();
+  ASSERT_EQ(run_fnopt("simulate --res 10 --frames 20 --speed 4 --stretch 700 --shear 20 --damping 2.5 --density 0.25 "
+                      "--optimizer newton --threads 1 --out " +
+                      reference)
+                .status,
+            0);
+  const CommandResult fit = run_fnopt("fit-material --reference " + reference +
+                                      " --fit stretch,shear,damping,density --iterations 20 --cd-samples 2000 --out " +
+                                      material + " --threads 1");
+  ASSERT_EQ(fit.status, 0) << fit.output;
+  EXPECT_NE(fit.output.find("position loss (an fnopt rollout"), std::string::npos) << fit.output;
+  EXPECT_NE(fit.output.find("from default (stretch 473.2 N/m"), std::string::npos) << fit.output;
+  const std::regex last(
+      "e_CD x 10\\^3 = ([0-9.e+-]+) fitted, ([0-9.e+-]+) start material; ([0-9]+) rollouts \\(([0-9]+) "
+      "recorded forward \\+ ([0-9]+) backward passes\\), and 2 Newton rollouts for e_CD\n$");
+  std::smatch match;
+  ASSERT_TRUE(std::regex_search(fit.output, match, last)) << fit.output;
+  EXPECT_LT(std::stod(match[1]), 0.5 * std::stod(match[2])) << fit.output;
+  EXPECT_EQ(std::stoi(match[3]), std::stoi(match[4]) + std::stoi(match[5]));
+  EXPECT_EQ(match[4], match[5]);
+  EXPECT_GE(std::stoi(match[4]), 2);
+  // The fitted coefficients, read back from the material file, are nearer the hidden ones than the start's.
+  const std::string text = read_text(material);
+  EXPECT_NE(text.find("# fitted by fnopt fit-material --method gradient (stretch,shear,damping,density)"),
+            std::string::npos)
+      << text;
+  const auto value = [&](const std::string& key) {
+    return std::stod(text.substr(text.find(key + " = ") + key.size() + 3));
+  };
+  EXPECT_LT(std::abs(std::log(value("stretch") / 700)), std::abs(std::log(473.2 / 700))) << text;
+  EXPECT_LT(std::abs(std::log(value("damping") / 2.5)), std::abs(std::log(4.0 / 2.5))) << text;
 }
 
 }  // namespace

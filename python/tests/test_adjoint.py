@@ -1,0 +1,115 @@
+"""Gradients through rollouts from Python (docs/design.md §15): fnopt.record_rollout, its
+gradients against central differences of the rollout, the checks on its input, and the PyTorch
+bridge under torch.autograd.gradcheck."""
+import numpy as np
+import pytest
+
+import fnopt
+
+# 6 x 6 over 10 steps, the two corner handles' xy_v2 four times faster so that they move within it.
+SCENE = fnopt.Scene(res=6, frames=10, speed=4)
+
+
+def linear_loss_weights(rollout, seed=3):
+    return np.random.default_rng(seed).standard_normal(rollout.positions.shape)
+
+
+def test_a_recorded_rollout_has_the_frames_of_a_rollout():
+    recorded = fnopt.record_rollout(SCENE)
+    reference = fnopt.run_rollout(SCENE, optimizer="newton")
+    assert recorded.positions.shape == (11, 6, 6, 3)
+    assert repr(recorded) == "RecordedRollout(frames=10, rows=6, cols=6, optimizer='newton', diverged=False)"
+    assert recorded.handle_count == 2 and not recorded.diverged
+    # Newton to a far tighter tolerance: the same frames to well below a millimetre.
+    assert np.abs(recorded.positions - reference.positions).max() < 1e-4
+
+
+def test_the_gradients_match_differences_of_the_rollout():
+    recorded = fnopt.record_rollout(SCENE)
+    w = linear_loss_weights(recorded)
+    g = recorded.gradients(w)
+    assert set(g) >= {"stretch", "log_stretch", "damping", "gravity", "handle_targets", "initial_positions",
+                      "initial_velocities"}
+    assert g["gravity"].shape == (3,)
+    assert g["handle_targets"].shape == (10, 2, 3)
+    assert g["initial_positions"].shape == (6, 6, 3)
+    assert g["log_stretch"] == pytest.approx(473.2 * g["stretch"])
+
+    def loss(**settings):
+        return float((w * fnopt.record_rollout(SCENE.replace(**settings)).positions).sum())
+
+    e = 1e-5
+    for name, value in (("stretch", 473.2), ("damping", 4.0)):
+        difference = (loss(**{name: value * np.exp(e)}) - loss(**{name: value * np.exp(-e)})) / (2 * e)
+        assert g["log_" + name] == pytest.approx(difference, rel=1e-4), name
+    # Along the initial velocities: a direction d, <dL/dv0, d> against the central difference.
+    d = np.random.default_rng(5).standard_normal((6, 6, 3))
+    h = 1e-6
+    plus = fnopt.record_rollout(SCENE, initial_velocities=h * d).positions
+    minus = fnopt.record_rollout(SCENE, initial_velocities=-h * d).positions
+    assert (g["initial_velocities"] * d).sum() == pytest.approx(((plus - minus) * w).sum() / (2 * h), rel=1e-4)
+
+
+def test_a_dict_of_frames_is_the_same_loss_as_the_whole_array():
+    recorded = fnopt.record_rollout(SCENE)
+    w = linear_loss_weights(recorded)
+    sparse = np.zeros_like(w)
+    sparse[[4, 10]] = w[[4, 10]]
+    whole = recorded.gradients(sparse)
+    frames = recorded.gradients({4: w[4], 10: w[10]})
+    for name in ("stretch", "bend", "gravity", "handle_targets", "initial_positions"):
+        np.testing.assert_allclose(frames[name], whole[name], rtol=1e-12, atol=1e-15)
+
+
+def test_the_handle_path_gradient_is_the_chain_rule_of_the_targets():
+    path = np.zeros((2, 3, 3))
+    recorded = fnopt.record_rollout(SCENE, handle_path=path, path_basis="linear")
+    g = recorded.gradients(linear_loss_weights(recorded))
+    assert g["handle_path"].shape == (2, 3, 3)
+    # The linear basis: offsets interpolate linearly between 0 at t = 0 and control point k at
+    # t = (k + 1) T dt / K; dL/dc_k = sum_s B_k(t_{s+1}) dL/dy_s with those hat functions.
+    steps, points = 10, 3
+    knots = np.concatenate([[0.0], (np.arange(points) + 1) * steps / points])
+    times = np.arange(1, steps + 1)
+    weights = np.stack([np.interp(times, knots, np.eye(points + 1)[k + 1]) for k in range(points)], axis=1)
+    np.testing.assert_allclose(g["handle_path"], np.einsum("sk,shd->hkd", weights, g["handle_targets"]),
+                               rtol=1e-10, atol=1e-14)
+    assert np.abs(g["handle_path"]).max() > 0
+
+
+def test_bad_input_raises_the_one_line_errors():
+    recorded = fnopt.record_rollout(SCENE)
+    with pytest.raises(fnopt.Error, match=r"^dL_dX: expected shape \(11, 6, 6, 3\) \(the positions'\) or a dict"):
+        recorded.gradients(np.zeros((10, 6, 6, 3)))
+    with pytest.raises(fnopt.Error, match=r"^dL_dX: frame 11 is outside the rollout's frames 0..10$"):
+        recorded.gradients({11: np.zeros((6, 6, 3))})
+    with pytest.raises(fnopt.Error, match=r"^dL_dX: expected shape \(6, 6, 3\) or \(108,\)$"):
+        recorded.gradients({3: np.zeros((6, 3))})
+    with pytest.raises(fnopt.Error, match=r"^path_basis: expected cubic-bspline or linear, got 'spline'$"):
+        fnopt.record_rollout(SCENE, handle_path=np.zeros((2, 2, 3)), path_basis="spline")
+    with pytest.raises(fnopt.Error, match=r"^handle_path: expected shape \(2, K, 3\)"):
+        fnopt.record_rollout(SCENE, handle_path=np.zeros((3, 2, 3)))
+    with pytest.raises(fnopt.Error, match=r"^handle_targets: expected shape \(10, 2, 3\)$"):
+        fnopt.record_rollout(SCENE, handle_targets=np.zeros((9, 2, 3)))
+    with pytest.raises(fnopt.Error, match=r"^initial_positions: expected shape \(6, 6, 3\)"):
+        fnopt.record_rollout(SCENE, initial_positions=np.zeros((5, 6, 3)))
+
+
+def test_the_torch_bridge_passes_gradcheck():
+    torch = pytest.importorskip("torch")
+    import fnopt.torch as ftorch
+
+    scene = fnopt.Scene(res=4, frames=6, speed=4)
+    rest = fnopt.record_rollout(scene.replace(frames=1))
+    dtype = torch.float64
+    log_k = torch.log(torch.tensor([473.2, 29.18, 2e-5, 0.187, 4.0], dtype=dtype)).requires_grad_()
+    path = torch.zeros((2, 2, 3), dtype=dtype, requires_grad=True)
+    x0 = torch.tensor(rest.positions[0], dtype=dtype, requires_grad=True)
+    v0 = torch.zeros((4, 4, 3), dtype=dtype, requires_grad=True)
+
+    def positions(log_k, path, x0, v0):
+        return ftorch.rollout(scene, torch.exp(log_k), path, x0, v0, frames=[3, 6])
+
+    # gradcheck's defaults (eps 1e-6, atol 1e-5, rtol 1e-3): each perturbed rollout is Newton-solved
+    # to 1e-10 m/s^2 again, so a difference's solver error, about dt^2 1e-10 / eps, stays far below atol.
+    assert torch.autograd.gradcheck(positions, (log_k, path, x0, v0))

@@ -1,0 +1,180 @@
+#include <fnopt/adjoint/rollout_adjoint.hpp>
+
+#include <algorithm>
+#include <chrono>
+
+#include <fnopt/adjoint/exact_stepper.hpp>
+#include <fnopt/util/error.hpp>
+
+namespace fnopt {
+namespace {
+
+// Each step's (x_s, v_s, a_s) for the backward pass, s descending: the record's, or with
+// checkpoints the segment holding s re-simulated from its checkpoint.
+class StepStates {
+ public:
+  explicit StepStates(const RecordedRollout& rollout) : rollout_(&rollout) {}
+
+  void load(int s) {
+    const int interval = rollout_->options.checkpoint_interval;
+    if (interval == 0) {
+      x_ = &rollout_->positions[s];
+      v_ = &rollout_->velocities[s];
+      a_ = &rollout_->accelerations[s];
+      return;
+    }
+    if (begin_ < 0 || s < begin_) resimulate(s / interval * interval, interval);
+    x_ = &x_segment_[s - begin_];
+    v_ = &v_segment_[s - begin_];
+    a_ = &a_segment_[s - begin_];
+  }
+  const VecX& x() const { return *x_; }
+  const VecX& v() const { return *v_; }
+  const VecX& a() const { return *a_; }
+  int resimulated_steps() const { return resimulated_; }
+  double resimulation_error() const { return error_; }
+
+ private:
+  void resimulate(int begin, int interval) {
+    const RecordedRollout& r = *rollout_;
+    const int end = std::min(begin + interval, r.step_count());
+    begin_ = begin;
+    x_segment_.assign(1, r.positions[begin]);
+    v_segment_.assign(1, r.velocities[begin]);
+    a_segment_.clear();
+    ExactStepper stepper(r.scene, r.options, r.positions[begin], r.velocities[begin], begin, true);
+    for (int t = begin; t < end; ++t) {
+      VecX a;
+      stepper.step(r.handle_targets[t], nullptr, nullptr, {}, a);
+      require(!stepper.diverged(), "rollout", "a re-simulated segment " + stepper.divergence());
+      a_segment_.push_back(std::move(a));
+      error_ = std::max(error_, (stepper.positions() - r.positions[t + 1]).cwiseAbs().maxCoeff());
+      ++resimulated_;
+      if (t + 1 < end) {
+        x_segment_.push_back(stepper.positions());
+        v_segment_.push_back(stepper.velocities());
+      }
+    }
+  }
+
+  const RecordedRollout* rollout_;
+  const VecX *x_ = nullptr, *v_ = nullptr, *a_ = nullptr;
+  int begin_ = -1;  // the re-simulated segment's first step
+  std::vector<VecX> x_segment_, v_segment_, a_segment_;
+  int resimulated_ = 0;
+  double error_ = 0.0;
+};
+
+}  // namespace
+
+const char* to_string(AdjointStatus status) {
+  switch (status) {
+    case AdjointStatus::Exact:
+      return "exact";
+    case AdjointStatus::ThroughSaddles:
+      return "through-saddles";
+    case AdjointStatus::Unconverged:
+      return "unconverged";
+    case AdjointStatus::StoppedAtSaddle:
+      return "stopped-at-saddle";
+    case AdjointStatus::Singular:
+      return "singular";
+  }
+  return "unknown";
+}
+
+bool is_complete(AdjointStatus status) {
+  return status == AdjointStatus::Exact || status == AdjointStatus::ThroughSaddles ||
+         status == AdjointStatus::Unconverged;
+}
+
+RolloutGradient backpropagate(const RecordedRollout& rollout, const std::vector<FrameGradient>& loss_gradient,
+                              const AdjointParams& params) {
+  require(!rollout.empty(), "rollout", "no recorded forward pass (record_rollout gives one)");
+  require(!rollout.diverged, "rollout", "the forward pass " + rollout.divergence + ": no gradient through it");
+  const auto begin = std::chrono::steady_clock::now();
+  const int frames = rollout.frame_count();
+  const Eigen::Index dofs = rollout.positions.front().size();
+  std::vector<VecX> loss(frames);
+  for (const FrameGradient& term : loss_gradient) {
+    require(term.frame >= 0 && term.frame < frames, "loss",
+            "frame " + std::to_string(term.frame) + " is outside the rollout's 0.." + std::to_string(frames - 1));
+    require(term.gradient.size() == dofs, "loss",
+            "frame " + std::to_string(term.frame) + ": expected " + std::to_string(dofs) +
+                " values (3 per vertex), got " + std::to_string(term.gradient.size()));
+    if (loss[term.frame].size() == 0)
+      loss[term.frame] = term.gradient;
+    else
+      loss[term.frame] += term.gradient;
+  }
+
+  const double dt = rollout.scene.scene.dt;
+  const int handles = static_cast<int>(rollout.scene.handles.vertices.size());
+  StepLinearization step(rollout.scene);
+  StepStates states(rollout);
+  RolloutGradient out;
+  out.handle_targets.assign(rollout.step_count(), std::vector<Vec3>(handles, Vec3::Zero()));
+  VecX xbar = loss.back().size() ? loss.back() : VecX::Zero(dofs);
+  VecX vbar = VecX::Zero(dofs);
+  VecX abar, lambda, k_lambda;
+  for (int s = rollout.step_count() - 1; s >= 0; --s) {
+    if (!is_converged(rollout.steps[s].status)) out.unconverged_steps.insert(out.unconverged_steps.begin(), s);
+    states.load(s);
+    const StepStationarity stationarity = step.linearize(states.x(), states.v(), states.a());
+    if (stationarity == StepStationarity::Singular) {
+      out.status = AdjointStatus::Singular;
+      out.singular_step = s;
+      break;
+    }
+    if (stationarity == StepStationarity::Saddle) {
+      out.saddle_steps.insert(out.saddle_steps.begin(), s);
+      if (!params.solve_at_saddles) {
+        out.status = AdjointStatus::StoppedAtSaddle;
+        break;
+      }
+    }
+    abar = dt * dt * xbar + dt * vbar;
+    step.solve(abar, lambda);
+    step.stiffness_product(lambda, k_lambda);  // dt^4 K lambda
+    out.material += step.material_gradient(lambda);
+
+    // x_{s+1} and v_{s+1} depend on x_s, v_s directly, and through a_F (lambda) and a_H.
+    vbar += dt * xbar;
+    xbar -= k_lambda / (dt * dt);
+    vbar -= k_lambda / dt;
+    for (Eigen::Index k = 0; k < dofs / 3; ++k)
+      vbar.segment<3>(3 * k) -= step.damping_weight(static_cast<int>(k)) * lambda.segment<3>(3 * k);
+    for (int h = 0; h < handles; ++h) {
+      const int k = rollout.scene.handles.vertices[h];
+      const Vec3 abar_h = abar.segment<3>(3 * k) - k_lambda.segment<3>(3 * k);
+      out.handle_targets[s][h] = abar_h / (dt * dt);
+      xbar.segment<3>(3 * k) -= abar_h / (dt * dt);
+      vbar.segment<3>(3 * k) -= abar_h / dt;
+    }
+    if (loss[s].size()) xbar += loss[s];
+  }
+  if (out.status == AdjointStatus::Exact) {
+    if (!out.unconverged_steps.empty())
+      out.status = AdjointStatus::Unconverged;
+    else if (!out.saddle_steps.empty())
+      out.status = AdjointStatus::ThroughSaddles;
+  }
+  out.initial_positions = std::move(xbar);
+  out.initial_velocities = std::move(vbar);
+
+  const Material& material = rollout.scene.scene.material;
+  out.log_material = out.material;
+  out.log_material.stretch *= material.stretch;
+  out.log_material.shear *= material.shear;
+  out.log_material.bend *= material.bend;
+  out.log_material.density *= material.density;
+  out.log_material.damping *= material.damping;
+  out.resimulated_steps = states.resimulated_steps();
+  out.resimulation_error = states.resimulation_error();
+  out.factorizations = step.factorizations();
+  out.solves = step.solves();
+  out.backward_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
+  return out;
+}
+
+}  // namespace fnopt

@@ -1,0 +1,43 @@
+#pragma once
+// Losses on a recorded rollout's positions and their gradients dL/dx per frame, the input of the
+// backward pass (adjoint/rollout_adjoint.hpp, docs/design.md §15). A caller's own loss passes its
+// FrameGradients to backpropagate directly.
+#include <vector>
+
+#include <fnopt/adjoint/recorded_rollout.hpp>
+#include <fnopt/adjoint/rollout_adjoint.hpp>
+
+namespace fnopt {
+
+// Target positions of every vertex at one frame.
+struct FramePositions {
+  int frame = 0;
+  VecX positions;  // 3 per vertex
+};
+
+// Observed points at one frame (any number, e.g. a scan).
+struct FramePoints {
+  int frame = 0;
+  std::vector<Vec3> points;
+};
+
+struct RolloutLoss {
+  double value = 0.0;
+  std::vector<FrameGradient> gradient;  // one per frame of the loss
+};
+
+// L = sum over the given frames of sum_i |x_f,i - target_f,i|^2 [m^2], dL/dx_f = 2 (x_f - target_f).
+// Throws Error("loss", ...) for a frame outside the rollout or targets of the wrong size.
+RolloutLoss position_loss(const RecordedRollout& rollout, const std::vector<FramePositions>& targets);
+
+// L = sum over the given frames of the Chamfer distance between the cloth's vertices X and the
+// observed points Y (metrics/chamfer.hpp's, squared distances, both directions),
+//   CD = mean_{x in X} min_y |x - y|^2 + mean_{y in Y} min_x |x - y|^2,
+// and its gradient with the nearest neighbours held fixed (differentiable wherever each nearest
+// neighbour is unique, i.e. almost everywhere):
+//   dCD/dx = (2/|X|)(x - nn_Y(x)) + (2/|Y|) sum_{y : nn_X(y) = x} (x - y).
+// The cloth's points are its vertices, not points sampled on its triangles (the e_CD metric's).
+// Throws Error("loss", ...) for a frame outside the rollout or an empty point set.
+RolloutLoss chamfer_loss(const RecordedRollout& rollout, const std::vector<FramePoints>& observed);
+
+}  // namespace fnopt

@@ -1,0 +1,132 @@
+#include <fnopt/adjoint/step_linearization.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include <fnopt/cloth/cloth_terms.hpp>
+#include <fnopt/cloth/lumped_mass.hpp>
+
+namespace fnopt {
+namespace {
+
+// A pivot of the LDL^T factorisation at most this fraction of the largest counts as zero: the
+// step's H_FF is then singular to working precision and its solve meaningless.
+constexpr double kSingularPivot = 1e-13;
+
+// The stretch, shear and bend terms at unit stiffness, in that order (no repulsion).
+std::vector<std::unique_ptr<EnergyTerm>> unit_stiffness_terms(const Grid& grid) {
+  Material unit;
+  unit.stretch = unit.shear = unit.bend = 1.0;
+  unit.repulsion = false;
+  return make_cloth_terms(grid, unit);
+}
+
+}  // namespace
+
+const char* to_string(StepStationarity stationarity) {
+  switch (stationarity) {
+    case StepStationarity::Minimum:
+      return "minimum";
+    case StepStationarity::Saddle:
+      return "saddle";
+    case StepStationarity::Singular:
+      return "singular";
+  }
+  return "unknown";
+}
+
+StepLinearization::StepLinearization(const ResolvedScene& scene)
+    : material_(scene.scene.material),
+      objective_(scene.grid, scene.scene.material, scene.scene.dt, scene.scene.gravity),
+      unit_terms_(unit_stiffness_terms(scene.grid)),
+      handle_vertices_(scene.handles.vertices),
+      handle_vertex_(scene.grid.vertex_count(), 0),
+      all_free_(scene.grid.vertex_count()),
+      masses_(objective_.masses()),
+      areas_(lumped_masses(scene.grid, 1.0)) {
+  for (int k : handle_vertices_) handle_vertex_[k] = 1;
+  for (int k = 0; k < scene.grid.vertex_count(); ++k) all_free_[k] = k;
+}
+
+StepStationarity StepLinearization::linearize(const VecX& x, const VecX& v, const VecX& a) {
+  objective_.begin_step(x, v);
+  x_start_ = x;
+  a_ = a;
+  objective_.trial_positions(a, x_);
+  hessian_ = &objective_.hessian(a, all_free_, false);
+  const long pattern = objective_.hessian_pattern_id();
+  if (pattern != masked_pattern_) {
+    masked_ = *hessian_;
+    masked_pattern_ = pattern;
+  } else {
+    std::copy_n(hessian_->valuePtr(), hessian_->nonZeros(), masked_.valuePtr());
+  }
+  for (int column = 0; column < masked_.outerSize(); ++column)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(masked_, column); it; ++it) {
+      const int row = static_cast<int>(it.row());
+      if (!handle_vertex_[row / 3] && !handle_vertex_[column / 3]) continue;
+      it.valueRef() = row == column ? objective_.inertia_weight(row / 3) : 0.0;
+    }
+
+  ++factorizations_;
+  use_ldlt_ = false;
+  negative_eigenvalues_ = 0;
+  if (cholesky_.factorize_matrix(masked_, pattern)) return StepStationarity::Minimum;
+
+  ++factorizations_;
+  use_ldlt_ = true;
+  if (ldlt_pattern_ != pattern) {
+    ldlt_.analyzePattern(masked_);
+    ldlt_pattern_ = pattern;
+  }
+  ldlt_.factorize(masked_);
+  negative_eigenvalues_ = -1;
+  if (ldlt_.info() != Eigen::Success) return StepStationarity::Singular;
+  const VecX pivots = ldlt_.vectorD();
+  const double largest = pivots.cwiseAbs().maxCoeff();
+  if (!pivots.allFinite() || (pivots.cwiseAbs().array() <= kSingularPivot * largest).any())
+    return StepStationarity::Singular;
+  negative_eigenvalues_ = static_cast<int>((pivots.array() < 0.0).count());
+  return StepStationarity::Saddle;
+}
+
+void StepLinearization::solve(const VecX& rhs, VecX& lambda) {
+  lambda = rhs;
+  for (int k : handle_vertices_) lambda.segment<3>(3 * k).setZero();
+  if (use_ldlt_)
+    lambda = ldlt_.solve(lambda);
+  else
+    cholesky_.solve_in_place(lambda.data(), static_cast<int>(lambda.size()), 1);
+  for (int k : handle_vertices_) lambda.segment<3>(3 * k).setZero();
+  ++solves_;
+}
+
+void StepLinearization::stiffness_product(const VecX& lambda, VecX& product) const {
+  product.noalias() = *hessian_ * lambda;
+  for (Eigen::Index k = 0; k < masses_.size(); ++k)
+    product.segment<3>(3 * k) -= objective_.inertia_weight(static_cast<int>(k)) * lambda.segment<3>(3 * k);
+}
+
+MaterialGradient StepLinearization::material_gradient(const VecX& lambda) {
+  const double dt = objective_.dt();
+  const double dt2 = dt * dt;
+  MaterialGradient gradient;
+  double* stiffness[] = {&gradient.stretch, &gradient.shear, &gradient.bend};
+  for (std::size_t t = 0; t < unit_terms_.size(); ++t) {
+    gradient_buffer_.setZero(x_.size());
+    unit_terms_[t]->accumulate_gradient(x_, gradient_buffer_);
+    *stiffness[t] = -dt2 * lambda.dot(gradient_buffer_);
+  }
+  const Vec3& gravity = objective_.gravity();
+  for (Eigen::Index k = 0; k < masses_.size(); ++k) {
+    const auto lambda_k = lambda.segment<3>(3 * k);
+    const Vec3 moved = x_.segment<3>(3 * k) - x_start_.segment<3>(3 * k);
+    gradient.density -=
+        dt2 * areas_[k] * lambda_k.dot(a_.segment<3>(3 * k) - gravity + (material_.damping / dt) * moved);
+    gradient.damping -= dt * masses_[k] * lambda_k.dot(moved);
+    gradient.gravity += dt2 * masses_[k] * lambda_k;
+  }
+  return gradient;
+}
+
+}  // namespace fnopt

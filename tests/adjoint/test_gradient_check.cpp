@@ -1,0 +1,135 @@
+// The adjoint against central differences of the rollout (adjoint/gradient_check.hpp), for every
+// parameter kind, on scenes that exercise different parts of the step: handles moving fast along
+// the scene's motion, handles given per step along a path of one's own, a cloth folding onto
+// itself with self-repulsion acting, and steps that end at saddles.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <fnopt/adjoint/gradient_check.hpp>
+#include <fnopt/util/error.hpp>
+
+namespace fnopt {
+namespace {
+
+constexpr double kTolerance = 1e-4;  // relative, per comparison
+
+void expect_every_kind_within(const GradientCheckResult& result, std::size_t kinds) {
+  ASSERT_EQ(result.rows.size(), kinds);
+  for (const GradientCheckRow& row : result.rows) {
+    EXPECT_LE(row.max_relative_error, kTolerance)
+        << to_string(row.parameter) << ": adjoint " << row.adjoint_norm << ", differences " << row.finite_difference_norm
+        << "; " << to_string(result.status) << ", " << result.saddle_steps << " saddle steps";
+    EXPECT_GT(row.adjoint_norm, 0.0) << to_string(row.parameter);
+  }
+  EXPECT_TRUE(is_complete(result.status)) << to_string(result.status);
+}
+
+// 10 x 10 over 30 steps; xy_v2 four times faster, so that the handles move from frame 8 on.
+ResolvedScene fast_corner_scene() {
+  Scene scene;
+  scene.rows = scene.cols = 10;
+  scene.frames = 31;
+  scene.speed = 4.0;
+  return resolve(scene);
+}
+
+TEST(GradientCheck, EveryKindInLogCoordinatesWithFastHandles) {
+  const ResolvedScene scene = fast_corner_scene();
+  const GradientCheckResult result = gradient_check(scene);
+  expect_every_kind_within(result, all_adjoint_parameters().size());
+  EXPECT_LE(result.max_relative_error, kTolerance);
+}
+
+TEST(GradientCheck, MaterialInPlainCoordinatesWithTheLinearPath) {
+  GradientCheckParams params;
+  params.log_coordinates = false;
+  params.parameters = {AdjointParameter::Stretch, AdjointParameter::Shear,   AdjointParameter::Bend,
+                       AdjointParameter::Density, AdjointParameter::Damping, AdjointParameter::HandlePath};
+  params.path.basis = HandlePathBasis::PiecewiseLinear;
+  params.path.control_points = 5;
+  params.frames = {10, 20, 30};  // a loss on a few frames only
+  expect_every_kind_within(gradient_check(fast_corner_scene(), params), params.parameters.size());
+}
+
+TEST(GradientCheck, HandlesGivenPerStepAlongAFastCircle) {
+  Scene scene;
+  scene.rows = scene.cols = 16;
+  scene.frames = 31;
+  const ResolvedScene resolved = resolve(scene);
+  // Both handles circle their rest positions once every 0.25 s (radius 5 cm: 1.3 m/s) in the
+  // vertical plane across the cloth, in step: fast, without pushing the corners together (which
+  // would buckle the cloth, where Newton's branch can switch under any perturbation).
+  RolloutInputs inputs;
+  inputs.handle_targets.emplace();
+  const VecX rest = resolved.grid.rest_positions();
+  for (int s = 0; s < scene.frames - 1; ++s) {
+    const double phase = 2.0 * M_PI * (s + 1) * scene.dt / 0.25;
+    std::vector<Vec3> targets;
+    for (int vertex : resolved.handles.vertices)
+      targets.push_back(rest.segment<3>(3 * vertex) + 0.05 * Vec3(0.0, 1.0 - std::cos(phase), std::sin(phase)));
+    inputs.handle_targets->push_back(targets);
+  }
+  GradientCheckParams params;
+  params.directions = 1;
+  expect_every_kind_within(gradient_check(resolved, params, inputs), all_adjoint_parameters().size());
+}
+
+TEST(GradientCheck, SelfRepulsionActingOnAFoldingCloth) {
+  Scene scene;
+  scene.rows = scene.cols = 8;
+  scene.frames = 41;
+  scene.handles = "corner-center";  // turns self-repulsion on (repulsion = auto)
+  resolve_repulsion(scene);
+  ASSERT_TRUE(scene.material.repulsion);
+  const ResolvedScene resolved = resolve(scene);
+  // An out-of-plane push growing down and across the cloth: without it the cloth falls in its
+  // plane, a symmetric state that is dynamically unstable, where any perturbation a difference
+  // can resolve has left the linear range (docs/design.md §15, "Branches").
+  RolloutInputs inputs;
+  VecX v0 = VecX::Zero(resolved.grid.dof_count());
+  for (int i = 0; i < scene.rows; ++i)
+    for (int j = 0; j < scene.cols; ++j) v0[3 * resolved.grid.index(i, j) + 1] = 0.3 * i / 7.0 + 0.5 * j / 7.0;
+  inputs.initial_velocities = v0;
+
+  const RecordedRollout rollout = record_rollout(resolved, {}, inputs);
+  int repelling = 0;
+  for (const RecordedStep& step : rollout.steps) repelling += step.repulsion_energy > 0.0;
+  EXPECT_GE(repelling, 5) << "too few steps with pairs inside the repulsion range";
+
+  expect_every_kind_within(gradient_check(resolved, {}, inputs), all_adjoint_parameters().size());
+}
+
+// Hung from opposite corners the cloth is compressed flat and Newton's steps end at saddles of
+// their energy, on the symmetric branch (docs/design.md §6). The material keeps the symmetry and
+// its gradient is that branch's; perturbations that break the symmetry grow along the negative
+// curvature, so differences along them leave the linear range at any usable step (not compared).
+TEST(GradientCheck, ThroughSaddlesTheMaterialGradientIsTheRecordedBranchs) {
+  Scene scene;
+  scene.rows = scene.cols = 8;
+  scene.frames = 31;
+  scene.speed = 4.0;
+  scene.handles = "diagonal";
+  GradientCheckParams params;
+  params.parameters = {AdjointParameter::Stretch, AdjointParameter::Shear, AdjointParameter::Bend,
+                       AdjointParameter::Density, AdjointParameter::Damping};
+  const GradientCheckResult result = gradient_check(resolve(scene), params);
+  EXPECT_EQ(result.status, AdjointStatus::ThroughSaddles);
+  EXPECT_GT(result.saddle_steps, 0);
+  expect_every_kind_within(result, params.parameters.size());
+}
+
+TEST(GradientCheck, ALossFrameOutsideTheRolloutIsAnError) {
+  GradientCheckParams params;
+  params.frames = {31};
+  EXPECT_THROW(gradient_check(fast_corner_scene(), params), Error);
+}
+
+TEST(GradientCheck, ACheckpointedBaseIsRefused) {
+  GradientCheckParams params;
+  params.record.checkpoint_interval = 5;
+  EXPECT_THROW(gradient_check(fast_corner_scene(), params), Error);
+}
+
+}  // namespace
+}  // namespace fnopt

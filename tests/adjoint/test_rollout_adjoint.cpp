@@ -1,0 +1,166 @@
+// The backward pass's contract beyond its values (those are test_gradient_check.cpp's): what it
+// refuses, what it returns for losses whose gradient is known without a rollout, its linearity in
+// the loss, the steps it reports, and checkpoints re-simulated to the same gradient.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include <fnopt/adjoint/rollout_adjoint.hpp>
+#include <fnopt/baselines/pqn.hpp>
+#include <fnopt/util/error.hpp>
+
+namespace fnopt {
+namespace {
+
+ResolvedScene small_scene(const std::string& handles = "corner") {
+  Scene scene;
+  scene.rows = scene.cols = 8;
+  scene.frames = 31;
+  scene.speed = 4.0;
+  scene.handles = handles;
+  return resolve(scene);
+}
+
+VecX random_vector(Eigen::Index size, std::uint64_t seed) {
+  std::mt19937_64 random(seed);
+  std::normal_distribution<double> normal;
+  VecX v(size);
+  for (Eigen::Index i = 0; i < size; ++i) v[i] = normal(random);
+  return v;
+}
+
+std::string field_of(const std::function<void()>& call) {
+  try {
+    call();
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()).find('\n'), std::string::npos);
+    return error.field();
+  }
+  return "(no error)";
+}
+
+TEST(RolloutAdjoint, ARolloutWithNoForwardPassIsRefused) {
+  EXPECT_EQ(field_of([] { backpropagate(RecordedRollout{}, {}); }), "rollout");
+}
+
+TEST(RolloutAdjoint, ALossOfTheWrongShapeIsRefused) {
+  const RecordedRollout rollout = record_rollout(small_scene());
+  const Eigen::Index dofs = rollout.positions.front().size();
+  EXPECT_EQ(field_of([&] { backpropagate(rollout, {{3, VecX::Zero(dofs - 3)}}); }), "loss");
+  EXPECT_EQ(field_of([&] { backpropagate(rollout, {{rollout.frame_count(), VecX::Zero(dofs)}}); }), "loss");
+  EXPECT_EQ(field_of([&] { backpropagate(rollout, {{-1, VecX::Zero(dofs)}}); }), "loss");
+}
+
+TEST(RolloutAdjoint, ALossOnTheInitialFrameOnlyIsItsOwnGradient) {
+  const RecordedRollout rollout = record_rollout(small_scene());
+  const VecX w = random_vector(rollout.positions.front().size(), 1);
+  const RolloutGradient gradient = backpropagate(rollout, {{0, w}});
+  EXPECT_EQ(gradient.initial_positions, w);
+  EXPECT_EQ(gradient.initial_velocities.norm(), 0.0);
+  EXPECT_EQ(gradient.material.stretch, 0.0);
+  EXPECT_EQ(gradient.material.gravity.norm(), 0.0);
+  for (const auto& step : gradient.handle_targets)
+    for (const Vec3& g : step) EXPECT_EQ(g.norm(), 0.0);
+}
+
+TEST(RolloutAdjoint, TheGradientIsLinearInTheLoss) {
+  const RecordedRollout rollout = record_rollout(small_scene());
+  const Eigen::Index dofs = rollout.positions.front().size();
+  const VecX w1 = random_vector(dofs, 1), w2 = random_vector(dofs, 2);
+  const RolloutGradient g1 = backpropagate(rollout, {{10, w1}});
+  const RolloutGradient g2 = backpropagate(rollout, {{30, w2}});
+  const RolloutGradient sum = backpropagate(rollout, {{30, w2}, {10, w1}});
+  const auto near = [](double a, double b) { return std::abs(a - b) <= 1e-10 * std::max(std::abs(a), std::abs(b)); };
+  EXPECT_PRED2(near, sum.material.stretch, g1.material.stretch + g2.material.stretch);
+  EXPECT_PRED2(near, sum.material.density, g1.material.density + g2.material.density);
+  EXPECT_LE((sum.initial_velocities - g1.initial_velocities - g2.initial_velocities).norm(),
+            1e-10 * sum.initial_velocities.norm());
+}
+
+TEST(RolloutAdjoint, LogCoordinatesAreTheCoefficientTimesTheGradient) {
+  const ResolvedScene scene = small_scene();
+  const RecordedRollout rollout = record_rollout(scene);
+  const RolloutGradient gradient = backpropagate(rollout, {{30, random_vector(scene.grid.dof_count(), 3)}});
+  const Material& m = scene.scene.material;
+  EXPECT_EQ(gradient.log_material.stretch, m.stretch * gradient.material.stretch);
+  EXPECT_EQ(gradient.log_material.shear, m.shear * gradient.material.shear);
+  EXPECT_EQ(gradient.log_material.bend, m.bend * gradient.material.bend);
+  EXPECT_EQ(gradient.log_material.density, m.density * gradient.material.density);
+  EXPECT_EQ(gradient.log_material.damping, m.damping * gradient.material.damping);
+  EXPECT_EQ(gradient.log_material.gravity, gradient.material.gravity);
+}
+
+TEST(RolloutAdjoint, OneFactorisationAndOneSolvePerStepAtMinima) {
+  const RecordedRollout rollout = record_rollout(small_scene());
+  ASSERT_EQ(rollout.steps_at(StepStationarity::Minimum), rollout.step_count());
+  const RolloutGradient gradient = backpropagate(rollout, {{30, random_vector(rollout.positions[0].size(), 4)}});
+  EXPECT_EQ(gradient.status, AdjointStatus::Exact);
+  EXPECT_EQ(gradient.factorizations, rollout.step_count());
+  EXPECT_EQ(gradient.solves, rollout.step_count());
+  EXPECT_GT(gradient.backward_ms, 0.0);
+}
+
+// Hung from two opposite corners the cloth falls flat and is compressed in its plane: Newton's
+// steps end at saddles of the step's energy (docs/design.md §6), which both passes report.
+TEST(RolloutAdjoint, SaddleStepsAreReportedAndCanStopThePass) {
+  const RecordedRollout rollout = record_rollout(small_scene("diagonal"));
+  std::vector<int> saddles;
+  for (int s = 0; s < rollout.step_count(); ++s)
+    if (rollout.steps[s].stationarity == StepStationarity::Saddle) {
+      saddles.push_back(s);
+      EXPECT_GT(rollout.steps[s].negative_eigenvalues, 0);
+    }
+  ASSERT_FALSE(saddles.empty());
+
+  const std::vector<FrameGradient> loss{{30, random_vector(rollout.positions[0].size(), 5)}};
+  const RolloutGradient through = backpropagate(rollout, loss);
+  EXPECT_EQ(through.status, AdjointStatus::ThroughSaddles);
+  EXPECT_EQ(through.saddle_steps, saddles);
+  EXPECT_TRUE(is_complete(through.status));
+
+  AdjointParams stop;
+  stop.solve_at_saddles = false;
+  const RolloutGradient stopped = backpropagate(rollout, loss, stop);
+  EXPECT_EQ(stopped.status, AdjointStatus::StoppedAtSaddle);
+  EXPECT_FALSE(is_complete(stopped.status));
+  ASSERT_EQ(stopped.saddle_steps.size(), 1u);
+  EXPECT_EQ(stopped.saddle_steps.front(), saddles.back());
+}
+
+// With checkpoints the record keeps a fraction of the states and the backward pass re-simulates
+// every segment (the last one shorter) onto the recorded path: the same gradient.
+TEST(RolloutAdjoint, ACheckpointedRecordGivesTheSameGradient) {
+  const ResolvedScene scene = small_scene();
+  const RecordedRollout whole = record_rollout(scene);
+  RecordOptions options;
+  options.checkpoint_interval = 7;
+  const RecordedRollout checkpointed = record_rollout(scene, options);
+  EXPECT_LT(checkpointed.memory_bytes(), whole.memory_bytes() / 2);
+
+  const std::vector<FrameGradient> loss{{30, random_vector(scene.grid.dof_count(), 6)},
+                                        {12, random_vector(scene.grid.dof_count(), 7)}};
+  const RolloutGradient expected = backpropagate(whole, loss);
+  const RolloutGradient gradient = backpropagate(checkpointed, loss);
+  EXPECT_EQ(gradient.resimulated_steps, checkpointed.step_count());
+  EXPECT_LE(gradient.resimulation_error, 1e-12);
+  const auto near = [](double a, double b) { return std::abs(a - b) <= 1e-8 * std::max(std::abs(a), std::abs(b)); };
+  EXPECT_PRED2(near, gradient.material.stretch, expected.material.stretch);
+  EXPECT_PRED2(near, gradient.material.damping, expected.material.damping);
+  EXPECT_LE((gradient.initial_velocities - expected.initial_velocities).norm(),
+            1e-8 * expected.initial_velocities.norm());
+  EXPECT_LE((gradient.initial_positions - expected.initial_positions).norm(), 1e-8 * expected.initial_positions.norm());
+}
+
+TEST(RolloutAdjoint, CheckpointsNeedNewtonAloneFromRest) {
+  const ResolvedScene scene = small_scene();
+  RecordOptions options;
+  options.checkpoint_interval = 5;
+  PqnOptimizer pqn;
+  EXPECT_EQ(field_of([&] { record_rollout(scene, pqn, {5, 0.0}, options); }), "checkpoint_interval");
+  RolloutInputs inputs;
+  inputs.start_accelerations = std::vector<VecX>(scene.scene.frames - 1, VecX::Zero(scene.grid.dof_count()));
+  EXPECT_EQ(field_of([&] { record_rollout(scene, options, inputs); }), "checkpoint_interval");
+}
+
+}  // namespace
+}  // namespace fnopt
