@@ -5,6 +5,7 @@
 
 #include <fnopt/adjoint/recorded_rollout.hpp>
 #include <fnopt/baselines/pqn.hpp>
+#include <fnopt/scenes/scene.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
@@ -80,6 +81,26 @@ TEST(RecordedRollout, InputsThatDoNotFitAreErrors) {
   RecordOptions options;
   options.acceleration_tolerance = 0.0;
   EXPECT_THROW(record_rollout(scene, options), Error);
+}
+
+// The adjoint's step has no contact term: a scene with obstacles or released handles is refused,
+// naming the setting, rather than differentiated as another scene.
+TEST(RecordedRollout, ScenesTheAdjointDoesNotCoverAreRefused) {
+  Scene scene;
+  scene.rows = scene.cols = 6;
+  scene.frames = 3;
+  apply_scene_setting(scene, "obstacle", "sphere center=0.5,0.5,-0.5 radius=0.1");
+  try {
+    record_rollout(resolve(scene));
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("obstacles: ", 0), 0u) << e.what();
+  }
+  Scene released;
+  released.rows = released.cols = 6;
+  released.frames = 3;
+  released.let_go = 0.02;
+  EXPECT_THROW(record_rollout(resolve(released)), Error);
 }
 
 }  // namespace

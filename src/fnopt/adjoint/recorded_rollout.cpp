@@ -17,6 +17,11 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
 RecordedRollout record(const ResolvedScene& scene, InnerOptimizer* optimizer, const InnerSolveOptions& solve,
                        const RecordOptions& options, const RolloutInputs& inputs) {
   options.validate();
+  // The step's linearisation has no contact term (docs/design.md §15): a scene with obstacles, or
+  // handles released mid-rollout, would be differentiated as another scene than the one simulated.
+  require(scene.scene.obstacles.empty(), "obstacles",
+          "the adjoint does not cover contact yet: differentiate a scene without obstacles");
+  require(scene.scene.let_go < 0.0, "let-go", "the adjoint does not cover released handles yet");
   const auto begin = std::chrono::steady_clock::now();
   const int steps = scene.scene.frames - 1;
   if (inputs.handle_targets)
