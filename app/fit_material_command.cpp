@@ -180,7 +180,7 @@ GradientFit fit_by_gradient(const std::vector<GradientReference>& references, co
   BoundedLbfgsParams params;
   params.max_iterations = iterations;
   // Where the rollout passes saddle steps the loss is rough at the scale of the solver's precision
-  // near the fit (docs/results.md, "Gradients through rollouts"), and a search that cannot descend
+  // near the fit (docs/design.md §15), and a search that cannot descend
   // there would take 30 halvings, a rollout each, before it says so.
   params.max_backtracks = 10;
   const BoundedLbfgsResult fit_result = minimize_in_box(objective, x0, lower, upper, params);
