@@ -93,6 +93,15 @@ def test_bad_input_raises_the_one_line_errors():
         fnopt.record_rollout(SCENE, handle_targets=np.zeros((9, 2, 3)))
     with pytest.raises(fnopt.Error, match=r"^initial_positions: expected shape \(6, 6, 3\)"):
         fnopt.record_rollout(SCENE, initial_positions=np.zeros((5, 6, 3)))
+    with pytest.raises(fnopt.Error, match=r"^optimizer: unknown optimizer 'sgd' \(choose from: pqn, newton, "):
+        fnopt.record_rollout(SCENE, optimizer="sgd")
+
+
+def test_any_optimizer_polished_by_newton_records_the_same_rollout():
+    polished = fnopt.record_rollout(SCENE, optimizer="pqn", iters=5)
+    assert repr(polished).endswith("optimizer='pqn', diverged=False)")
+    # Every step ends at the same stationary point as Newton's, to the tight tolerance.
+    np.testing.assert_allclose(polished.positions, fnopt.record_rollout(SCENE).positions, atol=1e-8)
 
 
 def test_the_torch_bridge_passes_gradcheck():
