@@ -30,6 +30,14 @@ std::vector<std::string> split_csv(const std::string& line) {
   return cells;
 }
 
+// The line of compare.csv whose method is `method` ("" if none).
+std::string row_of(const std::filesystem::path& csv, const std::string& method) {
+  std::istringstream lines(read_text(csv));
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind(method + ",", 0) == 0) return line;
+  return "";
+}
+
 TEST(CompareCli, ANonSquareComparisonWritesCsvPlotAndReport) {
   const auto dir = std::filesystem::temp_directory_path() / "fnopt_test_compare_cli";
   std::filesystem::remove_all(dir);
@@ -189,12 +197,8 @@ TEST(CompareCli, NewtonMinIsRunNotTakenFromTheReference) {
       "--cd-samples 100 --out " +
       dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
-  std::istringstream lines(read_text(dir / "compare.csv"));
-  std::string line, newton, newton_min;
-  while (std::getline(lines, line)) {
-    if (line.rfind("newton,", 0) == 0) newton = line;
-    if (line.rfind("newton-min,", 0) == 0) newton_min = line;
-  }
+  const std::string newton = row_of(dir / "compare.csv", "newton");
+  const std::string newton_min = row_of(dir / "compare.csv", "newton-min");
   EXPECT_NE(newton.find("the reference rollout itself"), std::string::npos) << newton;
   ASSERT_FALSE(newton_min.empty());
   EXPECT_EQ(newton_min.find("the reference rollout itself"), std::string::npos) << newton_min;
@@ -212,12 +216,8 @@ TEST(CompareCli, TheNewtonMinReferenceMeasuresAgainstMinima) {
       "--threads 1 --step-samples 2 --cd-samples 100 --out " +
       dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
-  std::istringstream lines(read_text(dir / "compare.csv"));
-  std::string line, newton, newton_min;
-  while (std::getline(lines, line)) {
-    if (line.rfind("newton,", 0) == 0) newton = line;
-    if (line.rfind("newton-min,", 0) == 0) newton_min = line;
-  }
+  const std::string newton = row_of(dir / "compare.csv", "newton");
+  const std::string newton_min = row_of(dir / "compare.csv", "newton-min");
   ASSERT_FALSE(newton.empty());
   ASSERT_FALSE(newton_min.empty());
   EXPECT_EQ(newton.find("the reference rollout itself"), std::string::npos) << newton;
