@@ -1,5 +1,6 @@
 // fnopt bench: timing tables measured in one run (docs/design.md §9): the Newton reference step at
-// several resolutions, the FNO's forward/backward passes, and a rollout's adjoint (§15).
+// several resolutions, the FNO's forward/backward passes, a rollout's adjoint (§15), and the contact
+// term's cost with far obstacles (§14).
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <fnopt/fno/fno_bench.hpp>
 #include <fnopt/fno/fno_io.hpp>
 #include <fnopt/methods/registry.hpp>
+#include <fnopt/scenes/scene.hpp>
 #include <fnopt/simulation/rollout.hpp>
 #include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/util/error.hpp>
@@ -200,6 +202,49 @@ void bench_adjoint_rows(const BenchFlags& flags, int threads) {
   }
 }
 
+// The contact term's cost where the cloth never comes near an obstacle (docs/design.md §14): the
+// benchmark scene with and without two far obstacles (a floor 4 m below, a sphere 3 m behind),
+// alternated in --repeat rounds per resolution and method; medians, their ratio, and whether the
+// two rollouts are the same (they must be: a barrier out of range adds exact zeros).
+void bench_contact_rows(const BenchFlags& flags, int threads) {
+  std::printf(
+      "contact with far obstacles: corner handles, motion xy_v2, %d frames, dt = 1/60, %d thread%s, medians of %d "
+      "alternated runs; the obstacles: floor z = -5 m, sphere centre (0.5, 3, -0.5) m radius 0.2 m\n",
+      flags.frames, threads, threads == 1 ? "" : "s", flags.repeat);
+  std::printf("%6s %8s %14s %14s %8s %s\n", "res", "method", "free ms/frame", "far ms/frame", "ratio", "same rollout");
+  for (int n : parse_resolutions(flags.resolutions))
+    for (const std::string method : {"pqn", "newton"}) {
+      Scene free_scene;
+      free_scene.rows = free_scene.cols = n;
+      free_scene.frames = flags.frames;
+      Scene far_scene = free_scene;
+      apply_scene_setting(far_scene, "obstacle",
+                          "plane point=0,0,-5 normal=0,0,1;sphere center=0.5,3,-0.5 radius=0.2");
+      OptimizerChoice choice;
+      choice.name = method;
+      RolloutOptions options;
+      options.solve = choice.solve_options();
+      std::vector<double> free_ms, far_ms;
+      bool same = true;
+      ProgressBar bar("contact " + std::to_string(n) + "^2 " + method, 2 * flags.repeat);
+      for (int round = 0; round < flags.repeat; ++round) {
+        const auto free_optimizer = choice.make(), far_optimizer = choice.make();
+        const RolloutResult free_run = run_rollout(resolve(free_scene), *free_optimizer, options);
+        bar.update(2 * round + 1);
+        const RolloutResult far_run = run_rollout(resolve(far_scene), *far_optimizer, options);
+        bar.update(2 * round + 2);
+        free_ms.push_back(free_run.mean_step_ms());
+        far_ms.push_back(far_run.mean_step_ms());
+        same = same && free_run.positions == far_run.positions;
+      }
+      bar.finish();
+      const double free_median = median(free_ms), far_median = median(far_ms);
+      std::printf("%4d^2 %8s %14.2f %14.2f %8.3f %s\n", n, method.c_str(), free_median, far_median,
+                  far_median / free_median, same ? "yes" : "no");
+      std::fflush(stdout);
+    }
+}
+
 void run_bench(const BenchFlags& flags) {
   const int threads = set_thread_count(flags.threads);
   if (flags.what == "newton" || flags.what == "all") bench_newton(flags, threads);
@@ -211,21 +256,25 @@ void run_bench(const BenchFlags& flags) {
     std::printf("%s", table.str().c_str());
   }
   if (flags.what == "adjoint") bench_adjoint_rows(flags, threads);
-  if (flags.what != "newton" && flags.what != "fno" && flags.what != "adjoint" && flags.what != "all")
-    throw Error("bench", "unknown benchmark '" + flags.what + "' (choose newton, fno, adjoint or all)");
+  if (flags.what == "contact") bench_contact_rows(flags, threads);
+  if (flags.what != "newton" && flags.what != "fno" && flags.what != "adjoint" && flags.what != "contact" &&
+      flags.what != "all")
+    throw Error("bench", "unknown benchmark '" + flags.what + "' (choose newton, fno, adjoint, contact or all)");
 }
 
 const RegisterCommand kRegister([](CLI::App& app) {
   auto flags = std::make_shared<BenchFlags>();
   CLI::App* command =
-      app.add_subcommand("bench", "timing tables: the Newton step, the FNO passes, a rollout's adjoint");
+      app.add_subcommand("bench", "timing tables: the Newton step, the FNO passes, a rollout's adjoint, contact's cost");
   command
       ->add_option("what", flags->what,
-                   "newton, fno, adjoint (a recorded rollout's forward and backward passes; not part of all) or all")
+                   "newton, fno, adjoint (a recorded rollout's forward and backward passes), contact (the benchmark "
+                   "scene with and without far obstacles, pqn and newton) or all (newton and fno)")
       ->capture_default_str();
   command->add_option("--res", flags->resolutions, "resolutions, comma-separated")->capture_default_str();
   command->add_option("--model", flags->model, "fno: the model whose shape is timed (default: the shipped model)");
-  command->add_option("--frames", flags->frames, "frames per resolution (newton, adjoint)")->capture_default_str();
+  command->add_option("--frames", flags->frames, "frames per resolution (newton, adjoint, contact)")
+      ->capture_default_str();
   add_threads_flag(*command, flags->threads);
   command
       ->add_option(
@@ -236,8 +285,8 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_flag("--warm-start", flags->warm_start, "start each step from the previous acceleration");
   command
       ->add_option("--repeat", flags->repeat,
-                   "newton: time each resolution this many times, in rounds; the table gives the medians and "
-                   "ms/frame's range")
+                   "newton, contact: time each resolution this many times, in rounds; the table gives the medians "
+                   "(newton: and ms/frame's range)")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   command

@@ -69,6 +69,18 @@ TEST(ContactCli, CompareReportsEveryRunsSmallestDistance) {
   }
 }
 
+// bench contact: a row per resolution and method, and far obstacles leave the rollout as it is.
+TEST(ContactCli, BenchContactTimesFarObstaclesAndTheRolloutsAreTheSame) {
+  const CommandResult r = run_fnopt("bench contact --res 8,10 --frames 4 --repeat 2 --threads 1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const std::string row : {"8^2      pqn", "8^2   newton", "10^2      pqn", "10^2   newton"}) {
+    const auto at = r.output.find(row);
+    ASSERT_NE(at, std::string::npos) << row << "\n" << r.output;
+    const std::string line = r.output.substr(at, r.output.find('\n', at) - at);
+    EXPECT_NE(line.find(" yes"), std::string::npos) << line;
+  }
+}
+
 TEST(ContactCli, ARolloutWithoutObstaclesPrintsNoDistance) {
   const fnopt::testing::TempDir tmp;
   const fs::path out = tmp.path() / "free.h5";
