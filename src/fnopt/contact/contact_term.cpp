@@ -53,15 +53,24 @@ void ContactTerm::begin_step(const VecX& x_start, double time, double dt) {
   }
 }
 
+bool ContactTerm::may_reach(std::size_t k, const Vec3& lower, const Vec3& upper, double reach) const {
+  const Obstacle& obstacle = obstacles_[k];
+  if (obstacle.shape() == ObstacleShape::Plane) {
+    // The box's signed distance from the plane is that of its corner lowest along the unit normal n.
+    const Vec3 n = obstacle.axis().normalized();
+    const Vec3 centre = 0.5 * (lower + upper), half = 0.5 * (upper - lower);
+    return n.dot(centre - obstacle.point() - end_offsets_[k]) - n.cwiseAbs().dot(half) < reach;
+  }
+  const Vec3 grown_lower = lower_[k] + end_offsets_[k] - Vec3::Constant(reach);
+  const Vec3 grown_upper = upper_[k] + end_offsets_[k] + Vec3::Constant(reach);
+  return (upper.array() >= grown_lower.array()).all() && (lower.array() <= grown_upper.array()).all();
+}
+
 void ContactTerm::mark_near_obstacles(const VecX& x) const {
   const auto points = x.reshaped(3, vertex_count_);
   const Vec3 cloth_lower = points.rowwise().minCoeff(), cloth_upper = points.rowwise().maxCoeff();
-  const double reach = params_.thickness + kernel_.range;
-  for (std::size_t k = 0; k < obstacles_.size(); ++k) {
-    const Vec3 lower = lower_[k] + end_offsets_[k] - Vec3::Constant(reach);
-    const Vec3 upper = upper_[k] + end_offsets_[k] + Vec3::Constant(reach);
-    near_[k] = (cloth_upper.array() >= lower.array()).all() && (cloth_lower.array() <= upper.array()).all();
-  }
+  for (std::size_t k = 0; k < obstacles_.size(); ++k)
+    near_[k] = may_reach(k, cloth_lower, cloth_upper, params_.thickness + kernel_.range);
 }
 
 double ContactTerm::vertex_barrier(const Vec3& p, Vec3* gradient, Mat3* hessian, bool project) const {
@@ -140,13 +149,20 @@ void ContactTerm::accumulate_hessian(const VecX& x, bool project, HessianAssembl
 }
 
 double ContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to) const {
+  // Every vertex's straight path lies in the box of both end states: an obstacle that cannot reach
+  // that box within the thickness leaves every path whole, with no vertex tested.
+  const auto from = x_from.reshaped(3, vertex_count_), to = x_to.reshaped(3, vertex_count_);
+  const Vec3 swept_lower = from.rowwise().minCoeff().cwiseMin(to.rowwise().minCoeff());
+  const Vec3 swept_upper = from.rowwise().maxCoeff().cwiseMax(to.rowwise().maxCoeff());
   double fraction = 1.0;
-  for (int i = 0; i < vertex_count_; ++i) {
-    const Vec3 p0 = x_from.segment<3>(3 * i), p1 = x_to.segment<3>(3 * i);
-    if (p0 == p1) continue;  // a vertex that does not move cannot enter an obstacle
-    for (std::size_t k = 0; k < obstacles_.size(); ++k)
+  for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+    if (!may_reach(k, swept_lower, swept_upper, params_.thickness)) continue;
+    for (int i = 0; i < vertex_count_; ++i) {
+      const Vec3 p0 = x_from.segment<3>(3 * i), p1 = x_to.segment<3>(3 * i);
+      if (p0 == p1) continue;  // a vertex that does not move cannot enter an obstacle
       fraction = std::min(
           fraction, fnopt::safe_fraction(obstacles_[k], p0, p1, end_offsets_[k], end_offsets_[k], params_.thickness));
+    }
   }
   return fraction;
 }

@@ -67,7 +67,11 @@ class ContactTerm final : public EnergyTerm {
   const std::vector<FrictionPair>& friction_pairs() const { return friction_pairs_; }
 
  private:
-  // Whether obstacle k's box, grown by thickness + dhat, meets the box of x.
+  // Whether obstacle k, at its step's end, may come within `reach` of a point in the box [lower,
+  // upper]: its own box grown by reach meets it, or for a plane the box's lowest corner along the
+  // normal is within reach. A conservative test (the broad phase, docs/design.md §14).
+  bool may_reach(std::size_t k, const Vec3& lower, const Vec3& upper, double reach) const;
+  // near_[k]: whether obstacle k may reach the box of x within thickness + dhat.
   void mark_near_obstacles(const VecX& x) const;
   // The barrier energy of a vertex at p against the near obstacles (+inf within the thickness of
   // one); adds its gradient and Hessian where given.
