@@ -66,11 +66,15 @@ bool ContactTerm::may_reach(std::size_t k, const Vec3& lower, const Vec3& upper,
   return (upper.array() >= grown_lower.array()).all() && (lower.array() <= grown_upper.array()).all();
 }
 
-void ContactTerm::mark_near_obstacles(const VecX& x) const {
+bool ContactTerm::mark_near_obstacles(const VecX& x) const {
   const auto points = x.reshaped(3, vertex_count_);
   const Vec3 cloth_lower = points.rowwise().minCoeff(), cloth_upper = points.rowwise().maxCoeff();
-  for (std::size_t k = 0; k < obstacles_.size(); ++k)
+  bool any = false;
+  for (std::size_t k = 0; k < obstacles_.size(); ++k) {
     near_[k] = may_reach(k, cloth_lower, cloth_upper, params_.thickness + kernel_.range);
+    any = any || near_[k];
+  }
+  return any;
 }
 
 double ContactTerm::vertex_barrier(const Vec3& p, Vec3* gradient, Mat3* hessian, bool project) const {
@@ -98,7 +102,7 @@ double ContactTerm::vertex_barrier(const Vec3& p, Vec3* gradient, Mat3* hessian,
 }
 
 double ContactTerm::barrier_energy(const VecX& x) const {
-  mark_near_obstacles(x);
+  if (!mark_near_obstacles(x)) return 0.0;
   double total = 0.0;
 #pragma omp parallel for reduction(+ : total) schedule(static) if (vertex_count_ >= kParallelThreshold)
   for (int i = 0; i < vertex_count_; ++i) total += vertex_barrier(x.segment<3>(3 * i), nullptr, nullptr, false);
@@ -112,10 +116,10 @@ double ContactTerm::energy(const VecX& x) const {
 }
 
 double ContactTerm::accumulate_gradient(const VecX& x, VecX& grad) const {
-  mark_near_obstacles(x);
   double total = 0.0;
-#pragma omp parallel for reduction(+ : total) schedule(static) if (vertex_count_ >= kParallelThreshold)
-  for (int i = 0; i < vertex_count_; ++i) {
+  const bool near = mark_near_obstacles(x);
+#pragma omp parallel for reduction(+ : total) schedule(static) if (near && vertex_count_ >= kParallelThreshold)
+  for (int i = 0; i < (near ? vertex_count_ : 0); ++i) {
     Vec3 g = Vec3::Zero();
     total += vertex_barrier(x.segment<3>(3 * i), &g, nullptr, false);
     grad.segment<3>(3 * i) += g;
@@ -133,10 +137,10 @@ int ContactTerm::register_hessian(HessianAssembly& assembly) const {
 }
 
 void ContactTerm::accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly, int handle) const {
-  mark_near_obstacles(x);
+  const bool near = mark_near_obstacles(x);
   // Each vertex writes only its own diagonal block: the loop is free of races.
-#pragma omp parallel for schedule(static) if (vertex_count_ >= kParallelThreshold)
-  for (int i = 0; i < vertex_count_; ++i) {
+#pragma omp parallel for schedule(static) if (near && vertex_count_ >= kParallelThreshold)
+  for (int i = 0; i < (near ? vertex_count_ : 0); ++i) {
     Mat3 H = Mat3::Zero();
     vertex_barrier(x.segment<3>(3 * i), nullptr, &H, project);
     if (!H.isZero(0.0)) assembly.scatter<1>(handle, i, H);

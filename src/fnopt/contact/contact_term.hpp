@@ -71,8 +71,9 @@ class ContactTerm final : public EnergyTerm {
   // upper]: its own box grown by reach meets it, or for a plane the box's lowest corner along the
   // normal is within reach. A conservative test (the broad phase, docs/design.md §14).
   bool may_reach(std::size_t k, const Vec3& lower, const Vec3& upper, double reach) const;
-  // near_[k]: whether obstacle k may reach the box of x within thickness + dhat.
-  void mark_near_obstacles(const VecX& x) const;
+  // near_[k]: whether obstacle k may reach the box of x within thickness + dhat; true if any may
+  // (else the barrier is zero at x, with its derivatives, and no vertex need be visited).
+  bool mark_near_obstacles(const VecX& x) const;
   // The barrier energy of a vertex at p against the near obstacles (+inf within the thickness of
   // one); adds its gradient and Hessian where given.
   double vertex_barrier(const Vec3& p, Vec3* gradient, Mat3* hessian, bool project) const;
