@@ -104,9 +104,10 @@ void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
 
   std::printf("reference: %s\n", describe(flags.reference, reference).c_str());
   std::printf("rollout:   %s\n", describe(flags.rollout, rollout).c_str());
-  const std::string divergence = read_rollout_provenance(flags.rollout).divergence;
-  if (!divergence.empty())
-    std::printf("diverged:  %s; the errors and the strain below cover the frames before it\n", divergence.c_str());
+  const RolloutProvenance provenance = read_rollout_provenance(flags.rollout);
+  if (!provenance.divergence.empty())
+    std::printf("diverged:  %s; the errors and the strain below cover the frames before it\n",
+                provenance.divergence.c_str());
   std::printf("matched:   %s\n", c.describe_matching().c_str());
   if (c.matches.empty()) throw Error("evaluate", "the two trajectories have no frames at matching times");
   if (options.chamfer_enabled)
@@ -122,7 +123,7 @@ void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
   std::printf("max edge strain of the rollout's frames = %.2f %%\n", 100 * c.max_strain);
   // An fnopt rollout stores its scene; where that has obstacles, how close the cloth came to them
   // (docs/design.md §14: at least the contact thickness, never negative).
-  if (!read_rollout_provenance(flags.rollout).version.empty()) {
+  if (!provenance.version.empty()) {
     const Scene scene = read_rollout_scene(flags.rollout);
     if (!scene.obstacles.empty())
       std::printf("min obstacle distance = %.6g m   (over %zu frames, every vertex and obstacle)\n",

@@ -117,12 +117,13 @@ double ContactTerm::energy(const VecX& x) const {
 
 double ContactTerm::accumulate_gradient(const VecX& x, VecX& grad) const {
   double total = 0.0;
-  const bool near = mark_near_obstacles(x);
-#pragma omp parallel for reduction(+ : total) schedule(static) if (near && vertex_count_ >= kParallelThreshold)
-  for (int i = 0; i < (near ? vertex_count_ : 0); ++i) {
-    Vec3 g = Vec3::Zero();
-    total += vertex_barrier(x.segment<3>(3 * i), &g, nullptr, false);
-    grad.segment<3>(3 * i) += g;
+  if (mark_near_obstacles(x)) {
+#pragma omp parallel for reduction(+ : total) schedule(static) if (vertex_count_ >= kParallelThreshold)
+    for (int i = 0; i < vertex_count_; ++i) {
+      Vec3 g = Vec3::Zero();
+      total += vertex_barrier(x.segment<3>(3 * i), &g, nullptr, false);
+      grad.segment<3>(3 * i) += g;
+    }
   }
   Vec3 g;
   for (const FrictionPair& pair : friction_pairs_) {
@@ -137,13 +138,14 @@ int ContactTerm::register_hessian(HessianAssembly& assembly) const {
 }
 
 void ContactTerm::accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly, int handle) const {
-  const bool near = mark_near_obstacles(x);
-  // Each vertex writes only its own diagonal block: the loop is free of races.
-#pragma omp parallel for schedule(static) if (near && vertex_count_ >= kParallelThreshold)
-  for (int i = 0; i < (near ? vertex_count_ : 0); ++i) {
-    Mat3 H = Mat3::Zero();
-    vertex_barrier(x.segment<3>(3 * i), nullptr, &H, project);
-    if (!H.isZero(0.0)) assembly.scatter<1>(handle, i, H);
+  if (mark_near_obstacles(x)) {
+    // Each vertex writes only its own diagonal block: the loop is free of races.
+#pragma omp parallel for schedule(static) if (vertex_count_ >= kParallelThreshold)
+    for (int i = 0; i < vertex_count_; ++i) {
+      Mat3 H = Mat3::Zero();
+      vertex_barrier(x.segment<3>(3 * i), nullptr, &H, project);
+      if (!H.isZero(0.0)) assembly.scatter<1>(handle, i, H);
+    }
   }
   Mat3 H;
   for (const FrictionPair& pair : friction_pairs_) {
