@@ -42,6 +42,25 @@ TEST(BoundedLbfgs, StopsOnTheBoundWhereTheGradientPointsOut) {
   EXPECT_NEAR(g[0], 0.0, 1e-6);
 }
 
+TEST(BoundedLbfgs, KeepsToItsEvaluationBudget) {
+  BoundedLbfgsParams params;
+  params.max_iterations = 200;
+  params.max_evaluations = 9;
+  int calls = 0;
+  const BoundedLbfgsResult r = minimize_in_box(
+      [&](const VecX& x, VecX& g) {
+        ++calls;
+        return rosenbrock(x, g);
+      },
+      VecX::Constant(2, -1.0), VecX::Constant(2, -2.0), VecX::Constant(2, 2.0), params);
+  EXPECT_EQ(r.status, BoundedLbfgsStatus::EvaluationBudget) << to_string(r.status);
+  EXPECT_EQ(calls, 9);
+  EXPECT_EQ(r.evaluations, 9);
+  VecX g;
+  EXPECT_LT(r.value, rosenbrock(VecX::Constant(2, -1.0), g));
+  EXPECT_EQ(r.value, rosenbrock(r.x, g));
+}
+
 TEST(BoundedLbfgs, ReportsANonFiniteStartAndRefusesBadBounds) {
   const auto nan = [](const VecX& x, VecX& g) {
     g = VecX::Zero(x.size());

@@ -35,6 +35,8 @@ const char* to_string(BoundedLbfgsStatus status) {
       return "converged";
     case BoundedLbfgsStatus::IterationBudget:
       return "iteration-budget";
+    case BoundedLbfgsStatus::EvaluationBudget:
+      return "evaluation-budget";
     case BoundedLbfgsStatus::LineSearchFailed:
       return "line-search-failed";
     case BoundedLbfgsStatus::NonFinite:
@@ -46,11 +48,12 @@ const char* to_string(BoundedLbfgsStatus status) {
 void BoundedLbfgsParams::validate() const {
   require(history >= 1, "history", "must be at least 1");
   require(max_iterations >= 1, "max_iterations", "must be at least 1");
-  require(std::isfinite(gradient_tolerance) && gradient_tolerance >= 0.0, "gradient_tolerance",
-          "must be zero or more");
+  require(std::isfinite(gradient_tolerance) && gradient_tolerance >= 0.0, "gradient_tolerance", "must be zero or more");
   require(!std::isnan(value_tolerance), "value_tolerance", "must be a number");
   require(armijo > 0.0 && armijo < 1.0, "armijo", "must be in (0, 1)");
   require(max_backtracks >= 1, "max_backtracks", "must be at least 1");
+  require(max_evaluations >= 0, "max_evaluations", "must be zero (no limit) or more");
+  require(std::isfinite(first_step) && first_step >= 0.0, "first_step", "must be zero (unscaled) or more");
 }
 
 BoundedLbfgsResult minimize_in_box(const BoundedObjective& f, const VecX& x0, const VecX& lower, const VecX& upper,
@@ -99,12 +102,18 @@ BoundedLbfgsResult minimize_in_box(const BoundedObjective& f, const VecX& x0, co
     for (Eigen::Index i = 0; i < direction.size(); ++i)
       if (active[i]) direction[i] = 0.0;
     if (!(direction.dot(free_gradient) < 0.0)) direction = -free_gradient;
+    if (pairs.empty() && params.first_step > 0.0 && direction.cwiseAbs().maxCoeff() > 0.0)
+      direction *= params.first_step / direction.cwiseAbs().maxCoeff();
 
     double step = 1.0;
     bool accepted = false;
     VecX trial;
     double trial_value = 0.0;
     for (int b = 0; b < params.max_backtracks; ++b, step *= 0.5) {
+      if (params.max_evaluations > 0 && result.evaluations >= params.max_evaluations) {
+        result.status = BoundedLbfgsStatus::EvaluationBudget;
+        return result;
+      }
       trial = project(result.x + step * direction, lower, upper);
       trial_value = f(trial, trial_g);
       ++result.evaluations;

@@ -6,8 +6,8 @@
 // Per iteration: the variables at a bound whose gradient points out of the box are held (the
 // active set); on the others the two-loop recursion over the last `history` pairs (s, y) gives
 // d = -H g (initial inverse Hessian gamma I, gamma = s.y / y.y of the newest pair; -g before the
-// first), replaced by -g where it is not a descent direction; then a projected backtracking line
-// search x(alpha) = P(x + alpha d), alpha = 1, 1/2, ..., accepting the first with
+// first, optionally scaled to first_step), replaced by -g where it is not a descent direction;
+// then a projected backtracking line search x(alpha) = P(x + alpha d), alpha = 1, 1/2, ..., accepting the first with
 //   f(x(alpha)) <= f(x) + c1 g.(x(alpha) - x).
 // A pair is kept only if s.y > 1e-10 |s| |y| (so H stays positive definite). The stop: the
 // projected gradient ||P(x - g) - x||_inf is at most `gradient_tolerance` times its first value.
@@ -19,12 +19,17 @@
 namespace fnopt {
 
 struct BoundedLbfgsParams {
-  int history = 6;                    // pairs (s, y) kept
+  int history = 6;  // pairs (s, y) kept
   int max_iterations = 50;
-  double gradient_tolerance = 1e-8;   // relative to the first projected gradient
-  double value_tolerance = -std::numeric_limits<double>::infinity();  // also stop once f <= this
-  double armijo = 1e-4;               // c1
-  int max_backtracks = 30;            // halvings of alpha before line-search-failed
+  double gradient_tolerance = 1e-8;  // relative to the first projected gradient
+  // Also stop once f <= this.
+  double value_tolerance = -std::numeric_limits<double>::infinity();
+  double armijo = 1e-4;     // c1
+  int max_backtracks = 30;  // halvings of alpha before line-search-failed
+  int max_evaluations = 0;  // calls of the objective at most (0: no limit)
+  // Before the first pair, d = -g scaled so that no variable moves more than this at alpha = 1
+  // (the gradient's scale says nothing about the step's; 0: d = -g as it is).
+  double first_step = 0.0;
 
   void validate() const;  // throws Error naming the field
 };
@@ -32,6 +37,7 @@ struct BoundedLbfgsParams {
 enum class BoundedLbfgsStatus {
   Converged,         // the projected gradient (or the value) is below its tolerance
   IterationBudget,   // max_iterations used
+  EvaluationBudget,  // max_evaluations used (x: the best point the iterations accepted)
   LineSearchFailed,  // no step along d decreased f enough
   NonFinite,         // f or its gradient is not finite at the start
 };

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <sstream>
 
+#include <fnopt/adjoint/compass_search.hpp>
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/io/hdf5_file.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
@@ -159,65 +159,38 @@ MaterialFitResult fit_material(const std::vector<FitReference>& references, cons
                                const MaterialFitParams& params, const FitCallback& on_evaluation) {
   params.validate();
   const auto& coefficients = params.coefficients;
-  const std::size_t n = coefficients.size();
+  const Eigen::Index n = static_cast<Eigen::Index>(coefficients.size());
 
   // The search point: ln of each chosen coefficient, clamped to its range.
-  std::vector<double> point(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  VecX point(n), lower(n), upper(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
     double value = coefficient_of(start, coefficients[i]);
     if (!(value > 0.0)) value = coefficient_of(Material{}, coefficients[i]);
     if (!(value > 0.0)) value = 1.0;
     const auto& range = params.range(coefficients[i]);
+    lower[i] = std::log(range.low);
+    upper[i] = std::log(range.high);
     point[i] = std::log(std::clamp(value, range.low, range.high));
   }
-  auto material_at = [&](const std::vector<double>& p) {
+  auto material_at = [&](const VecX& p) {
     Material m = start;
-    for (std::size_t i = 0; i < n; ++i) coefficient_of(m, coefficients[i]) = std::exp(p[i]);
+    for (Eigen::Index i = 0; i < n; ++i) coefficient_of(m, coefficients[i]) = std::exp(p[i]);
     return m;
   };
 
   MaterialFitResult result;
-  // Points already evaluated, by their position on the search lattice: a poll that returns to a
-  // point costs nothing.
-  std::map<std::vector<long long>, FitEvaluation> cache;
-  auto key_of = [&](const std::vector<double>& p) {
-    std::vector<long long> key(n);
-    for (std::size_t i = 0; i < n; ++i) key[i] = std::llround(p[i] / (0.25 * params.final_step));
-    return key;
-  };
-  auto evaluate = [&](const std::vector<double>& p) -> const FitEvaluation& {
-    const auto key = key_of(p);
-    auto found = cache.find(key);
-    if (found != cache.end()) return found->second;
-    const FitEvaluation& e = cache.emplace(key, evaluate_material(references, material_at(p), params)).first->second;
+  const auto error = [&](const VecX& p) {
+    const FitEvaluation e = evaluate_material(references, material_at(p), params);
     ++result.evaluations;
+    if (result.evaluations == 1) result.start = e;
     if (result.evaluations == 1 || e.mean_error < result.best.mean_error) result.best = e;
     if (on_evaluation) on_evaluation(result.evaluations, e, result.best);
-    return e;
+    return e.mean_error;
   };
-
-  result.start = evaluate(point);
-  double step = params.initial_step;
-  while (step >= params.final_step && result.evaluations < params.max_evaluations) {
-    bool improved = false;
-    for (std::size_t i = 0; i < n && !improved && result.evaluations < params.max_evaluations; ++i) {
-      const auto& range = params.range(coefficients[i]);
-      for (double sign : {+1.0, -1.0}) {
-        std::vector<double> trial = point;
-        trial[i] = std::clamp(point[i] + sign * step, std::log(range.low), std::log(range.high));
-        if (trial[i] == point[i] || result.evaluations >= params.max_evaluations) continue;
-        const double current = evaluate(point).mean_error;
-        if (evaluate(trial).mean_error < current) {
-          point = trial;
-          improved = true;
-          break;
-        }
-      }
-    }
-    if (!improved) step *= 0.5;
-  }
-  result.final_step = step;
-  result.converged = step < params.final_step;
+  const CompassSearchResult search =
+      minimize_by_compass(error, point, lower, upper, {params.initial_step, params.final_step, params.max_evaluations});
+  result.final_step = search.final_step;
+  result.converged = search.converged;
   return result;
 }
 

@@ -1,8 +1,8 @@
 #pragma once
 // Fitting fnopt's material to reference rollouts: the stretch, shear, bend and
 // damping coefficients whose exact (Newton) rollout reproduces the references best in e_CD, the
-// paper's Table 6.1 metric. The paper fits by grid search; here a compass search (Kolda, Lewis &
-// Torczon 2003, "Optimization by direct search", §3) in the logarithms of the coefficients:
+// paper's Table 6.1 metric. The paper fits by grid search; here a compass search
+// (adjoint/compass_search.hpp) in the logarithms of the coefficients:
 // poll +-s along each coefficient, move to the first point that lowers the error, halve s after a
 // poll without improvement, stop when s is below final_step. Derivative-free (e_CD of a whole
 // rollout has no useful gradient), deterministic (e_CD uses a fixed sampling seed), and in log
