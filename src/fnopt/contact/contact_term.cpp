@@ -66,9 +66,19 @@ bool ContactTerm::may_reach(std::size_t k, const Vec3& lower, const Vec3& upper,
   return (upper.array() >= grown_lower.array()).all() && (lower.array() <= grown_upper.array()).all();
 }
 
+bool ContactTerm::may_touch(const Vec3& lower, const Vec3& upper) const {
+  for (std::size_t k = 0; k < obstacles_.size(); ++k)
+    if (may_reach(k, lower, upper, params_.thickness)) return true;
+  return false;
+}
+
 bool ContactTerm::mark_near_obstacles(const VecX& x) const {
-  const auto points = x.reshaped(3, vertex_count_);
-  const Vec3 cloth_lower = points.rowwise().minCoeff(), cloth_upper = points.rowwise().maxCoeff();
+  // One pass over the vertices (a rowwise reduction of the 3 x n view would take six strided ones).
+  Vec3 cloth_lower = Vec3::Constant(std::numeric_limits<double>::infinity()), cloth_upper = -cloth_lower;
+  for (int i = 0; i < vertex_count_; ++i) {
+    cloth_lower = cloth_lower.cwiseMin(x.segment<3>(3 * i));
+    cloth_upper = cloth_upper.cwiseMax(x.segment<3>(3 * i));
+  }
   bool any = false;
   for (std::size_t k = 0; k < obstacles_.size(); ++k) {
     near_[k] = may_reach(k, cloth_lower, cloth_upper, params_.thickness + kernel_.range);
@@ -157,9 +167,11 @@ void ContactTerm::accumulate_hessian(const VecX& x, bool project, HessianAssembl
 double ContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to) const {
   // Every vertex's straight path lies in the box of both end states: an obstacle that cannot reach
   // that box within the thickness leaves every path whole, with no vertex tested.
-  const auto from = x_from.reshaped(3, vertex_count_), to = x_to.reshaped(3, vertex_count_);
-  const Vec3 swept_lower = from.rowwise().minCoeff().cwiseMin(to.rowwise().minCoeff());
-  const Vec3 swept_upper = from.rowwise().maxCoeff().cwiseMax(to.rowwise().maxCoeff());
+  Vec3 swept_lower = Vec3::Constant(std::numeric_limits<double>::infinity()), swept_upper = -swept_lower;
+  for (int i = 0; i < vertex_count_; ++i) {
+    swept_lower = swept_lower.cwiseMin(x_from.segment<3>(3 * i)).cwiseMin(x_to.segment<3>(3 * i));
+    swept_upper = swept_upper.cwiseMax(x_from.segment<3>(3 * i)).cwiseMax(x_to.segment<3>(3 * i));
+  }
   double fraction = 1.0;
   for (std::size_t k = 0; k < obstacles_.size(); ++k) {
     if (!may_reach(k, swept_lower, swept_upper, params_.thickness)) continue;

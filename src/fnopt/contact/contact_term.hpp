@@ -52,6 +52,10 @@ class ContactTerm final : public EnergyTerm {
   // The largest s in [0, 1] such that no vertex that moves comes within the thickness of an
   // obstacle (at the step's end pose) on the straight path from x_from to x_to before s (ccd.hpp).
   double safe_fraction(const VecX& x_from, const VecX& x_to) const;
+  // Whether some obstacle (at the step's end pose) may come within the thickness of a point in the
+  // box [lower, upper]; where none may, every straight path inside the box is safe (the broad
+  // phase of safe_fraction, for a caller that bounds the paths more cheaply than by their ends).
+  bool may_touch(const Vec3& lower, const Vec3& upper) const;
   // Start positions the step's solve can begin from: x_t, except that a vertex an obstacle would
   // sweep over during the step (the vertex held still, the obstacle translating) moves with that
   // obstacle, x_t + Delta o. Written to `x_safe`.

@@ -62,6 +62,7 @@ class BackwardEulerObjective {
 
   // x(a) = x^ + dt^2 a.
   void trial_positions(const VecX& a, VecX& x) const { x.noalias() = x_inertial_ + dt_ * dt_ * a; }
+  const VecX& inertial_positions() const { return x_inertial_; }  // x^ = x_t + dt v_t
   double value(const VecX& a) const;
   // Writes grad L(a) (every dof, handles included: masking is the caller's) and returns L(a).
   double value_gradient(const VecX& a, VecX& grad) const;
@@ -110,7 +111,7 @@ class BackwardEulerObjective {
   RepulsionTerm* repulsion_ = nullptr;  // one of terms_
   ContactTerm* contact_ = nullptr;      // one of terms_
   double time_ = 0.0;
-  long assembled_generation_ = -1;      // repulsion pattern generation of assembly_
+  long assembled_generation_ = -1;  // repulsion pattern generation of assembly_
   long pattern_id_ = 0;
 };
 

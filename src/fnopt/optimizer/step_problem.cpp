@@ -1,5 +1,7 @@
 #include <fnopt/optimizer/step_problem.hpp>
 
+#include <limits>
+
 #include <fnopt/contact/contact_term.hpp>
 
 namespace fnopt {
@@ -7,6 +9,18 @@ namespace fnopt {
 double StepProblem::feasible_fraction(const VecX& a_from, const VecX& a_to) {
   const ContactTerm* contact = objective_->contact();
   if (!contact) return 1.0;
+  // The box of both ends straight from the accelerations, x = x^ + dt^2 a, in one pass that stores
+  // nothing: where no obstacle can reach it (far obstacles, docs/design.md §14) that is all it costs.
+  const VecX& inertial = objective_->inertial_positions();
+  const double dt2 = objective_->dt() * objective_->dt();
+  Vec3 lower = Vec3::Constant(std::numeric_limits<double>::infinity()), upper = -lower;
+  for (Eigen::Index i = 0; i < inertial.size(); i += 3) {
+    const Vec3 base = inertial.segment<3>(i);
+    const Vec3 from = base + dt2 * a_from.segment<3>(i), to = base + dt2 * a_to.segment<3>(i);
+    lower = lower.cwiseMin(from).cwiseMin(to);
+    upper = upper.cwiseMax(from).cwiseMax(to);
+  }
+  if (!contact->may_touch(lower, upper)) return 1.0;
   objective_->trial_positions(a_from, x_from_);
   objective_->trial_positions(a_to, x_to_);
   return contact->safe_fraction(x_from_, x_to_);
@@ -33,8 +47,9 @@ void StepProblem::make_start_feasible(VecX& a) {
   scratch_ = a;  // the handles keep their prescribed accelerations
   for (int v = 0; v < dirichlet_->vertex_count(); ++v)
     if (dirichlet_->free_index()[v] >= 0)
-      scratch_.segment<3>(3 * v) =
-          (x_to_.segment<3>(3 * v) - x_start.segment<3>(3 * v) - objective_->dt() * objective_->start_velocities().segment<3>(3 * v)) / dt2;
+      scratch_.segment<3>(3 * v) = (x_to_.segment<3>(3 * v) - x_start.segment<3>(3 * v) -
+                                    objective_->dt() * objective_->start_velocities().segment<3>(3 * v)) /
+                                   dt2;
   const double fraction = feasible_fraction(scratch_, a);
   if (fraction < 1.0) a = scratch_ + pullback() * fraction * (a - scratch_);
 }
