@@ -26,9 +26,11 @@ class PySimulator {
     simulator_ = std::make_unique<Simulator>(resolved_, *optimizer_, run.options);
   }
 
-  py::array_t<double> step(const py::object& handles, const py::object& acceleration) {
+  py::array_t<double> step(const py::object& handles, const py::object& acceleration, const py::object& obstacles) {
     const std::vector<Vec3> targets = targets_of(handles);
     end_problem();
+    if (!obstacles.is_none())
+      simulator_->set_obstacle_offsets(point_list(obstacles, resolved_.scene.obstacles.size(), "obstacles"));
     if (acceleration.is_none()) {
       py::gil_scoped_release release;
       last_ = simulator_->step(targets);
@@ -82,6 +84,7 @@ class PySimulator {
     return ij;
   }
   py::array_t<double> trajectory_targets(double t) const { return point_array(simulator_->trajectory_targets(t)); }
+  py::array_t<double> obstacle_offsets() const { return point_array(simulator_->obstacle_offsets()); }
   py::object last_step() const {
     return simulator_->steps_done() == 0 && !simulator_->diverged() ? py::object(py::none()) : step_record(last_);
   }
@@ -144,7 +147,7 @@ warm_start : bool, optional
            py::arg("scene"), py::arg("optimizer") = "pqn", py::arg("iters") = 0, py::arg("model") = py::none(),
            py::arg("lr") = py::none(), py::arg("gd_curvature_scaled") = true, py::arg("warm_start") = false)
       .def("step", &PySimulator::step, py::arg("handles") = py::none(), py::arg("acceleration") = py::none(),
-           R"(Takes one time step.
+           py::arg("obstacles") = py::none(), R"(Takes one time step.
 
 Parameters
 ----------
@@ -154,6 +157,10 @@ handles : array_like, optional
 acceleration : array_like, optional
     The step's answer, (rows, cols, 3), from an optimizer of one's own instead of the built-in
     one (its handle entries are ignored).
+obstacles : array_like, optional
+    Steers the obstacles: their translations from their rest poses at the step's end, (K, 3)
+    in the scene's order, instead of their motions' (the next step starts from there); default:
+    their motions.
 
 Returns
 -------
@@ -265,6 +272,9 @@ Returns
 -------
 numpy.ndarray
     (H, 3), in the order of `handle_vertices`.)")
+      .def_property_readonly("obstacle_offsets", &PySimulator::obstacle_offsets,
+                             "numpy.ndarray: (K, 3), each obstacle's translation from its rest pose now: its "
+                             "motion's, or where the last step steered it.")
       .def_property_readonly("last_step", &PySimulator::last_step,
                              "StepRecord or None: The last step's record; None before the first step.")
       .def_property_readonly("scene", &PySimulator::scene, "Scene: The scene it runs.")

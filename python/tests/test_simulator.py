@@ -197,3 +197,19 @@ def test_newton_min_runs_by_name_and_says_it_leaves_saddles():
     rollout = fnopt.run_rollout(fnopt.Scene(res=8, frames=3), optimizer="newton-min")
     assert "escape_saddles=1" in rollout.optimizer_settings
     assert rollout.positions.shape == (4, 8, 8, 3) and np.isfinite(rollout.positions).all()
+
+
+def test_obstacles_steered_step_by_step_push_the_cloth_and_stay_outside_it():
+    scene = fnopt.Scene(res=8, frames=40, motion="static", obstacles=["sphere center=0,-0.3,-0.4 radius=0.15"])
+    sim = fnopt.Simulator(scene, optimizer="pqn")
+    assert sim.obstacle_offsets.tolist() == [[0.0, 0.0, 0.0]]
+    pushed = 0.0
+    for t in range(1, 41):
+        offset = np.array([[0.0, 0.015 * t, 0.0]])  # through the cloth's plane y = 0 and beyond
+        x = sim.step(obstacles=offset).reshape(-1, 3)
+        assert np.array_equal(sim.obstacle_offsets, offset)
+        assert (np.linalg.norm(x - (np.array([0.0, -0.3, -0.4]) + offset[0]), axis=1) >= 0.15).all()
+        pushed = max(pushed, x[:, 1].max())
+    assert pushed > 0.1
+    with pytest.raises(fnopt.Error, match="obstacles"):
+        sim.step(obstacles=np.zeros((2, 3)))

@@ -1,9 +1,11 @@
 // The simulator, a rollout one step at a time: driven along the scene's trajectory it is
 // run_rollout bit for bit; handles given per step go exactly there; an acceleration of one's own
-// is committed with the handles' prescription kept; a divergence stops it with its reason.
+// is committed with the handles' prescription kept; a divergence stops it with its reason;
+// obstacles steered step by step go where they are told, as a motion of theirs would.
 #include <gtest/gtest.h>
 
 #include <fnopt/baselines/pqn.hpp>
+#include <fnopt/contact/obstacle_spec.hpp>
 #include <fnopt/simulation/simulator.hpp>
 #include <fnopt/util/error.hpp>
 
@@ -96,6 +98,62 @@ TEST(Simulator, AStateSetWithItsStepsContinuesTheRollout) {
   whole.step();
   resumed.step();  // the handles at step 6's targets, as in the whole rollout
   EXPECT_TRUE((resumed.positions().array() == whole.positions().array()).all());
+}
+
+// A sphere swept through the hanging cloth along xy_v2, out of the cloth's plane.
+ResolvedScene pushed_scene() {
+  Scene scene;
+  scene.rows = scene.cols = 8;
+  scene.frames = 60;
+  scene.motion = "static";
+  scene.obstacles = {parse_obstacle("sphere center=0,-0.3,-0.4 radius=0.15 motion=xy_v2")};
+  return resolve(scene);
+}
+
+TEST(Simulator, ObstaclesSteeredAlongTheirMotionAreThatMotion) {
+  const ResolvedScene scene = pushed_scene();
+  PqnOptimizer moving_pqn, steered_pqn;
+  Simulator moving(scene, moving_pqn, pqn_options()), steered(scene, steered_pqn, pqn_options());
+  const Obstacle& sphere = scene.scene.obstacles[0];
+  double largest_offset = 0.0;
+  for (int t = 1; t <= scene.scene.frames; ++t) {
+    moving.step();
+    const Vec3 target = sphere.offset(steered.time() + scene.scene.dt);
+    steered.set_obstacle_offsets({target});
+    steered.step();
+    ASSERT_EQ(steered.obstacle_offsets().size(), 1u);
+    EXPECT_EQ(steered.obstacle_offsets()[0], target);
+    EXPECT_LT((steered.positions() - moving.positions()).cwiseAbs().maxCoeff(), 1e-9) << "step " << t;
+    largest_offset = std::max(largest_offset, steered.obstacle_offsets()[0].norm());
+  }
+  EXPECT_GT(largest_offset, 0.1);  // the sphere did move
+}
+
+TEST(Simulator, ASteeredObstacleGoesWhereItIsToldAndPushesTheCloth) {
+  Scene still = pushed_scene().scene;
+  still.obstacles = {parse_obstacle("sphere center=0,-0.3,-0.4 radius=0.15")};
+  const ResolvedScene scene = resolve(still);
+  PqnOptimizer pqn;
+  Simulator simulator(scene, pqn, pqn_options());
+  EXPECT_EQ(simulator.obstacle_offsets(), std::vector<Vec3>{Vec3::Zero()});
+  double pushed = 0.0;
+  for (int t = 1; t <= 40; ++t) {
+    const Vec3 offset(0.0, 0.015 * t, 0.0);  // through the cloth's plane y = 0 and 0.3 m beyond
+    simulator.set_obstacle_offsets({offset});
+    simulator.step();
+    EXPECT_EQ(simulator.obstacle_offsets()[0], offset);
+    const Vec3 centre = Vec3(0.0, -0.3, -0.4) + offset;
+    for (int v = 0; v < scene.grid.vertex_count(); ++v) {
+      EXPECT_GE((vertex(simulator.positions(), v) - centre).norm(), 0.15) << "step " << t << " vertex " << v;
+      pushed = std::max(pushed, vertex(simulator.positions(), v).y());
+    }
+  }
+  EXPECT_GT(pushed, 0.1);
+  EXPECT_THROW(simulator.set_obstacle_offsets({}), Error);
+  EXPECT_THROW(simulator.set_obstacle_offsets({Vec3(NAN, 0, 0)}), Error);
+  // A state set anew puts the obstacle back on its motion (here: still).
+  simulator.set_state(simulator.positions(), simulator.velocities());
+  EXPECT_EQ(simulator.obstacle_offsets(), std::vector<Vec3>{Vec3::Zero()});
 }
 
 }  // namespace

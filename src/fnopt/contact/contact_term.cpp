@@ -26,11 +26,18 @@ ContactTerm::ContactTerm(const Grid& grid, std::vector<Obstacle> obstacles, cons
   std::iota(vertices_.begin(), vertices_.end(), 0);
 }
 
-void ContactTerm::begin_step(const VecX& x_start, double time, double dt) {
+void ContactTerm::begin_step(const VecX& x_start, double time, double dt, const ObstacleOffsets* offsets) {
   mollifier_.epsilon = params_.friction_velocity * dt;
-  for (std::size_t k = 0; k < obstacles_.size(); ++k) {
-    start_offsets_[k] = obstacles_[k].offset(time);
-    end_offsets_[k] = obstacles_[k].offset(time + dt);
+  if (offsets) {
+    require(offsets->start.size() == obstacles_.size() && offsets->end.size() == obstacles_.size(), "obstacles",
+            "expected " + std::to_string(obstacles_.size()) + " offsets (one per obstacle)");
+    start_offsets_ = offsets->start;
+    end_offsets_ = offsets->end;
+  } else {
+    for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+      start_offsets_[k] = obstacles_[k].offset(time);
+      end_offsets_[k] = obstacles_[k].offset(time + dt);
+    }
   }
   friction_pairs_.clear();
   for (std::size_t k = 0; k < obstacles_.size(); ++k) {

@@ -28,6 +28,11 @@
 
 namespace fnopt {
 
+// The obstacles' translations from their rest poses at a step's start and end, one per obstacle.
+struct ObstacleOffsets {
+  std::vector<Vec3> start, end;
+};
+
 class ContactTerm final : public EnergyTerm {
  public:
   static constexpr long kParallelThreshold = 2048;
@@ -36,8 +41,9 @@ class ContactTerm final : public EnergyTerm {
   ContactTerm(const Grid& grid, std::vector<Obstacle> obstacles, const ContactParams& params);
 
   // Poses the obstacles for the step from `time` to `time + dt` and freezes the friction pairs at
-  // the start positions.
-  void begin_step(const VecX& x_start, double time, double dt);
+  // the start positions. The poses are the obstacles' motions at both times, or `offsets`: each
+  // obstacle's translation from its rest pose at the step's start and end (a caller steering them).
+  void begin_step(const VecX& x_start, double time, double dt, const ObstacleOffsets* offsets = nullptr);
 
   const std::string& name() const override { return name_; }
   // The barrier and the friction potential: the step's objective.

@@ -41,13 +41,14 @@ BackwardEulerObjective::BackwardEulerObjective(const Grid& grid, const Material&
   begin_step(x_start_, v_start_);
 }
 
-void BackwardEulerObjective::begin_step(const VecX& x, const VecX& v, double time) {
+void BackwardEulerObjective::begin_step(const VecX& x, const VecX& v, double time,
+                                        const ObstacleOffsets* obstacle_offsets) {
   x_start_ = x;
   v_start_ = v;
   x_inertial_ = x + dt_ * v;
   time_ = time;
   if (repulsion_) repulsion_->begin_step(x_start_, x_inertial_);
-  if (contact_) contact_->begin_step(x_start_, time, dt_);
+  if (contact_) contact_->begin_step(x_start_, time, dt_, obstacle_offsets);
 }
 
 double BackwardEulerObjective::value(const VecX& a) const {

@@ -28,6 +28,7 @@
 namespace fnopt {
 
 class ContactTerm;
+struct ObstacleOffsets;
 class RepulsionTerm;
 
 class BackwardEulerObjective {
@@ -54,8 +55,9 @@ class BackwardEulerObjective {
   long hessian_pattern_id() const { return pattern_id_; }
 
   // Starts a step from positions x_t and velocities v_t at time t [s] (freezes the repulsion pairs;
-  // poses the obstacles at t and t + dt and freezes their friction pairs).
-  void begin_step(const VecX& x, const VecX& v, double time = 0.0);
+  // poses the obstacles at t and t + dt, on their motions or at `obstacle_offsets`, and freezes
+  // their friction pairs).
+  void begin_step(const VecX& x, const VecX& v, double time = 0.0, const ObstacleOffsets* obstacle_offsets = nullptr);
   double start_time() const { return time_; }
   const VecX& start_positions() const { return x_start_; }
   const VecX& start_velocities() const { return v_start_; }

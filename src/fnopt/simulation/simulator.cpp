@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include <fnopt/cloth/strain.hpp>
+#include <fnopt/contact/contact_term.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
@@ -29,7 +30,7 @@ Simulator::Simulator(const ResolvedScene& scene, InnerOptimizer& optimizer, cons
       dirichlet_(scene_.grid.vertex_count(), scene_.handles.vertices),
       problem_(objective_, dirichlet_),
       x_(scene_.rest_positions.size() == scene_.grid.dof_count() ? scene_.rest_positions
-                                                                  : scene_.grid.rest_positions()),
+                                                                 : scene_.grid.rest_positions()),
       v_(VecX::Zero(scene_.grid.dof_count())),
       a_(VecX::Zero(scene_.grid.dof_count())) {}
 
@@ -63,7 +64,15 @@ StepProblem& Simulator::prepare_step(VecX& start, const std::vector<Vec3>& handl
   for (const Vec3& p : handle_positions) require(p.allFinite(), "handles", "a handle position is not finite");
   targets_ = handle_positions;
   let_go_if_due(time_ + scene_.scene.dt);
-  objective_.begin_step(x_, v_, time_);
+  if (obstacle_offsets_now_.empty() && obstacle_offsets_next_.empty()) {
+    objective_.begin_step(x_, v_, time_);
+  } else {
+    ObstacleOffsets offsets{obstacle_offsets(), obstacle_offsets_next_};
+    if (offsets.end.empty())
+      for (const Obstacle& obstacle : scene_.scene.obstacles)
+        offsets.end.push_back(obstacle.offset(time_ + scene_.scene.dt));
+    objective_.begin_step(x_, v_, time_, &offsets);
+  }
   if (!options_.warm_start) a_.setZero();
   dirichlet_.prescribe(a_, x_, v_, released_ ? std::vector<Vec3>{} : targets_, scene_.scene.dt);
   problem_.make_start_feasible(a_);  // outside every obstacle, also for an optimizer of one's own
@@ -134,7 +143,24 @@ StepRecord Simulator::finish(const VecX& a, const InnerSolveResult& solve, doubl
   v_ = std::move(v);
   ++steps_;
   time_ = t_next;
+  obstacle_offsets_now_ = std::move(obstacle_offsets_next_);
+  obstacle_offsets_next_.clear();
   return record;
+}
+
+void Simulator::set_obstacle_offsets(std::vector<Vec3> end_offsets) {
+  require(end_offsets.size() == scene_.scene.obstacles.size(), "obstacles",
+          "expected " + std::to_string(scene_.scene.obstacles.size()) + " offsets (one per obstacle), got " +
+              std::to_string(end_offsets.size()));
+  for (const Vec3& offset : end_offsets) require(offset.allFinite(), "obstacles", "an obstacle offset is not finite");
+  obstacle_offsets_next_ = std::move(end_offsets);
+}
+
+std::vector<Vec3> Simulator::obstacle_offsets() const {
+  if (!obstacle_offsets_now_.empty()) return obstacle_offsets_now_;
+  std::vector<Vec3> offsets;
+  for (const Obstacle& obstacle : scene_.scene.obstacles) offsets.push_back(obstacle.offset(time_));
+  return offsets;
 }
 
 void Simulator::set_state(const VecX& positions, const VecX& velocities, std::optional<int> steps) {
@@ -148,6 +174,8 @@ void Simulator::set_state(const VecX& positions, const VecX& velocities, std::op
     steps_ = *steps;
     time_ = steps_ * scene_.scene.dt;
   }
+  obstacle_offsets_now_.clear();
+  obstacle_offsets_next_.clear();
   divergence_.clear();
 }
 

@@ -43,6 +43,14 @@ class Simulator {
   // prescription): v += dt a, x += dt v. Returns the step's record (no solve: iterations 0).
   StepRecord commit(const VecX& a);
 
+  // Steers the obstacles: their translations from their rest poses (one per obstacle, in the scene's
+  // order) at the end of the next step, instead of their motions' (a collision object driven
+  // frame by frame). The step after starts from there. Throws Error("obstacles", ...) for a wrong
+  // count or a non-finite offset.
+  void set_obstacle_offsets(std::vector<Vec3> end_offsets);
+  // The obstacles' translations now (at time()): their motions', or where the last step steered them.
+  std::vector<Vec3> obstacle_offsets() const;
+
   // The handles' positions the scene's trajectory prescribes at time t; past the scene's let-go
   // time, where the handles are free, their vertices' current positions.
   std::vector<Vec3> trajectory_targets(double t) const;
@@ -52,8 +60,8 @@ class Simulator {
   const VecX& positions() const { return x_; }
   const VecX& velocities() const { return v_; }
   // Positions and velocities, and optionally the steps done (time = steps dt, where the
-  // trajectory's handles are read next); throws Error("state", ...) for wrong sizes, non-finite
-  // values or negative steps.
+  // trajectory's handles are read next; the obstacles go back on their motions); throws
+  // Error("state", ...) for wrong sizes, non-finite values or negative steps.
   void set_state(const VecX& positions, const VecX& velocities, std::optional<int> steps = std::nullopt);
   double time() const { return time_; }
   int steps_done() const { return steps_; }
@@ -79,6 +87,9 @@ class Simulator {
   StepProblem problem_;
   VecX x_, v_, a_;
   std::vector<Vec3> targets_;  // the handles' positions of the step prepared last
+  // Steered obstacles: the offsets now (where the last step ended them) and at the next step's end;
+  // empty where the motions hold.
+  std::vector<Vec3> obstacle_offsets_now_, obstacle_offsets_next_;
   double time_ = 0.0;
   int steps_ = 0;
   bool released_ = false;
