@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include <fnopt/adjoint/gradient_check.hpp>
+#include <fnopt/contact/obstacle_spec.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
@@ -18,8 +19,9 @@ void expect_every_kind_within(const GradientCheckResult& result, std::size_t kin
   ASSERT_EQ(result.rows.size(), kinds);
   for (const GradientCheckRow& row : result.rows) {
     EXPECT_LE(row.max_relative_error, kTolerance)
-        << to_string(row.parameter) << ": adjoint " << row.adjoint_norm << ", differences " << row.finite_difference_norm
-        << "; " << to_string(result.status) << ", " << result.saddle_steps << " saddle steps";
+        << to_string(row.parameter) << ": adjoint " << row.adjoint_norm << ", differences "
+        << row.finite_difference_norm << "; " << to_string(result.status) << ", " << result.saddle_steps
+        << " saddle steps";
     EXPECT_GT(row.adjoint_norm, 0.0) << to_string(row.parameter);
   }
   EXPECT_TRUE(is_complete(result.status)) << to_string(result.status);
@@ -98,6 +100,38 @@ TEST(GradientCheck, SelfRepulsionActingOnAFoldingCloth) {
   EXPECT_GE(repelling, 5) << "too few steps with pairs inside the repulsion range";
 
   expect_every_kind_within(gradient_check(resolved, {}, inputs), all_adjoint_parameters().size());
+}
+
+// A sphere 2 cm behind the hanging cloth, within the contact range from the start: the barrier
+// pushes the cloth off its plane and the lagged friction holds it, the sphere still or moving
+// along xyz_v3 (docs/design.md §14, §15: the friction's frozen normal force, tangent plane and
+// start depend on x_t too).
+TEST(GradientCheck, ContactAndFrictionWithAStillAndAMovingSphere) {
+  for (const char* sphere : {"sphere center=0.5,0.12,-0.6 radius=0.1 friction=0.3",
+                             "sphere center=0.5,0.12,-0.6 radius=0.1 friction=1 motion=xyz_v3"}) {
+    Scene scene;
+    scene.rows = scene.cols = 8;
+    scene.frames = 31;
+    scene.speed = 4.0;
+    apply_scene_setting(scene, "obstacle", sphere);
+    const ResolvedScene resolved = resolve(scene);
+    const RecordedRollout rollout = record_rollout(resolved);
+    ASSERT_FALSE(rollout.diverged) << rollout.divergence;
+    // Outside the sphere on every frame, and within the barrier's range of it on many.
+    const Obstacle& obstacle = resolved.scene.obstacles[0];
+    const double range = resolved.scene.contact.range_fraction * resolved.grid.spacing;
+    int in_range = 0;
+    for (int f = 1; f < rollout.frame_count(); ++f) {
+      double closest = INFINITY;
+      for (int v = 0; v < resolved.grid.vertex_count(); ++v)
+        closest =
+            std::min(closest, obstacle.distance(rollout.positions[f].segment<3>(3 * v), obstacle.offset(f * scene.dt)));
+      EXPECT_GT(closest, resolved.scene.contact.thickness) << sphere << ", frame " << f;
+      in_range += closest < resolved.scene.contact.thickness + range;
+    }
+    EXPECT_GE(in_range, 12) << sphere;
+    expect_every_kind_within(gradient_check(resolved), all_adjoint_parameters().size());
+  }
 }
 
 // Hung from opposite corners the cloth is compressed flat and Newton's steps end at saddles of

@@ -36,6 +36,7 @@ RecordedStep ExactStepper::step(const std::vector<Vec3>& targets, const VecX* st
   const auto begin = std::chrono::steady_clock::now();
   const InnerSolveOptions exact{options_.max_newton_iterations, 0.0, options_.acceleration_tolerance};
   const VecX x = simulator_.positions(), v = simulator_.velocities();
+  const double time = simulator_.time();
   StepProblem& problem = simulator_.prepare_step(a, targets);
   const std::vector<int>& free_index = problem.dirichlet().free_index();
   if (start)
@@ -64,7 +65,7 @@ RecordedStep ExactStepper::step(const std::vector<Vec3>& targets, const VecX* st
   // needs no factorisation of its own.
   std::optional<StepStationarity> at_result;
   for (int i = 0; i < options_.exact_newton_steps; ++i) {
-    const StepStationarity stationarity = linearization_.linearize(x, v, a);
+    const StepStationarity stationarity = linearization_.linearize(x, v, a, time);
     if (stationarity == StepStationarity::Singular) {
       at_result = stationarity;
       break;
@@ -91,7 +92,7 @@ RecordedStep ExactStepper::step(const std::vector<Vec3>& targets, const VecX* st
   }
   simulator_.commit(a);
   if (!simulator_.diverged() && options_.classify_steps) {
-    step.stationarity = at_result ? *at_result : linearization_.linearize(x, v, a);
+    step.stationarity = at_result ? *at_result : linearization_.linearize(x, v, a, time);
     step.negative_eigenvalues = linearization_.negative_eigenvalues();
   }
   return step;

@@ -17,10 +17,8 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
 RecordedRollout record(const ResolvedScene& scene, InnerOptimizer* optimizer, const InnerSolveOptions& solve,
                        const RecordOptions& options, const RolloutInputs& inputs) {
   options.validate();
-  // The step's linearisation has no contact term (docs/design.md §15): a scene with obstacles, or
-  // handles released mid-rollout, would be differentiated as another scene than the one simulated.
-  require(scene.scene.obstacles.empty(), "obstacles",
-          "the adjoint does not cover contact yet: differentiate a scene without obstacles");
+  // The backward pass keeps the handles' vertices fixed throughout (docs/design.md §15): a rollout
+  // whose handles are released mid-way would be differentiated as another scene than the one simulated.
   require(scene.scene.let_go < 0.0, "let-go", "the adjoint does not cover released handles yet");
   const auto begin = std::chrono::steady_clock::now();
   const int steps = scene.scene.frames - 1;
@@ -54,8 +52,8 @@ RecordedRollout record(const ResolvedScene& scene, InnerOptimizer* optimizer, co
     const std::vector<Vec3> targets =
         inputs.handle_targets ? (*inputs.handle_targets)[s] : stepper.trajectory_targets((s + 1) * scene.scene.dt);
     VecX a;
-    const RecordedStep step = stepper.step(targets, inputs.start_accelerations ? &(*inputs.start_accelerations)[s] : nullptr,
-                                           optimizer, solve, a);
+    const RecordedStep step = stepper.step(
+        targets, inputs.start_accelerations ? &(*inputs.start_accelerations)[s] : nullptr, optimizer, solve, a);
     if (stepper.diverged()) {
       out.diverged = true;
       out.divergence = stepper.divergence();

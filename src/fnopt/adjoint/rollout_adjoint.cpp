@@ -120,7 +120,7 @@ RolloutGradient backpropagate(const RecordedRollout& rollout, const std::vector<
   for (int s = rollout.step_count() - 1; s >= 0; --s) {
     if (!is_converged(rollout.steps[s].status)) out.unconverged_steps.insert(out.unconverged_steps.begin(), s);
     states.load(s);
-    const StepStationarity stationarity = step.linearize(states.x(), states.v(), states.a());
+    const StepStationarity stationarity = step.linearize(states.x(), states.v(), states.a(), s * dt);
     if (stationarity == StepStationarity::Singular) {
       out.status = AdjointStatus::Singular;
       out.singular_step = s;
@@ -141,6 +141,7 @@ RolloutGradient backpropagate(const RecordedRollout& rollout, const std::vector<
     // x_{s+1} and v_{s+1} depend on x_s, v_s directly, and through a_F (lambda) and a_H.
     vbar += dt * xbar;
     xbar -= k_lambda / (dt * dt);
+    step.subtract_friction_start_product(lambda, xbar);
     vbar -= k_lambda / dt;
     for (Eigen::Index k = 0; k < dofs / 3; ++k)
       vbar.segment<3>(3 * k) -= step.damping_weight(static_cast<int>(k)) * lambda.segment<3>(3 * k);

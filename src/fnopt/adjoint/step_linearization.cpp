@@ -5,6 +5,7 @@
 
 #include <fnopt/cloth/cloth_terms.hpp>
 #include <fnopt/cloth/lumped_mass.hpp>
+#include <fnopt/contact/contact_term.hpp>
 
 namespace fnopt {
 namespace {
@@ -37,7 +38,8 @@ const char* to_string(StepStationarity stationarity) {
 
 StepLinearization::StepLinearization(const ResolvedScene& scene)
     : material_(scene.scene.material),
-      objective_(scene.grid, scene.scene.material, scene.scene.dt, scene.scene.gravity),
+      objective_(scene.grid, scene.scene.material, scene.scene.dt, scene.scene.gravity, scene.scene.obstacles,
+                 scene.scene.contact),
       unit_terms_(unit_stiffness_terms(scene.grid)),
       handle_vertices_(scene.handles.vertices),
       handle_vertex_(scene.grid.vertex_count(), 0),
@@ -48,8 +50,8 @@ StepLinearization::StepLinearization(const ResolvedScene& scene)
   for (int k = 0; k < scene.grid.vertex_count(); ++k) all_free_[k] = k;
 }
 
-StepStationarity StepLinearization::linearize(const VecX& x, const VecX& v, const VecX& a) {
-  objective_.begin_step(x, v);
+StepStationarity StepLinearization::linearize(const VecX& x, const VecX& v, const VecX& a, double time) {
+  objective_.begin_step(x, v, time);
   x_start_ = x;
   a_ = a;
   objective_.trial_positions(a, x_);
@@ -105,6 +107,14 @@ void StepLinearization::stiffness_product(const VecX& lambda, VecX& product) con
   product.noalias() = *hessian_ * lambda;
   for (Eigen::Index k = 0; k < masses_.size(); ++k)
     product.segment<3>(3 * k) -= objective_.inertia_weight(static_cast<int>(k)) * lambda.segment<3>(3 * k);
+}
+
+void StepLinearization::subtract_friction_start_product(const VecX& lambda, VecX& xbar) {
+  const ContactTerm* contact = objective_.contact();
+  if (!contact || contact->friction_pairs().empty()) return;
+  friction_buffer_.setZero(x_.size());
+  contact->add_friction_start_product(x_, lambda, friction_buffer_);
+  xbar -= objective_.dt() * objective_.dt() * friction_buffer_;
 }
 
 MaterialGradient StepLinearization::material_gradient(const VecX& lambda) {

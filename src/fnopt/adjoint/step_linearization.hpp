@@ -11,6 +11,9 @@
 //   dg/dc = dt m_k (x_k - x_t,k),   dg/dgravity = -dt^2 m_k I.
 // Self-repulsion's pairs are those begin_step freezes from x_t and x_t + dt v_t, as in the
 // forward step: the same pairs, so the same smooth energy, differentiated with the pairs fixed.
+// Contact (docs/design.md §14): the barrier is part of P; the lagged friction D(x; x_t) is too, and
+// depends on x_t also through its frozen normal force, tangent plane and start, so that
+//   dg/dx_t = dt^2 (K + J),   J = d(grad_x D)/dx_t at fixed x   (ContactTerm::add_friction_start_product).
 //
 // H_FF is factorised as a matrix over every dof whose handle rows and columns are replaced by the
 // handles' inertia weights on the diagonal (the same sparsity pattern at every step, so the
@@ -24,8 +27,8 @@
 #include <vector>
 
 #include <fnopt/adjoint/material_gradient.hpp>
-#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/linalg/sparse_cholesky.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/scenes/scene.hpp>
 
 namespace fnopt {
@@ -44,9 +47,10 @@ class StepLinearization {
   // derivatives, the stretch, shear and bend terms at unit stiffness.
   explicit StepLinearization(const ResolvedScene& scene);
 
-  // Linearises the step from (x, v) at its acceleration a (every dof, the handles' prescribed):
-  // assembles H at a, factorises H_FF, and returns what it is there.
-  StepStationarity linearize(const VecX& x, const VecX& v, const VecX& a);
+  // Linearises the step from (x, v) at time t at its acceleration a (every dof, the handles'
+  // prescribed; the time poses the obstacles): assembles H at a, factorises H_FF, and returns what
+  // it is there.
+  StepStationarity linearize(const VecX& x, const VecX& v, const VecX& a, double time);
   // H_FF's negative eigenvalues after linearize(): 0 at a minimum, -1 where singular.
   int negative_eigenvalues() const { return negative_eigenvalues_; }
 
@@ -55,6 +59,9 @@ class StepLinearization {
   // dt^4 K lambda over every dof, for lambda zero on the handles: the product with H less the
   // inertia's diagonal. It is lambda^T dg/da (= dg/da_H on the handles), dt^2 times dg/dx_t's.
   void stiffness_product(const VecX& lambda, VecX& product) const;
+  // Subtracts dt^2 J^T lambda, the lagged friction's part of lambda^T dg/dx_t beyond dt^2 K lambda,
+  // from xbar (nothing without friction).
+  void subtract_friction_start_product(const VecX& lambda, VecX& xbar);
   // -lambda^T dg_F/dtheta at the linearised step, for lambda zero on the handles.
   MaterialGradient material_gradient(const VecX& lambda);
 
@@ -74,9 +81,9 @@ class StepLinearization {
   std::vector<std::unique_ptr<EnergyTerm>> unit_terms_;  // stretch, shear, bend at stiffness 1
   std::vector<int> handle_vertices_;
   std::vector<char> handle_vertex_;
-  std::vector<int> all_free_;  // every vertex free: H over every dof
-  VecX masses_, areas_;        // m_k and A_k = m_k / rho
-  VecX x_, x_start_, a_;       // the linearised step's x_{t+1}, x_t and a
+  std::vector<int> all_free_;                             // every vertex free: H over every dof
+  VecX masses_, areas_;                                   // m_k and A_k = m_k / rho
+  VecX x_, x_start_, a_;                                  // the linearised step's x_{t+1}, x_t and a
   const Eigen::SparseMatrix<double>* hessian_ = nullptr;  // H over every dof, the objective's
   Eigen::SparseMatrix<double> masked_;                    // H_FF with the handles' inertia on their diagonal
   long masked_pattern_ = -1;
@@ -85,7 +92,7 @@ class StepLinearization {
   long ldlt_pattern_ = -1;  // the pattern ldlt_ analysed last
   bool use_ldlt_ = false;
   int negative_eigenvalues_ = 0;
-  VecX gradient_buffer_;
+  VecX gradient_buffer_, friction_buffer_;
   long factorizations_ = 0;
   long solves_ = 0;
 };

@@ -192,6 +192,25 @@ double ContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to) const {
   return fraction;
 }
 
+void ContactTerm::add_friction_start_product(const VecX& x, const VecX& lambda, VecX& out) const {
+  for (const FrictionPair& pair : friction_pairs_) {
+    const Obstacle& obstacle = obstacles_[pair.obstacle];
+    const SignedDistance s = obstacle.evaluate(pair.start, start_offsets_[pair.obstacle]);
+    const double gap = s.distance - params_.thickness;
+    const Vec3& n = s.normal;
+    const Vec3 w = x.segment<3>(3 * pair.vertex) - pair.start - pair.obstacle_motion;
+    const Vec3 z = w - n * n.dot(w);
+    const double y = z.norm();
+    const double phi = mollifier_.f1_over_y(y);
+    const Mat3 j_psi = phi * Mat3::Identity() + mollifier_.f1_over_y_slope_over_y(y) * z * z.transpose();
+    const Mat3 projector = Mat3::Identity() - n * n.transpose();
+    const Mat3 normal_turn = -(n.dot(w) * Mat3::Identity() + n * w.transpose()) * s.hessian;
+    const Mat3 jacobian = -obstacle.friction() * kernel_.barrier_second_derivative(gap) * phi * z * n.transpose() +
+                          pair.weight * j_psi * (normal_turn - projector);
+    out.segment<3>(3 * pair.vertex) += jacobian.transpose() * lambda.segment<3>(3 * pair.vertex);
+  }
+}
+
 void ContactTerm::safe_start_positions(const VecX& x_start, VecX& x_safe) const {
   x_safe = x_start;
   for (std::size_t k = 0; k < obstacles_.size(); ++k) {

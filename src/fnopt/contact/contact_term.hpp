@@ -62,6 +62,14 @@ class ContactTerm final : public EnergyTerm {
   // box [lower, upper]; where none may, every straight path inside the box is safe (the broad
   // phase of safe_fraction, for a caller that bounds the paths more cheaply than by their ends).
   bool may_touch(const Vec3& lower, const Vec3& upper) const;
+  // The lagged friction's dependence on the step's start, for the adjoint (docs/design.md §15):
+  // adds J_i^T lambda_i to out_i for each friction pair's vertex i, J_i = d(grad_x D_i)/dx_t,i at x,
+  // through the frozen normal force, tangent plane and start (friction.hpp):
+  //   grad_x D = W phi(y) z,  W = -mu b'(g(x_t)),  z = P w,  P = I - n n^T,  n = grad d(x_t),
+  //   w = x - x_t - Delta o,  phi = f1/y,  y = |z|,  J_psi = phi I + (phi'/y) z z^T,
+  //   J = -mu b''(g) phi z n^T  -  W J_psi P  -  W J_psi ((n.w) I + n w^T) hess d(x_t),
+  // the middle term being -hess_x D.
+  void add_friction_start_product(const VecX& x, const VecX& lambda, VecX& out) const;
   // Start positions the step's solve can begin from: x_t, except that a vertex an obstacle would
   // sweep over during the step (the vertex held still, the obstacle translating) moves with that
   // obstacle, x_t + Delta o. Written to `x_safe`.

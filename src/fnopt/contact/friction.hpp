@@ -24,10 +24,10 @@ namespace fnopt {
 struct FrictionPair {
   int vertex = 0;
   int obstacle = 0;
-  double weight = 0.0;                            // mu lambda [N]
-  Eigen::Matrix<double, 3, 2> basis;              // T
-  Vec3 start = Vec3::Zero();                      // x_t of the vertex
-  Vec3 obstacle_motion = Vec3::Zero();            // Delta o
+  double weight = 0.0;                  // mu lambda [N]
+  Eigen::Matrix<double, 3, 2> basis;    // T
+  Vec3 start = Vec3::Zero();            // x_t of the vertex
+  Vec3 obstacle_motion = Vec3::Zero();  // Delta o
 
   Eigen::Vector2d tangent_displacement(const Vec3& x) const {
     return basis.transpose() * ((x - start) - obstacle_motion);
@@ -43,6 +43,11 @@ struct FrictionMollifier {
   }
   // f1(y)/y, finite at y = 0.
   double f1_over_y(double y) const { return y >= epsilon ? 1.0 / y : 2.0 / epsilon - y / (epsilon * epsilon); }
+  // (f1/y)'(y) / y, the weight of u u^T in hess_u f0 (0 at y = 0, where u u^T vanishes faster).
+  double f1_over_y_slope_over_y(double y) const {
+    if (y >= epsilon) return -1.0 / (y * y * y);
+    return y > 0.0 ? -1.0 / (epsilon * epsilon * y) : 0.0;
+  }
 
   double energy(const FrictionPair& pair, const Vec3& x) const {
     return pair.weight * f0(pair.tangent_displacement(x).norm());
@@ -56,11 +61,8 @@ struct FrictionMollifier {
   void hessian(const FrictionPair& pair, const Vec3& x, Mat3& H) const {
     const Eigen::Vector2d u = pair.tangent_displacement(x);
     const double y = u.norm();
-    Eigen::Matrix2d Hu = f1_over_y(y) * Eigen::Matrix2d::Identity();
-    if (y >= epsilon)
-      Hu -= u * u.transpose() / (y * y * y);
-    else if (y > 0.0)
-      Hu -= u * u.transpose() / (epsilon * epsilon * y);
+    const Eigen::Matrix2d Hu =
+        f1_over_y(y) * Eigen::Matrix2d::Identity() + f1_over_y_slope_over_y(y) * u * u.transpose();
     H = pair.weight * pair.basis * Hu * pair.basis.transpose();
   }
 };
