@@ -181,13 +181,6 @@ const RegisterCommand kRegister([](CLI::App& app) {
                    "the model written and validated is the moving average of the trained weights, "
                    "w_avg <- d w_avg + (1 - d) w after every step; 0: the trained weights themselves")
       ->capture_default_str();
-  command
-      ->add_option("--loss-normalisation", o.loss_normalisation,
-                   "per-environment: the mean of each environment's remaining-error ratio; batch: one ratio "
-                   "for the batch (FNOpt's mean energy, rescaled)")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, LossNormalisation>{
-          {"per-environment", LossNormalisation::PerEnvironment}, {"batch", LossNormalisation::Batch}}))
-      ->option_text("{per-environment,batch}=per-environment");
   command->add_option("--range", flags->ranges,
                       "sampling range of the pool, QUANTITY=LOW:HIGH, log-uniform, in grid units (repeatable): "
                       "stretch k~_s (default 40:8000), shear k~_sh (0.5:600), bend k~_b (0.005:20), gravity g~ "

@@ -28,7 +28,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--res", type=int, default=32)
     parser.add_argument("--frames", type=int, default=25, help="observed frames after the initial one")
-    parser.add_argument("--speed", type=float, default=4.0, help="handle speed (xy_v2 x this)")
+    parser.add_argument("--motion", default="xy_v2", help="the handles' motion")
+    parser.add_argument("--speed", type=float, default=4.0, help="handle speed (the motion x this)")
     parser.add_argument("--noise", type=float, default=0.0, help="observation noise, std in metres")
     parser.add_argument("--fit", default=",".join(NAMES))
     parser.add_argument("--hidden", default="1.6,0.6,2.0,1.3,0.7",
@@ -38,7 +39,7 @@ def main():
     parser.add_argument("--seed", type=int, default=1)
     args = parser.parse_args()
     fit = args.fit.split(",")
-    scene = fnopt.Scene(res=args.res, frames=args.frames, speed=args.speed)
+    scene = fnopt.Scene(res=args.res, frames=args.frames, motion=args.motion, speed=args.speed)
     start = {n: getattr(scene.material, n) for n in NAMES}
     hidden = {n: start[n] * float(f) for n, f in zip(NAMES, args.hidden.split(","))}
     truth = fnopt.record_rollout(scene.replace(**{n: hidden[n] for n in fit})).positions

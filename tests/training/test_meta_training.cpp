@@ -62,34 +62,29 @@ void expect_resumes_exactly(MetaTrainer& original, const TrainOptions& options, 
   std::filesystem::remove_all(dir);
 }
 
-TEST(EnergyLoss, GradientMatchesFiniteDifferencesForBothNormalisations) {
-  for (LossNormalisation normalisation : {LossNormalisation::PerEnvironment, LossNormalisation::Batch}) {
-    TrainingEnv a(small_pool(), 7, 0), b(small_pool(), 7, 1);
-    EnergyLossBatch batch;
-    batch.envs = {&a, &b};
-    batch.normalisation = normalisation;
-    for (TrainingEnv* env : batch.envs) batch.current_loss.push_back(env->objective().value(env->acceleration()));
-    torch::manual_seed(1);
-    auto delta = (0.01 * torch::randn({6, 1, 8, 8}, torch::kFloat32)) *
-                 torch::cat({free_mask(a.dirichlet(), a.grid()).expand({3, 1, 8, 8}),
-                             free_mask(b.dirichlet(), b.grid()).expand({3, 1, 8, 8})});
-    delta.requires_grad_(true);
-    EnergyLoss::apply(delta, &batch).backward();
-    const auto analytic = delta.grad().clone();
-    ASSERT_GT(analytic.abs().max().item<double>(), 0.0);
-    // Central differences in double precision through the same forward pass, at entries of
-    // both environments.
-    const float eps = 1e-3f;
-    for (int index : {5, 70, 130, 200, 300}) {
-      auto plus = delta.detach().clone(), minus = delta.detach().clone();
-      plus.view({-1})[index] += eps;
-      minus.view({-1})[index] -= eps;
-      const double fd =
-          (EnergyLoss::apply(plus, &batch).item<double>() - EnergyLoss::apply(minus, &batch).item<double>()) /
-          (2 * eps);
-      EXPECT_NEAR(analytic.view({-1})[index].item<double>(), fd, 1e-2 * std::abs(fd) + 1e-6)
-          << "entry " << index << (normalisation == LossNormalisation::Batch ? ", batch" : ", per environment");
-    }
+TEST(EnergyLoss, GradientMatchesFiniteDifferences) {
+  TrainingEnv a(small_pool(), 7, 0), b(small_pool(), 7, 1);
+  EnergyLossBatch batch;
+  batch.envs = {&a, &b};
+  for (TrainingEnv* env : batch.envs) batch.current_loss.push_back(env->objective().value(env->acceleration()));
+  torch::manual_seed(1);
+  auto delta = (0.01 * torch::randn({6, 1, 8, 8}, torch::kFloat32)) *
+               torch::cat({free_mask(a.dirichlet(), a.grid()).expand({3, 1, 8, 8}),
+                           free_mask(b.dirichlet(), b.grid()).expand({3, 1, 8, 8})});
+  delta.requires_grad_(true);
+  EnergyLoss::apply(delta, &batch).backward();
+  const auto analytic = delta.grad().clone();
+  ASSERT_GT(analytic.abs().max().item<double>(), 0.0);
+  // Central differences in double precision through the same forward pass, at entries of
+  // both environments.
+  const float eps = 1e-3f;
+  for (int index : {5, 70, 130, 200, 300}) {
+    auto plus = delta.detach().clone(), minus = delta.detach().clone();
+    plus.view({-1})[index] += eps;
+    minus.view({-1})[index] -= eps;
+    const double fd =
+        (EnergyLoss::apply(plus, &batch).item<double>() - EnergyLoss::apply(minus, &batch).item<double>()) / (2 * eps);
+    EXPECT_NEAR(analytic.view({-1})[index].item<double>(), fd, 1e-2 * std::abs(fd) + 1e-6) << "entry " << index;
   }
 }
 
@@ -136,27 +131,6 @@ TEST(EnergyLoss, ScoredAfterTheSubspaceStepItsGradientMatchesFiniteDifferences) 
         (EnergyLoss::apply(plus, &batch).item<double>() - EnergyLoss::apply(minus, &batch).item<double>()) / (2 * eps);
     EXPECT_NEAR(analytic.view({-1})[index].item<double>(), fd, 1e-2 * std::abs(fd) + 1e-6) << "entry " << index;
   }
-}
-
-TEST(EnergyLoss, NormalisationsAgreeOnOneEnvironmentAndDifferOnTwo) {
-  TrainingEnv a(small_pool(), 3, 0), b(small_pool(), 3, 5);
-  auto loss_of = [](std::vector<TrainingEnv*> envs, LossNormalisation normalisation, const torch::Tensor& delta) {
-    EnergyLossBatch batch;
-    batch.envs = envs;
-    batch.normalisation = normalisation;
-    for (TrainingEnv* env : envs) batch.current_loss.push_back(env->objective().value(env->acceleration()));
-    return EnergyLoss::apply(delta, &batch).item<double>();
-  };
-  torch::manual_seed(2);
-  const auto delta = 0.01 * torch::randn({6, 1, 8, 8}, torch::kFloat32);
-  const auto first = delta.narrow(0, 0, 3);
-  EXPECT_NEAR(loss_of({&a}, LossNormalisation::Batch, first), loss_of({&a}, LossNormalisation::PerEnvironment, first),
-              1e-9);
-  // Two environments with different remaining errors: the batch ratio weighs them by
-  // L(a) - L*, the per-environment mean alike.
-  EXPECT_GT(std::abs(loss_of({&a, &b}, LossNormalisation::Batch, delta) -
-                     loss_of({&a, &b}, LossNormalisation::PerEnvironment, delta)),
-            1e-6);
 }
 
 TEST(MetaTraining, TinyModelLowersTheLossOnAFixedBatch) {
@@ -269,9 +243,6 @@ TEST(MetaTraining, APoolOfTwoGridsResumesAndNeedsTheEnergyObjective) {
   TrainOptions probe = options;
   probe.objective = TrainObjective::Probe;
   EXPECT_THROW(probe.validate(), Error);
-  TrainOptions batch_ratio = options;
-  batch_ratio.loss_normalisation = LossNormalisation::Batch;
-  EXPECT_THROW(batch_ratio.validate(), Error);
   options.pool.resolutions = {8, 2};
   EXPECT_THROW(options.validate(), Error);
 }

@@ -27,7 +27,7 @@ torch::Tensor EnergyLoss::forward(torch::autograd::AutogradContext* ctx, torch::
   const int count = static_cast<int>(batch->envs.size());
   auto gradient = torch::zeros_like(delta);
   batch->ratio.assign(count, 0.0);
-  std::vector<double> excess(count, 0.0), denominator(count, 0.0);
+  std::vector<double> denominator(count, 0.0);
   std::vector<VecX> energy_gradient(count);  // dL_e/d delta_e in grid units; empty if not finite
   VecX trial;
   for (int e = 0; e < count; ++e) {
@@ -52,8 +52,7 @@ torch::Tensor EnergyLoss::forward(torch::autograd::AutogradContext* ctx, torch::
     // L(a_0) = L*, and there a difference of rounding noise is no progress to score.
     const double rounding = 1e-13 * (std::abs(reference) + std::abs(env.initial_loss()) + 1e-30);
     denominator[e] = std::max({batch->current_loss[e] - reference, 1e-9 * (env.initial_loss() - reference), rounding});
-    excess[e] = value - reference;
-    const double r = excess[e] / denominator[e];
+    const double r = (value - reference) / denominator[e];
     const bool finite = std::isfinite(r) && g.allFinite();
     batch->ratio[e] = finite ? r : INFINITY;
     if (!finite) g.resize(0);  // contributes nothing; the environment is renewed when it advances
@@ -65,28 +64,11 @@ torch::Tensor EnergyLoss::forward(torch::autograd::AutogradContext* ctx, torch::
   };
   double loss = 0.0;
   const int in_all = batch->environments_in_all > 0 ? batch->environments_in_all : count;
-  if (batch->normalisation == LossNormalisation::PerEnvironment) {
-    for (int e = 0; e < count; ++e) {
-      if (energy_gradient[e].size() == 0) continue;
-      const auto [value, slope] = penalised(batch->ratio[e]);
-      loss += value / in_all;
-      if (slope != 0.0) add_gradient(e, slope / denominator[e] / in_all);
-    }
-  } else {
-    double sums[2] = {0.0, 0.0};  // excess, denominator: over the whole batch
-    for (int e = 0; e < count; ++e) {
-      if (energy_gradient[e].size() == 0) continue;
-      sums[0] += excess[e];
-      sums[1] += denominator[e];
-    }
-    batch->processes->sum(sums, 2);
-    const double excess_sum = sums[0], denominator_sum = sums[1];
-    if (denominator_sum > 0.0) {
-      const auto [value, slope] = penalised(excess_sum / denominator_sum);
-      loss = batch->processes->is_root() ? value : 0.0;  // one batch, one loss
-      for (int e = 0; e < count; ++e)
-        if (energy_gradient[e].size() != 0 && slope != 0.0) add_gradient(e, slope / denominator_sum);
-    }
+  for (int e = 0; e < count; ++e) {
+    if (energy_gradient[e].size() == 0) continue;
+    const auto [value, slope] = penalised(batch->ratio[e]);
+    loss += value / in_all;
+    if (slope != 0.0) add_gradient(e, slope / denominator[e] / in_all);
   }
   ctx->save_for_backward({gradient});
   return torch::tensor(loss, delta.options());

@@ -10,12 +10,6 @@
 // without letting one exploding step dominate the batch); r below -1 (rounding, or a Newton
 // reference that stopped early) counts as -1 with no gradient.
 //
-// Without the per-environment normalisation (LossNormalisation::Batch, measured against it,
-// docs/design.md §5), the batch is scored as one ratio,
-//   r = sum_e (L_e(a_e + delta_e) - L*_e) / sum_e max(L_e(a_e) - L*_e, ...),
-// whose gradient is FNOpt's plain mean energy up to one detached factor per batch: the
-// environments with the most energy left weigh the most.
-//
 // With `after_subspace_step` (pools whose rule takes the subspace step), L_e is scored where the
 // rule ends after the update, a_e + S c rather than a_e + delta_e when that is lower
 // (subspace_step_loss.hpp): the proposal is judged by what it adds to the directions kept.
@@ -23,28 +17,20 @@
 
 #include <vector>
 
-#include <fnopt/parallel/communicator.hpp>
 #include <fnopt/training/training_env.hpp>
 
 namespace fnopt {
-
-enum class LossNormalisation {
-  PerEnvironment,  // mean over environments of r_e (PGSfT's division by the detached loss)
-  Batch            // one ratio for the whole batch (FNOpt's mean energy, rescaled)
-};
 
 struct EnergyLossBatch {
   std::vector<TrainingEnv*> envs;
   std::vector<double> current_loss;    // L_e(a_e), the iterate before the update
   std::vector<VecX> current_gradient;  // masked gradient of L_e at a_e (for after_subspace_step)
   std::vector<double> ratio;           // r_e, filled by the forward pass
-  LossNormalisation normalisation = LossNormalisation::PerEnvironment;
   bool after_subspace_step = false;
   // Data-parallel training (meta_trainer.hpp): `envs` are this process's share of a batch of
-  // `environments_in_all` over `processes`. The loss returned is this share's part of the
-  // batch's loss (the parts sum to it) and its gradient is the part of the batch's gradient.
+  // `environments_in_all`. The loss returned is this share's part of the batch's loss (the parts
+  // sum to it) and its gradient is the part of the batch's gradient.
   int environments_in_all = 0;  // 0: envs.size()
-  const Communicator* processes = &Communicator::self();
 };
 
 class EnergyLoss : public torch::autograd::Function<EnergyLoss> {

@@ -41,10 +41,9 @@ void TrainOptions::validate() const {
   require(objective == TrainObjective::Probe || probe.surface == ProbeSurface::QuadraticModel, "train.probe_surface",
           "applies to the probe objective only");
   // Grids of several sizes go through the model in one pass per size (MetaTrainer::step); the
-  // probe step and the batch-wide ratio take the batch in one piece.
-  require(pool.resolutions.size() == 1 ||
-              (objective == TrainObjective::Energy && loss_normalisation == LossNormalisation::PerEnvironment),
-          "train.resolutions", "several resolutions need the energy objective with the per-environment loss");
+  // probe step takes the batch in one piece.
+  require(pool.resolutions.size() == 1 || objective == TrainObjective::Energy, "train.resolutions",
+          "several resolutions need the energy objective");
   require(!score_after_subspace_step || pool.subspace > 0, "train.score_after_subspace_step",
           "needs a pool that takes the subspace step (subspace > 0: fnopt train --subspace K)");
 }
@@ -57,7 +56,6 @@ std::string TrainOptions::signature() const {
     << " modes=" << model.modes_x() << "x" << model.modes_y() << " lifting=" << model.lifting_channels()
     << " projection=" << model.projection_channels() << " batch=" << batch << " lr=" << learning_rate
     << " newton_weight=" << newton_weight << " seed=" << seed;
-  if (loss_normalisation == LossNormalisation::Batch) s << " loss=batch";
   if (objective == TrainObjective::Probe) s << " objective=probe";
   if (probe.iterations != 1) s << " probe_iterations=" << probe.iterations;
   if (probe.surface == ProbeSurface::Energy) s << " probe_surface=energy";
@@ -192,10 +190,8 @@ torch::Tensor MetaTrainer::group_forward(const std::vector<int>& members, GroupS
   // model sees it.
   const int count = static_cast<int>(members.size());
   EnergyLossBatch& batch = group.batch;
-  batch.normalisation = options_.loss_normalisation;
   batch.after_subspace_step = options_.score_after_subspace_step;
   batch.environments_in_all = options_.batch;
-  batch.processes = &processes_;
   batch.current_gradient.resize(count);
   std::vector<torch::Tensor> previous_gradients, previous_deltas, scales, masks, newton_deltas;
   for (int i = 0; i < count; ++i) {

@@ -63,8 +63,6 @@ struct TrainOptions {
   // energy's own exact minimiser (no data); it gives every vertex a target where the energy
   // loss gives one scalar, which speeds up CPU training. 0 turns it off.
   double newton_weight = 1.0;
-  // How the energy loss weighs the environments of a batch (energy_loss.hpp).
-  LossNormalisation loss_normalisation = LossNormalisation::PerEnvironment;
   // Score each update where the pool's rule ends after it, past the subspace step, instead of at
   // the raw proposal (energy_loss.hpp; needs pool.subspace > 0). Like the pool's rule it is not
   // part of the signature: a run may be continued with it.
