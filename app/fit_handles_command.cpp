@@ -36,7 +36,6 @@ constexpr double kDefaultSpeed = 4.0;
 
 struct FitHandlesFlags {
   SceneFlags scene;
-  CLI::App* command = nullptr;
   std::string target;  // a rollout file; empty: a hidden path's rollout
   int target_frame = -1;
   double hidden_scale = 0.05;
@@ -47,23 +46,6 @@ struct FitHandlesFlags {
   std::string csv, plot, out;
   int threads = 0;  // the default: set_thread_count
 };
-
-bool given(const FitHandlesFlags& flags, const char* flag) { return flags.command->get_option(flag)->count() > 0; }
-
-// The scene flags with this command's defaults where neither a flag nor --scene sets them; --frames
-// counts steps after the initial frame.
-ResolvedScene fit_scene(const FitHandlesFlags& flags) {
-  Scene scene = flags.scene.scene();
-  if (!given(flags, "--scene")) {
-    if (!given(flags, "--res") && !given(flags, "--rows") && !given(flags, "--cols"))
-      scene.rows = scene.cols = kDefaultResolution;
-    if (!given(flags, "--frames")) scene.frames = kDefaultSteps;
-    if (!given(flags, "--speed")) scene.speed = kDefaultSpeed;
-  }
-  scene.frames += 1;
-  scene.validate();
-  return resolve(scene);
-}
 
 // The hidden path: every coordinate of every control point uniform in [-scale, scale].
 HandleControlPoints hidden_path(const FitHandlesFlags& flags, int handles) {
@@ -178,7 +160,7 @@ void run_fit_handles(FitHandlesFlags& flags) {
                   [&] { flags.params.validate(); });
   for (const auto& [path, flag] : {std::pair{&flags.csv, "csv"}, {&flags.plot, "plot"}, {&flags.out, "out"}})
     if (!path->empty()) require_writable_file(*path, flag);
-  const ResolvedScene scene = fit_scene(flags);
+  const ResolvedScene scene = flags.scene.scene_of_steps(kDefaultResolution, kDefaultSteps, kDefaultSpeed);
   require(!scene.handles.vertices.empty(), "handles", "the scene has no handles whose path could be fitted");
   std::string description;
   const FramePositions target = load_target(flags, scene, description);
@@ -250,7 +232,6 @@ const RegisterCommand kRegister([](CLI::App& app) {
       "find the handles' path that brings the cloth to a target shape, by the rollout's adjoint gradient and by "
       "a gradient-free compass search at the same budget (docs/design.md §15). Default scene: 12x12, 40 steps, "
       "corner handles, motion xy_v2 at speed 4; the target: a frame of --target, or the rollout of a hidden path");
-  flags->command = command;
   flags->scene.add_to(*command);
   command->add_option("--target", flags->target,
                       "a rollout file (fnopt simulate --out) of the same grid whose frame is the target (default: "

@@ -180,9 +180,10 @@ GradientFit fit_by_gradient(const std::vector<GradientReference>& references, co
   BoundedLbfgsParams params;
   params.max_iterations = iterations;
   // Where the rollout passes saddle steps the loss is rough at the scale of the solver's precision
-  // near the fit (docs/design.md §15), and a search that cannot descend
-  // there would take 30 halvings, a rollout each, before it says so.
+  // near the fit (docs/design.md §15): a search that cannot descend there would take 30 halvings,
+  // a rollout each, before it says so, and one that still can gains nothing a fit can use.
   params.max_backtracks = 10;
+  params.relative_decrease = 1e-4;
   const BoundedLbfgsResult fit_result = minimize_in_box(objective, x0, lower, upper, params);
   result.material = material_at(fit_result.x);
   result.loss = fit_result.value;

@@ -22,29 +22,11 @@ constexpr double kDefaultSpeed = 4.0;
 
 struct GradcheckFlags {
   SceneFlags scene;
-  CLI::App* command = nullptr;
   std::string parameters;  // empty: every kind
   bool plain = false;
   int control_points = HandlePathParams{}.control_points;
   int threads = 0;  // the default: set_thread_count
 };
-
-bool given(const GradcheckFlags& flags, const char* flag) { return flags.command->get_option(flag)->count() > 0; }
-
-// The scene flags with this command's defaults where neither a flag nor --scene sets them. The
-// rollout records --frames steps after the initial frame, as `fnopt simulate` runs them.
-ResolvedScene gradcheck_scene(const GradcheckFlags& flags) {
-  Scene scene = flags.scene.scene();
-  if (!given(flags, "--scene")) {
-    if (!given(flags, "--res") && !given(flags, "--rows") && !given(flags, "--cols"))
-      scene.rows = scene.cols = kDefaultResolution;
-    if (!given(flags, "--frames")) scene.frames = kDefaultSteps;
-    if (!given(flags, "--speed")) scene.speed = kDefaultSpeed;
-  }
-  scene.frames += 1;
-  scene.validate();
-  return resolve(scene);
-}
 
 void run_gradcheck(const GradcheckFlags& flags) {
   const int threads = set_thread_count(flags.threads);
@@ -59,7 +41,7 @@ void run_gradcheck(const GradcheckFlags& flags) {
   params.log_coordinates = !flags.plain;
   params.path.control_points = flags.control_points;
   with_flag_names({{"control_points", "control-points"}}, [&] { params.validate(); });
-  const ResolvedScene scene = gradcheck_scene(flags);
+  const ResolvedScene scene = flags.scene.scene_of_steps(kDefaultResolution, kDefaultSteps, kDefaultSpeed);
   std::printf(
       "adjoint against central differences: %dx%d, %d steps of %s s, motion %s x %s, handles %s; material in %s "
       "coordinates; %d thread%s\n",
@@ -84,7 +66,6 @@ const RegisterCommand kRegister([](CLI::App& app) {
       "gradcheck",
       "check the adjoint gradient of a rollout against central differences, per parameter kind (docs/design.md "
       "§15). Default scene: 10x10, 30 steps, corner handles, motion xy_v2 at speed 4; the scene flags change it");
-  flags->command = command;
   flags->scene.add_to(*command);
   command->add_option("--params", flags->parameters,
                       "kinds to check, comma-separated (default: all): stretch, shear, bend, density, damping, "

@@ -35,8 +35,9 @@ const FlagSpec kFlags[] = {
     {"gravity", "gravity vector 'x,y,z' [m/s^2]"},
     {"repulsion-stiffness", "self-repulsion barrier stiffness lambda [N/m] (default 10)"},
     {"repulsion-range", "self-repulsion range delta in cell widths h (default 1)"},
-    {"placement", "the cloth at rest: vertical (hanging in the x-z plane, the default) or horizontal (in the x-y plane "
-                  "at z = 0, centred on the z axis)"},
+    {"placement",
+     "the cloth at rest: vertical (hanging in the x-z plane, the default) or horizontal (in the x-y plane "
+     "at z = 0, centred on the z axis)"},
     {"let-go", "release every handle at this time [s] (default: never)"},
     {"contact-stiffness", "obstacle barrier stiffness kappa [N/m] (default 10; docs/design.md §14)"},
     {"contact-range", "obstacle barrier range dhat in cell widths h (default 0.5)"},
@@ -70,6 +71,19 @@ void SceneFlags::add_to(CLI::App& command, bool with_resolution) {
   exclusive("res", "cols");
   exclusive("motion", "trajectory");
   exclusive("handles", "handle-vertices");
+}
+
+ResolvedScene SceneFlags::scene_of_steps(int resolution, int steps, double speed) const {
+  Scene scene = this->scene();
+  const auto given = [&](const char* key) { return options_.count(key) && options_.at(key)->count() > 0; };
+  if (scene_file_.empty()) {
+    if (!given("res") && !given("rows") && !given("cols")) scene.rows = scene.cols = resolution;
+    if (!given("frames")) scene.frames = steps;
+    if (!given("speed")) scene.speed = speed;
+  }
+  scene.frames += 1;
+  scene.validate();
+  return resolve(scene);
 }
 
 Scene SceneFlags::scene() const {

@@ -23,6 +23,10 @@ class SceneFlags {
   // The scene: defaults, then the --scene file, then every flag given (in a fixed order:
   // grid, material, then the material overrides, then the rest).
   Scene scene() const;
+  // A command's own defaults where neither a flag nor --scene sets them: the grid (N x N), the
+  // steps and the handles' speed. --frames counts the steps after the initial frame, which is
+  // added, as `fnopt simulate` runs them. Validated and resolved.
+  ResolvedScene scene_of_steps(int resolution, int steps, double speed) const;
 
  private:
   std::string scene_file_;

@@ -61,6 +61,20 @@ TEST(BoundedLbfgs, KeepsToItsEvaluationBudget) {
   EXPECT_EQ(r.value, rosenbrock(r.x, g));
 }
 
+TEST(BoundedLbfgs, StopsWhereAStepGainsTooLittle) {
+  BoundedLbfgsParams full, stalling;
+  full.max_iterations = stalling.max_iterations = 200;
+  stalling.relative_decrease = 0.05;
+  const VecX start = VecX::Constant(2, -1.0), lower = VecX::Constant(2, -2.0), upper = VecX::Constant(2, 2.0);
+  const BoundedLbfgsResult converged = minimize_in_box(rosenbrock, start, lower, upper, full);
+  const BoundedLbfgsResult stalled = minimize_in_box(rosenbrock, start, lower, upper, stalling);
+  EXPECT_EQ(stalled.status, BoundedLbfgsStatus::Converged) << to_string(stalled.status);
+  EXPECT_LT(stalled.iterations, converged.iterations);
+  EXPECT_GT(stalled.value, converged.value);
+  stalling.relative_decrease = -1.0;
+  EXPECT_THROW(minimize_in_box(rosenbrock, start, lower, upper, stalling), Error);
+}
+
 TEST(BoundedLbfgs, ReportsANonFiniteStartAndRefusesBadBounds) {
   const auto nan = [](const VecX& x, VecX& g) {
     g = VecX::Zero(x.size());

@@ -54,6 +54,8 @@ void BoundedLbfgsParams::validate() const {
   require(max_backtracks >= 1, "max_backtracks", "must be at least 1");
   require(max_evaluations >= 0, "max_evaluations", "must be zero (no limit) or more");
   require(std::isfinite(first_step) && first_step >= 0.0, "first_step", "must be zero (unscaled) or more");
+  require(std::isfinite(relative_decrease) && relative_decrease >= 0.0, "relative_decrease",
+          "must be zero (never) or more");
 }
 
 BoundedLbfgsResult minimize_in_box(const BoundedObjective& f, const VecX& x0, const VecX& lower, const VecX& upper,
@@ -134,10 +136,15 @@ BoundedLbfgsResult minimize_in_box(const BoundedObjective& f, const VecX& x0, co
       pairs.push_back(std::move(pair));
       if (static_cast<int>(pairs.size()) > params.history) pairs.pop_front();
     }
+    const bool stalled = result.value - trial_value <= params.relative_decrease * std::abs(result.value);
     result.x = trial;
     result.value = trial_value;
     g = trial_g;
     ++result.iterations;
+    if (params.relative_decrease > 0.0 && stalled) {
+      result.status = BoundedLbfgsStatus::Converged;
+      return result;
+    }
   }
 }
 

@@ -27,6 +27,9 @@ struct BoundedLbfgsParams {
   double armijo = 1e-4;     // c1
   int max_backtracks = 30;  // halvings of alpha before line-search-failed
   int max_evaluations = 0;  // calls of the objective at most (0: no limit)
+  // Also stop once an accepted step lowers f by at most this fraction of |f| (0: never): on a loss
+  // that is rough at the solver's precision the iterations can go on long past any useful gain.
+  double relative_decrease = 0.0;
   // Before the first pair, d = -g scaled so that no variable moves more than this at alpha = 1
   // (the gradient's scale says nothing about the step's; 0: d = -g as it is).
   double first_step = 0.0;
@@ -35,7 +38,7 @@ struct BoundedLbfgsParams {
 };
 
 enum class BoundedLbfgsStatus {
-  Converged,         // the projected gradient (or the value) is below its tolerance
+  Converged,         // the projected gradient, the value or a step's relative decrease is below its tolerance
   IterationBudget,   // max_iterations used
   EvaluationBudget,  // max_evaluations used (x: the best point the iterations accepted)
   LineSearchFailed,  // no step along d decreased f enough
