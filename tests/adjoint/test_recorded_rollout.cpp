@@ -83,6 +83,18 @@ TEST(RecordedRollout, InputsThatDoNotFitAreErrors) {
   EXPECT_THROW(record_rollout(scene, options), Error);
 }
 
+// A horizontal placement starts the record where the scene places the cloth, as a simulation does.
+TEST(RecordedRollout, StartsWhereTheScenePlacesTheCloth) {
+  Scene scene;
+  scene.rows = scene.cols = 6;
+  scene.frames = 3;
+  scene.placement = Placement::Horizontal;
+  const ResolvedScene resolved = resolve(scene);
+  const RecordedRollout rollout = record_rollout(resolved);
+  EXPECT_EQ(rollout.positions.front(), resolved.rest_positions);
+  EXPECT_NE(rollout.positions.front(), resolved.grid.rest_positions());
+}
+
 // The backward pass keeps the handles fixed: a scene whose handles are released mid-way is refused,
 // naming the setting, rather than differentiated as another scene.
 TEST(RecordedRollout, ReleasedHandlesAreRefused) {

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include <fnopt/baselines/pqn.hpp>
 #include <fnopt/io/hdf5_file.hpp>
 #include <fnopt/io/obj_file.hpp>
 #include <fnopt/simulation/rollout_file.hpp>
@@ -64,6 +65,25 @@ TEST(RolloutFile, WriteReadRoundTrip) {
   EXPECT_EQ(file.read_floats("handle_positions")[16], 2.0f);  // frame 2, handle 1, y
   // Only the final file is left: the temporary name was renamed.
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator{}), 1);
+}
+
+// The rest positions a file stores are the cloth as its scene placed it: horizontal for a
+// horizontal placement (the grid's own rest pose is vertical).
+TEST(RolloutFile, StoresTheScenesRestPlacement) {
+  const auto dir = temp_dir("placement");
+  const std::string path = (dir / "r.h5").string();
+  Scene scene;
+  scene.rows = scene.cols = 4;
+  scene.frames = 2;
+  scene.handles = "none";
+  scene.placement = Placement::Horizontal;
+  PqnOptimizer pqn;
+  const RolloutResult r = run_rollout(resolve(scene), pqn, RolloutOptions{}, {});
+  write_rollout_file(path, r, to_scene_text(scene), "pqn");
+  const std::vector<float> rest = Hdf5File(path, Hdf5File::Mode::Read).read_floats("rest_positions");
+  ASSERT_EQ(rest.size(), 48u);
+  for (int v = 0; v < 16; ++v) EXPECT_EQ(rest[3 * v + 2], 0.0f) << "vertex " << v;  // z = 0: in the x-y plane
+  EXPECT_EQ(Eigen::Map<const Eigen::VectorXf>(rest.data(), 48), r.positions.front());
 }
 
 // A rollout stopped by a divergence: the step that diverged kept no frame, so the per-step

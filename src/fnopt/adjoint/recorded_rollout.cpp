@@ -44,7 +44,7 @@ RecordedRollout record(const ResolvedScene& scene, InnerOptimizer* optimizer, co
   RecordedRollout out;
   out.scene = scene;
   out.options = options;
-  ExactStepper stepper(scene, options, inputs.initial_positions.value_or(scene.grid.rest_positions()),
+  ExactStepper stepper(scene, options, inputs.initial_positions.value_or(scene.start_positions()),
                        inputs.initial_velocities.value_or(VecX::Zero(scene.grid.dof_count())), 0, interval > 0);
   out.positions.push_back(stepper.positions());
   out.velocities.push_back(stepper.velocities());

@@ -111,6 +111,11 @@ struct ResolvedScene {
   HandleSet handles;
   std::shared_ptr<const HandleTrajectory> trajectory;
   VecX rest_positions;  // the cloth at t = 0, as the scene places it
+
+  // rest_positions, or the grid's rest pose where a scene assembled by hand left them empty.
+  VecX start_positions() const {
+    return rest_positions.size() == grid.dof_count() ? rest_positions : grid.rest_positions();
+  }
 };
 // The cloth's positions at t = 0 on `grid` as `placement` puts it.
 VecX placed_rest_positions(const Grid& grid, Placement placement);

@@ -44,6 +44,7 @@ RolloutResult run_rollout(const ResolvedScene& setup, InnerOptimizer& optimizer,
   const int frames = setup.scene.frames;
   RolloutResult result;
   result.grid = setup.grid;
+  result.rest_positions = setup.start_positions();
   result.handle_vertices = setup.handles.vertices;
   result.dt = setup.scene.dt;
   result.times.push_back(0.0);

@@ -31,6 +31,7 @@ struct StepRecord {
 
 struct RolloutResult {
   Grid grid;
+  VecX rest_positions;  // the cloth at rest as the scene places it (ResolvedScene::start_positions)
   std::vector<int> handle_vertices;
   double dt = 0.0;
   std::vector<double> times;                      // [s], frame 0 = the initial state

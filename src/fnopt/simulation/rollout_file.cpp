@@ -29,7 +29,8 @@ void write_rollout_file(const std::string& path, const RolloutResult& rollout, c
     file.write("handle_positions", {T, H, 3}, handles.data());
     file.write("handle_vertices", {H}, rollout.handle_vertices.data());
 
-    const Eigen::VectorXf rest = g.rest_positions().cast<float>();
+    const Eigen::VectorXf rest =
+        (rollout.rest_positions.size() == g.dof_count() ? rollout.rest_positions : g.rest_positions()).cast<float>();
     file.write("rest_positions", {R, C, 3}, rest.data());
     const auto faces = g.triangles();
     file.write("faces", {static_cast<hsize_t>(faces.rows()), 3}, faces.data());

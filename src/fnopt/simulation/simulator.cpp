@@ -29,8 +29,7 @@ Simulator::Simulator(const ResolvedScene& scene, InnerOptimizer& optimizer, cons
                  scene_.scene.contact),
       dirichlet_(scene_.grid.vertex_count(), scene_.handles.vertices),
       problem_(objective_, dirichlet_),
-      x_(scene_.rest_positions.size() == scene_.grid.dof_count() ? scene_.rest_positions
-                                                                 : scene_.grid.rest_positions()),
+      x_(scene_.start_positions()),
       v_(VecX::Zero(scene_.grid.dof_count())),
       a_(VecX::Zero(scene_.grid.dof_count())) {}
 

@@ -4,8 +4,8 @@
 #include <map>
 #include <sstream>
 
-#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
+#include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
@@ -18,7 +18,7 @@ StabilityRun run_stability_rollout(const Scene& scene, const StabilityMethod& me
     const ResolvedScene setup = resolve(scene);  // validates the scene
     {
       const BackwardEulerObjective objective(setup.grid, setup.scene.material, scene.dt, setup.scene.gravity);
-      run.initial_energy = objective.potential(setup.grid.rest_positions());
+      run.initial_energy = objective.potential(setup.start_positions());
     }
     const std::unique_ptr<InnerOptimizer> optimizer = factory(method.method);
     if (!optimizer) throw Error("optimizer", "the factory made no optimizer for '" + method.method + "'");
