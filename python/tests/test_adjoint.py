@@ -50,6 +50,22 @@ def test_the_gradients_match_differences_of_the_rollout():
     assert (g["initial_velocities"] * d).sum() == pytest.approx(((plus - minus) * w).sum() / (2 * h), rel=1e-4)
 
 
+def test_gradients_through_contact_and_friction_match_differences():
+    # A sphere 2 cm behind the cloth, within the contact range: the barrier pushes it off its plane
+    # and friction holds it (docs/design.md §15).
+    scene = fnopt.Scene(res=8, frames=20, speed=4, obstacles=["sphere center=0.5,0.12,-0.6 radius=0.1 friction=0.5"])
+    recorded = fnopt.record_rollout(scene)
+    w = linear_loss_weights(recorded)
+    g = recorded.gradients(w)
+    d = np.random.default_rng(7).standard_normal((8, 8, 3))
+    h = 1e-6
+    for name in ("initial_positions", "initial_velocities"):
+        plus = fnopt.record_rollout(scene, **{name: (recorded.positions[0] if name == "initial_positions" else 0) + h * d})
+        minus = fnopt.record_rollout(scene, **{name: (recorded.positions[0] if name == "initial_positions" else 0) - h * d})
+        difference = ((plus.positions - minus.positions) * w).sum() / (2 * h)
+        assert (g[name] * d).sum() == pytest.approx(difference, rel=1e-4), name
+
+
 def test_a_dict_of_frames_is_the_same_loss_as_the_whole_array():
     recorded = fnopt.record_rollout(SCENE)
     w = linear_loss_weights(recorded)
