@@ -166,10 +166,10 @@ void run_fit_handles(FitHandlesFlags& flags) {
   const FramePositions target = load_target(flags, scene, description);
   const int steps = scene.scene.frames - 1;
   const HandlePath handle_path(flags.params.path, steps, static_cast<int>(scene.handles.vertices.size()));
-  std::printf("scene: %dx%d, %d steps of %s s, handles %s, motion %s; %d thread%s\n", scene.grid.rows, scene.grid.cols,
-              steps, number_text(scene.scene.dt).c_str(), scene.scene.handles.c_str(),
-              scene.scene.trajectory.empty() ? scene.scene.motion.c_str() : scene.scene.trajectory.c_str(), threads,
-              threads == 1 ? "" : "s");
+  std::printf("scene: %dx%d, %d steps of %s s, handles %s, motion %s at speed %s; %d thread%s\n", scene.grid.rows,
+              scene.grid.cols, steps, number_text(scene.scene.dt).c_str(), scene.scene.handles.c_str(),
+              scene.scene.trajectory.empty() ? scene.scene.motion.c_str() : scene.scene.trajectory.c_str(),
+              number_text(scene.scene.speed).c_str(), threads, threads == 1 ? "" : "s");
   std::printf("target: %s\n", description.c_str());
   std::printf("path: the motion plus %d %s control points per handle, each coordinate within %s m; %d passes\n",
               flags.params.path.control_points, flags.basis.c_str(), number_text(flags.params.bound).c_str(),

@@ -13,6 +13,10 @@ Parts, in order:
                (fnopt compare --keep-rollouts, then fnopt evaluate against newton-min's rollout)
   arcsim       against ARCSim (fnopt compare --arcsim-dir; skipped without --arcsim-dir)
   stability    the stability suite's summary (fnopt stability)
+  contact      every method on the contact scenes of examples/scenes (fnopt compare --scene), and far
+               obstacles' cost (fnopt bench contact)
+  adjoint      gradients through rollouts: fnopt gradcheck (plain and with an obstacle), fnopt bench adjoint,
+               fnopt fit-handles, and with --arcsim-dir fnopt fit-material by gradient and by compass
   paper        the FNOPT paper's tables beside ours (scripts/data/paper-tables.csv; no run)
 
 --quick is a smoke pass for CI (tiny grids, a few frames, a couple of methods, every part
@@ -38,6 +42,11 @@ import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+SCENES = os.path.normpath(os.path.join(HERE, "..", "examples", "scenes"))
+CONTACT_SCENES = [("drape", 120), ("table", 120), ("pushed-sphere", 150), ("tilted-plane", 120)]
+# design.md §7's fit: the start the fit-material comparison begins from (stretch, shear, damping far off).
+FIT_START = "stretch = 300\nshear = 3\nbend = 2e-5\ndensity = 0.187\ndamping = 1\n"
+GRADCHECK_OBSTACLE = "sphere center=0.5,0.12,-0.6 radius=0.1 friction=0.3"
 PAPER_CSV = os.path.join(HERE, "data", "paper-tables.csv")
 
 EVAL = "eval"  # compare's name for the fifteen evaluation motions
@@ -92,12 +101,27 @@ def plan(args):
     p["stability"] = ({"cases": "baseline,stretch-x100", "frames": 3, "optimizers": "pqn,fnopt"} if quick else
                       {"cases": "all", "frames": None,
                        "optimizers": "newton,pqn,fnopt,fnopt-ss,implicit-euler,lbfgs,lbfgs-ls"})
+    p["contact"] = ({"res": "12", "scenes": [(name, 4) for name, _ in CONTACT_SCENES],
+                     "budgets": {"newton": [], "pqn": [2]}, "bench": ["--res", "12", "--frames", "3"]} if quick else
+                    {"res": "32,64,100", "scenes": CONTACT_SCENES,
+                     "budgets": {"newton": [], "pqn": [10], "fnopt": [10], "fnopt-ss": [10], "implicit-euler": [],
+                                 "lbfgs": [100], "lbfgs-ls": [100], "adam": [500], "gd": [500]},
+                     "bench": ["--res", "32,64,100", "--frames", "60", "--repeat", "4"]})
+    p["adjoint"] = ({"gradcheck": ["--res", "6", "--frames", "8"], "contact_gradcheck": ["--res", "6", "--frames", "8"],
+                     "bench": ["--res", "8", "--frames", "3"],
+                     "fit_handles": ["--res", "6", "--frames", "12", "--passes", "8"], "passes": [2, 4, 8],
+                     "fit_material": None} if quick else
+                    {"gradcheck": [], "contact_gradcheck": ["--res", "8", "--frames", "30"],
+                     "bench": ["--res", "32,64,100", "--frames", "390"],
+                     "fit_handles": ["--passes", "100"], "passes": [10, 20, 40, 60, 100],
+                     "fit_material": ["--frames", "210", "--cd-samples", "4000", "--cd-stride", "4"]})
     # Rough seconds per part on one idle core, for the ETA only (scaled by how the finished parts went).
     p["estimate_s"] = ({"frontier-12": 15, "frontier-16": 20, "newton-cost": 3, "superres": 20, "offcorner-12": 20,
-                        "arcsim": 10, "stability": 10, "paper": 0} if quick else
+                        "arcsim": 10, "stability": 10, "contact": 10, "adjoint": 10, "paper": 0} if quick else
                        {"frontier-32": 9000, "frontier-64": 14400, "frontier-100": 36000,
                         "newton-cost": 1500 * args.repeat, "superres": 10800, "offcorner-32": 3600,
-                        "offcorner-64": 24000, "arcsim": 12000, "stability": 3600, "paper": 0})
+                        "offcorner-64": 24000, "arcsim": 12000, "stability": 3600, "contact": 14400,
+                        "adjoint": 7200, "paper": 0})
     # Fewer samples where the grids are tiny: the per-step error's reference states, e_CD's points.
     p["compare_extra"] = ["--step-samples", "2", "--cd-samples", "2000"] if quick else []
     return p
@@ -534,6 +558,154 @@ def part_stability(ctx, part, st):
         [out_path]
 
 
+def part_contact(ctx, part, plan_):
+    """Every method on the example contact scenes at each grid: e_CD against Newton per scene and grid, and the
+    smallest vertex-obstacle distance of any run; then far obstacles' cost."""
+    grids = plan_["res"].split(",")
+    header = ["method", "N"] + ["%s e_CD × 10³ (%s)" % (name, " / ".join(g + "²" for g in grids))
+                                for name, _ in plan_["scenes"]] + ["smallest distance (mm)", "diverged"]
+    cells, smallest, diverged, commands = {}, {}, {}, []
+    for name, frames in plan_["scenes"]:
+        d = os.path.join(ctx.out, part, name)
+        scene = os.path.join(SCENES, name + ".scene")
+        args = (["compare", "--scene", scene, "--res", plan_["res"], "--frames", str(frames), "--motions", "static"] +
+                budget_flags(plan_["budgets"]) + ["--threads", "1"] + ctx.plan["compare_extra"] +
+                ["--out", ctx.runner.rel(d)])
+        if ctx.resume:
+            args.append("--resume")
+        commands.append(command_text([ctx.binary] + args).replace(SCENES + os.sep, "examples/scenes/"))
+        ctx.run(part + " " + name, args)
+        for r in compare_rows(d):
+            key = (r["method"], r["N"])
+            done = r["diverged"] == "no"
+            cells.setdefault(key, {}).setdefault(name, {})[r["resolution"]] = (
+                fmt(fnum(r["e_cd_x1e3"])) if done else "diverged")
+            distance = fnum(r.get("min_obstacle_distance_m"))
+            if distance is not None:
+                smallest[key] = min(smallest.get(key, distance), distance)
+            diverged.setdefault(key, [0, 0])
+            diverged[key][0] += not done
+            diverged[key][1] += 1
+    table = []
+    for key in cells:
+        row = [key[0], key[1] or "converged"]
+        for name, _ in plan_["scenes"]:
+            row.append(" / ".join(cells[key].get(name, {}).get(g, "—") for g in grids))
+        row += [fmt(1e3 * smallest[key]) if key in smallest else "—", "%d/%d" % tuple(diverged[key])]
+        table.append(row)
+    path = os.path.join(ctx.out, part, "contact.csv")
+    write_csv(path, header, table)
+    bench_args = ["bench", "contact"] + plan_["bench"] + ["--threads", "1"]
+    text = ctx.run(part + " bench", bench_args)
+    bench_rows = [m.groups() for m in (re.match(r"^\s*(\d+)\^2\s+(\S+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s+(\S+)\s*$", l)
+                                       for l in text.splitlines()) if m]
+    if not bench_rows:
+        raise PartFailed("%s: no table in bench contact's output" % part)
+    bench_header = ["grid", "method", "ms/frame without obstacles", "with far obstacles", "ratio", "same rollout"]
+    bench_table = [[g + "²"] + list(rest) for g, *rest in bench_rows]
+    bench_path = os.path.join(ctx.out, part, "bench-contact.csv")
+    write_csv(bench_path, bench_header, bench_table)
+    body = ("The scenes of `examples/scenes/` (a released cloth on a sphere above a floor, on a table top with an "
+            "overhang, on a plane tilted by 30° with friction 0.4; a sphere pushed through the hanging cloth), every "
+            "method against Newton converging on every step; the smallest distance of any vertex to any obstacle "
+            "over every frame, scene and grid (≥ the contact thickness, 1 mm: no penetration).\n\n" +
+            markdown_table(header, table) + "\n\nFar obstacles' cost: the benchmark scene with and without a floor "
+            "and a sphere far from the cloth, alternated runs, medians.\n\n```\n" +
+            command_text([ctx.binary] + bench_args) + "\n```\n\n" + markdown_table(bench_header, bench_table))
+    return section("Contact with obstacles", commands, body), [path, bench_path]
+
+
+GRADCHECK_ROW = re.compile(r"^(\S+)\s+(\d+)\s+(\S+)\s+(\S+)\s+(\S+)\s*$")
+BENCH_ADJOINT_ROW = re.compile(r"^\s*(\d+)\^2\s+(.*)$")
+
+
+def part_adjoint(ctx, part, plan_):
+    """The adjoint's checks and costs, and the inverse problems fnopt answers by it."""
+    d = os.path.join(ctx.out, part)
+    os.makedirs(d, exist_ok=True)
+    files, commands, body = [], [], ""
+
+    def gradcheck(label, extra):
+        args = ["gradcheck"] + extra + ["--threads", "1"]
+        commands.append(command_text([ctx.binary] + args))
+        rows = [m.groups() for m in (GRADCHECK_ROW.match(l) for l in ctx.run(part + " " + label, args).splitlines())
+                if m and m.group(1) != "parameter"]
+        if not rows:
+            raise PartFailed("%s: no rows in gradcheck's output" % part)
+        return {r[0]: r[4] for r in rows}
+
+    plain = gradcheck("gradcheck", plan_["gradcheck"])
+    contact = gradcheck("gradcheck contact", plan_["contact_gradcheck"] + ["--obstacle", GRADCHECK_OBSTACLE])
+    header = ["parameter", "relative error, plain scene", "with a sphere behind the cloth (friction 0.3)"]
+    table = [[k, plain[k], contact.get(k, "—")] for k in plain]
+    path = os.path.join(d, "gradcheck.csv")
+    write_csv(path, header, table)
+    files.append(path)
+    body += ("The adjoint against central differences of the rollout, a row per parameter kind:\n\n" +
+             markdown_table(header, table) + "\n\n")
+
+    bench_args = ["bench", "adjoint"] + plan_["bench"] + ["--threads", "1"]
+    commands.append(command_text([ctx.binary] + bench_args))
+    text = ctx.run(part + " bench", bench_args)
+    head = next((l for l in text.splitlines() if l.strip().startswith("res")), None)
+    rows = [[m.group(1) + "²"] + m.group(2).split() for m in (BENCH_ADJOINT_ROW.match(l) for l in text.splitlines()) if m]
+    if head is None or not rows:
+        raise PartFailed("%s: no table in bench adjoint's output" % part)
+    bench_header = ["grid", "forward ms/frame", "backward ms/frame", "backward / forward", "factorisations / step",
+                    "solves / step", "record MB", "peak RSS MB", "saddle steps", "status"]
+    rows = [r[:len(bench_header)] for r in rows]
+    path = os.path.join(d, "bench-adjoint.csv")
+    write_csv(path, bench_header, rows)
+    files.append(path)
+    body += ("Cost of the backward pass against the recorded forward pass it differentiates (Newton to 1e-10 m/s², "
+             "exact steps), and the memory the record holds:\n\n" + markdown_table(bench_header, rows) + "\n\n")
+
+    loss_csv = os.path.join(d, "fit-handles.csv")
+    fit_args = (["fit-handles"] + plan_["fit_handles"] + ["--threads", "1", "--csv", ctx.runner.rel(loss_csv),
+                                                          "--plot", ctx.runner.rel(os.path.join(d, "fit-handles.svg"))])
+    commands.append(command_text([ctx.binary] + fit_args))
+    said = [l for l in ctx.run(part + " fit-handles", fit_args).splitlines()
+            if l.startswith(("scene:", "target:", "path:"))]
+    history = {}
+    for r in read_csv(loss_csv):
+        history.setdefault(r["method"], []).append((int(r["passes"]), fnum(r["loss_m2"])))
+    passes = plan_["passes"]
+    fit_header = ["method", "start loss m²"] + ["after %d passes" % n for n in passes]
+    fit_table = []
+    for method, points in history.items():
+        best = lambda n: min((loss for k, loss in points if k <= n), default=None)
+        fit_table.append([method, fmt(points[0][1])] + [fmt(best(n)) for n in passes])
+    path = os.path.join(d, "fit-handles-table.csv")
+    write_csv(path, fit_header, fit_table)
+    files += [path, loss_csv]
+    body += ("Handle paths to a target (`fnopt fit-handles`; %s): the best loss after N passes, a gradient "
+             "evaluation counting two; the picture: `adjoint/fit-handles.svg`.\n\n" % "; ".join(said) +
+             markdown_table(fit_header, fit_table) + "\n")
+
+    if plan_["fit_material"] and ctx.arcsim_dir:
+        start = os.path.join(d, "fit-start.txt")
+        write_atomic(start, FIT_START)
+        refs = [os.path.join(ctx.arcsim_dir, "arcsim_N32_%s.h5" % m) for m in ("xy_v2", "rot_h0")]
+        fit_rows = []
+        for method, extra in (("gradient", []), ("compass", ["--initial-step", "0.7", "--final-step", "0.08"])):
+            args = (["fit-material", "--method", method, "--reference"] + refs +
+                    ["--start", ctx.runner.rel(start), "--fit", "stretch,shear,damping"] + plan_["fit_material"] +
+                    extra + ["--threads", "1", "--out", ctx.runner.rel(os.path.join(d, "fitted-%s.txt" % method))])
+            commands.append(command_text([ctx.binary] + args).replace(ctx.arcsim_dir, "ARCSIM_DIR"))
+            out = ctx.run(part + " fit-material " + method, args)
+            last = [l for l in out.splitlines() if "e_CD x 10^3" in l and ("fitted" in l or "against" in l)]
+            fitted = [l for l in out.splitlines() if l.startswith("fitted:")]
+            fit_rows.append([method, fitted[-1][len("fitted:"):].strip() if fitted else "—",
+                             last[-1].strip() if last else "—"])
+        path = os.path.join(d, "fit-material.csv")
+        write_csv(path, ["method", "fitted material", "e_CD and rollouts"], fit_rows)
+        files.append(path)
+        body += ("\ndesign.md §7's fit (32² xy_v2 and rot_h0 against ARCSim, from stretch 300, shear 3, damping "
+                 "1), by gradient and by compass:\n\n" +
+                 markdown_table(["method", "fitted material", "e_CD and rollouts"], fit_rows) + "\n")
+    return section("Gradients through rollouts", commands, body), files
+
+
 def part_paper(ctx, part):
     """The paper's figures (scripts/data/paper-tables.csv) beside ours, each row saying what differs."""
     paper = [r for r in read_csv(PAPER_CSV) if r["motion"] == "mean"]
@@ -613,6 +785,8 @@ def make_parts(ctx):
                           frames, n))
     parts.append(Part("arcsim", "against ARCSim", part_arcsim, p["arcsim"]))
     parts.append(Part("stability", "stability", part_stability, p["stability"]))
+    parts.append(Part("contact", "contact", part_contact, p["contact"]))
+    parts.append(Part("adjoint", "the adjoint", part_adjoint, p["adjoint"]))
     parts.append(Part("paper", "the paper beside ours", part_paper))
     return parts
 
@@ -652,7 +826,8 @@ def assemble(ctx, sections):
 def main(argv=None):
     parser = argparse.ArgumentParser(
         description=__doc__.split("\n\n")[0] + " Writes OUT/<part>/ and OUT/results.md.",
-        epilog="Parts: frontier-32/64/100, newton-cost, superres, offcorner-32/64, arcsim, stability, paper "
+        epilog="Parts: frontier-32/64/100, newton-cost, superres, offcorner-32/64, arcsim, stability, contact, adjoint, "
+               "paper "
                "(--quick: frontier-12/16, offcorner-12). Example: scripts/release-results.py --binary "
                "build/fnopt --out out/release --arcsim-dir /data/arcsim --resume")
     parser.add_argument("--binary", default="build/fnopt", help="the fnopt executable (default: build/fnopt)")

@@ -10,7 +10,7 @@ import sys
 
 SECTIONS = ["The error–time frontier at 12²", "The error–time frontier at 16²", "The Newton reference's cost",
             "Zero-shot super-resolution", "Off the corners at 12²", "Against ARCSim", "Stability",
-            "The paper's tables beside ours"]
+            "Contact with obstacles", "Gradients through rollouts", "The paper's tables beside ours"]
 
 
 def main():
