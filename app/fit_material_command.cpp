@@ -1,7 +1,7 @@
 // fnopt fit-material: the material whose exact (Newton) rollout best reproduces reference
 // rollouts. Two methods: by the rollout's adjoint gradient (the default; docs/design.md §15), a
-// bounded L-BFGS in the logarithms of the coefficients on a differentiable counterpart of e_CD,
-// or by the compass search on e_CD itself (studies/material_fit.hpp). Prints each evaluation, the
+// bounded L-BFGS in the logarithms of the coefficients on e_CD and its gradient, or by the
+// compass search on e_CD (studies/material_fit.hpp). Prints each evaluation, the
 // fitted values and their e_CD against the start material's, optionally the error on further
 // references (--check: how the fit transfers to other resolutions), and writes a material file
 // for --material.
@@ -15,6 +15,7 @@
 #include <fnopt/adjoint/bounded_lbfgs.hpp>
 #include <fnopt/adjoint/material_gradient.hpp>
 #include <fnopt/adjoint/rollout_loss.hpp>
+#include <fnopt/cloth/grid.hpp>
 #include <fnopt/io/hdf5_file.hpp>
 #include <fnopt/metrics/frame_matching.hpp>
 #include <fnopt/studies/material_fit.hpp>
@@ -86,9 +87,11 @@ void write_fit(const FitFlags& flags, const Material& material, const FitEvaluat
 }
 
 // A reference's frames as the gradient method's loss reads them: the rollout frame f (time f dt
-// after the reference's first) matched to each reference frame by time (metrics/frame_matching.hpp),
-// the initial frame left out (no coefficient moves it). An fnopt rollout on the scene's grid gives
-// every vertex's target (a position loss); an ARCSim file, points (a Chamfer loss on vertices).
+// after the reference's first) matched to each reference frame by time (metrics/frame_matching.hpp).
+// An fnopt rollout on the scene's grid gives every vertex's target after the initial frame (a
+// position loss); an ARCSim file gives e_CD itself (adjoint/rollout_loss.hpp's
+// surface_chamfer_loss): the reference mesh's samples on the matched frames e_CD reads, every
+// --cd-stride-th from the first, so that the loss is the objective the compass search minimises.
 struct GradientReference {
   ResolvedScene scene;  // with the start material; frames = the rollout's frame count
   bool positions = false;
@@ -96,26 +99,29 @@ struct GradientReference {
   std::vector<FramePoints> points;
 };
 
-GradientReference gradient_reference(const FitReference& reference, const Material& start, int steps) {
+GradientReference gradient_reference(const FitReference& reference, const Material& start,
+                                     const MaterialFitParams& params) {
   GradientReference r;
   Scene scene = reference.scene;
   scene.material = start;  // never the reference's own
-  if (steps > 0) scene.frames = steps;
+  if (params.frames > 0) scene.frames = params.frames;
   scene.frames += 1;  // the recorded rollout counts the initial frame
   r.scene = resolve(scene);
   r.positions = Hdf5File(reference.path, Hdf5File::Mode::Read).has_attribute("scene");
   std::vector<double> times(scene.frames);
   for (int f = 0; f < scene.frames; ++f) times[f] = reference.frames.times.front() + f * scene.dt;
-  for (const FrameMatch& match : match_frames(reference.frames.times, times)) {
-    if (match.rollout == 0) continue;
+  Grid reference_grid;
+  reference_grid.rows = reference.frames.rows;
+  reference_grid.cols = reference.frames.cols;
+  const Triangles triangles = reference_grid.triangles();
+  const std::vector<FrameMatch> matches = match_frames(reference.frames.times, times);
+  for (std::size_t k = 0; k < matches.size(); ++k) {
+    const FrameMatch& match = matches[k];
     const Eigen::VectorXf& x = reference.frames.positions[match.reference];
-    if (r.positions) {
-      r.targets.push_back({match.rollout, x.cast<double>()});
-    } else {
-      FramePoints points{match.rollout, {}};
-      for (Eigen::Index i = 0; i + 2 < x.size(); i += 3) points.points.emplace_back(x[i], x[i + 1], x[i + 2]);
-      r.points.push_back(std::move(points));
-    }
+    if (r.positions && match.rollout > 0) r.targets.push_back({match.rollout, x.cast<double>()});
+    if (!r.positions && k % params.chamfer_stride == 0)
+      r.points.push_back({match.rollout, sample_mesh_surface(x.cast<double>(), triangles, params.chamfer.samples,
+                                                             params.chamfer.seed)});
   }
   require(!r.targets.empty() || !r.points.empty(), reference.path,
           "no frame after the first matches the rollout's times");
@@ -136,7 +142,8 @@ struct GradientFit {
 // infinite loss, which the line search steps back from.
 GradientFit fit_by_gradient(const std::vector<GradientReference>& references, const Material& start,
                             const std::vector<AdjointParameter>& fit,
-                            const std::map<AdjointParameter, CoefficientRange>& ranges, int iterations) {
+                            const std::map<AdjointParameter, CoefficientRange>& ranges, int iterations,
+                            double first_step, const ChamferOptions& chamfer) {
   const Eigen::Index n = static_cast<Eigen::Index>(fit.size());
   VecX x0(n), lower(n), upper(n);
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -166,7 +173,8 @@ GradientFit fit_by_gradient(const std::vector<GradientReference>& references, co
         break;
       }
       const RolloutLoss loss =
-          reference.positions ? position_loss(rollout, reference.targets) : chamfer_loss(rollout, reference.points);
+          reference.positions ? position_loss(rollout, reference.targets)
+                              : surface_chamfer_loss(rollout, reference.points, chamfer);
       const RolloutGradient adjoint = backpropagate(rollout, loss.gradient);
       value += loss.value / references.size();
       for (Eigen::Index i = 0; i < n; ++i) gradient[i] += adjoint.log_material.coefficient(fit[i]) / references.size();
@@ -184,6 +192,8 @@ GradientFit fit_by_gradient(const std::vector<GradientReference>& references, co
   // a rollout each, before it says so, and one that still can gains nothing a fit can use.
   params.max_backtracks = 10;
   params.relative_decrease = 1e-4;
+  // The first step as the compass search's: the gradient's size says nothing about how far to go.
+  params.first_step = first_step;
   const BoundedLbfgsResult fit_result = minimize_in_box(objective, x0, lower, upper, params);
   result.material = material_at(fit_result.x);
   result.loss = fit_result.value;
@@ -234,18 +244,22 @@ void run_gradient_fit(FitFlags& flags, int threads) {
   const std::vector<AdjointParameter> fit = gradient_coefficients(flags.coefficients);
   const auto ranges = gradient_ranges(flags);
   require(flags.iterations >= 1, "iterations", "must be at least 1");
-  with_flag_names({{"fit.frames", "frames"}, {"chamfer.samples", "cd-samples"}, {"fit.chamfer_stride", "cd-stride"}},
+  with_flag_names({{"fit.frames", "frames"},
+                   {"chamfer.samples", "cd-samples"},
+                   {"fit.chamfer_stride", "cd-stride"},
+                   {"fit.initial_step", "initial-step"},
+                   {"fit.final_step", "final-step"}},
                   [&] { flags.params.validate(); });
   const Material start = material_preset(flags.start);
   const auto references = load_references(flags.references);
   std::vector<GradientReference> targets;
   for (const auto& r : references) {
-    targets.push_back(gradient_reference(r, start, flags.params.frames));
+    targets.push_back(gradient_reference(r, start, flags.params));
     const GradientReference& t = targets.back();
     std::printf("reference %s: %dx%d, motion %s, %d steps of %.4g s, %zu frames matched, %s\n", r.path.c_str(),
                 r.scene.rows, r.scene.cols, r.scene.motion.c_str(), t.scene.scene.frames - 1, r.scene.dt,
                 t.positions ? t.targets.size() : t.points.size(),
-                t.positions ? "position loss (an fnopt rollout: vertex for vertex)" : "Chamfer loss on vertices");
+                t.positions ? "position loss (an fnopt rollout: vertex for vertex)" : "e_CD");
   }
   std::printf(
       "fitting %s from %s (%s); bounded L-BFGS in ln(coefficient) on the adjoint gradient, at most %d iterations; %d "
@@ -253,7 +267,8 @@ void run_gradient_fit(FitFlags& flags, int threads) {
       flags.coefficients.c_str(), flags.start.c_str(), material_text(start).c_str(), flags.iterations, threads,
       threads == 1 ? "" : "s");
   std::fflush(stdout);
-  const GradientFit result = fit_by_gradient(targets, start, fit, ranges, flags.iterations);
+  const GradientFit result = fit_by_gradient(targets, start, fit, ranges, flags.iterations, flags.params.initial_step,
+                                             flags.params.chamfer);
   std::printf("fitted:  %s (%s after %d iterations; loss %s, start %s)\n", material_text(result.material).c_str(),
               to_string(result.status), result.iterations, number_text(result.loss).c_str(),
               number_text(result.start_loss).c_str());
@@ -352,8 +367,8 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->add_option("--method", flags->method,
                    "gradient: bounded L-BFGS in ln(coefficient) on the rollout's adjoint gradient (docs/design.md "
                    "§15), minimising, per reference frame matched by time, the squared distance of every vertex to "
-                   "its own (an fnopt rollout) or the Chamfer distance between the vertices and the reference's "
-                   "(an ARCSim file); compass: the compass search on e_CD itself")
+                   "its own (an fnopt rollout) or e_CD (an ARCSim file: --cd-samples, --cd-stride); compass: the "
+                   "compass search on e_CD")
       ->capture_default_str();
   command->add_option("--fit", flags->coefficients,
                       "coefficients to fit: stretch, shear, bend, damping, and with --method gradient density "
@@ -370,7 +385,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->capture_default_str();
   command->add_option("--max-evaluations", flags->params.max_evaluations, "compass: Newton rollouts at most")
       ->capture_default_str();
-  command->add_option("--initial-step", flags->params.initial_step, "compass: first search step in ln(coefficient)")
+  command
+      ->add_option("--initial-step", flags->params.initial_step,
+                   "first step in ln(coefficient): compass, its first poll; gradient, the largest change of a "
+                   "coefficient in its first step")
       ->capture_default_str();
   command->add_option("--final-step", flags->params.final_step, "compass: stop when the step is below this")
       ->capture_default_str();

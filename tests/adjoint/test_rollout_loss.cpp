@@ -1,6 +1,7 @@
 // The losses on a rollout's positions: values and gradients against central differences of the
-// loss itself, zero at a perfect match, one-line errors for losses that do not fit, and the
-// Chamfer loss through the backward pass against differences of the whole rollout.
+// loss itself, zero at a perfect match, e_CD's loss equal to the metric, one-line errors for
+// losses that do not fit, and the Chamfer losses through the backward pass against differences of
+// the whole rollout.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -89,12 +90,17 @@ TEST(RolloutLoss, LossesThatDoNotFitAreErrors) {
   EXPECT_THROW(position_loss(rollout, {{1, VecX::Zero(6)}}), Error);
   EXPECT_THROW(chamfer_loss(rollout, {{1, {}}}), Error);
   EXPECT_THROW(chamfer_loss(RecordedRollout{}, {{0, {Vec3::Zero()}}}), Error);
+  EXPECT_THROW(surface_chamfer_loss(rollout, {{1, {}}}), Error);
+  EXPECT_THROW(surface_chamfer_loss(rollout, {{5, {Vec3::Zero()}}}), Error);
 }
 
-// End to end: the Chamfer loss against another material's rollout, through the backward pass,
-// against central differences of the whole rollout in log stretch (each perturbed step started at
-// the base rollout's acceleration, gradient_check.hpp's protocol).
-TEST(RolloutLoss, ChamferThroughTheRolloutMatchesDifferencesInLogStretch) {
+// A small scene's rollout and another material's (e_CD needs the grid's triangles).
+struct TwoMaterials {
+  ResolvedScene scene;
+  RecordedRollout base, other;
+};
+
+TwoMaterials two_materials() {
   Scene scene;
   scene.rows = scene.cols = 8;
   scene.frames = 31;
@@ -102,23 +108,94 @@ TEST(RolloutLoss, ChamferThroughTheRolloutMatchesDifferencesInLogStretch) {
   Scene other = scene;
   other.material.stretch *= 1.5;
   other.material.shear *= 0.5;
-  const RecordedRollout observed_rollout = record_rollout(resolve(other));
+  TwoMaterials r;
+  r.scene = resolve(scene);
+  r.base = record_rollout(r.scene);
+  r.other = record_rollout(resolve(other));
+  return r;
+}
+
+// The other rollout's surface samples at frames 0, 10, 20, 30, as fnopt evaluate samples them.
+std::vector<FramePoints> sampled_frames(const RecordedRollout& rollout, const ChamferOptions& options) {
+  std::vector<FramePoints> frames;
+  for (int f : {0, 10, 20, 30})
+    frames.push_back({f, sample_mesh_surface(rollout.positions[f], rollout.scene.grid.triangles(), options.samples,
+                                             options.seed)});
+  return frames;
+}
+
+TEST(RolloutLoss, SurfaceChamferIsTheMeanMeshChamferDistance) {
+  const TwoMaterials rollouts = two_materials();
+  ChamferOptions options;
+  options.samples = 400;
+  const std::vector<FramePoints> observed = sampled_frames(rollouts.other, options);
+  double mean = 0.0;
+  const Triangles triangles = rollouts.base.scene.grid.triangles();
+  for (const FramePoints& frame : observed)
+    mean += mesh_chamfer_distance(rollouts.base.positions[frame.frame], triangles, rollouts.other.positions[frame.frame],
+                                  triangles, options) /
+            observed.size();
+  EXPECT_GT(mean, 0.0);
+  EXPECT_NEAR(surface_chamfer_loss(rollouts.base, observed, options).value, mean, 1e-12 * mean);
+  const RolloutLoss own = surface_chamfer_loss(rollouts.other, observed, options);
+  EXPECT_EQ(own.value, 0.0);
+  for (const FrameGradient& g : own.gradient) EXPECT_EQ(g.gradient.norm(), 0.0);
+}
+
+TEST(RolloutLoss, SurfaceChamferGradientMatchesDifferences) {
+  const TwoMaterials rollouts = two_materials();
+  ChamferOptions options;
+  options.samples = 400;
+  const std::vector<FramePoints> observed = sampled_frames(rollouts.other, options);
+  const auto loss = [&](const RecordedRollout& r) { return surface_chamfer_loss(r, observed, options).value; };
+  const RolloutLoss at = surface_chamfer_loss(rollouts.base, observed, options);
+  std::mt19937_64 random(5);
+  for (const FrameGradient& g : at.gradient) {
+    if (g.frame == 0) continue;  // the same start: both at zero distance
+    const VecX d = random_vector(g.gradient.size(), random);
+    EXPECT_NEAR(g.gradient.dot(d), directional_difference(rollouts.base, g.frame, d, loss), 1e-6 * g.gradient.norm());
+  }
+}
+
+// End to end: e_CD against another material's rollout through the backward pass, against central
+// differences of the whole rollout in log shear (the protocol of the test below).
+TEST(RolloutLoss, SurfaceChamferThroughTheRolloutMatchesDifferencesInLogShear) {
+  const TwoMaterials rollouts = two_materials();
+  ChamferOptions options;
+  options.samples = 400;
+  const std::vector<FramePoints> observed = sampled_frames(rollouts.other, options);
+  const RolloutLoss loss = surface_chamfer_loss(rollouts.base, observed, options);
+  const double adjoint = backpropagate(rollouts.base, loss.gradient).log_material.shear;
+  const double e = 1e-5;
+  RolloutInputs on_branch;
+  on_branch.start_accelerations = rollouts.base.accelerations;
+  ResolvedScene plus = rollouts.scene, minus = rollouts.scene;
+  plus.scene.material.shear *= std::exp(e);
+  minus.scene.material.shear *= std::exp(-e);
+  const double difference = (surface_chamfer_loss(record_rollout(plus, {}, on_branch), observed, options).value -
+                             surface_chamfer_loss(record_rollout(minus, {}, on_branch), observed, options).value) /
+                            (2.0 * e);
+  EXPECT_NEAR(adjoint, difference, 1e-4 * std::abs(difference));
+}
+
+// End to end: the Chamfer loss against another material's rollout, through the backward pass,
+// against central differences of the whole rollout in log stretch (each perturbed step started at
+// the base rollout's acceleration, gradient_check.hpp's protocol).
+TEST(RolloutLoss, ChamferThroughTheRolloutMatchesDifferencesInLogStretch) {
+  const TwoMaterials rollouts = two_materials();
   std::vector<FramePoints> observed;
   for (int f : {10, 20, 30}) {
     std::vector<Vec3> points;
-    for (int k = 0; k < observed_rollout.scene.grid.vertex_count(); ++k)
-      points.push_back(observed_rollout.positions[f].segment<3>(3 * k));
+    for (int k = 0; k < rollouts.other.scene.grid.vertex_count(); ++k)
+      points.push_back(rollouts.other.positions[f].segment<3>(3 * k));
     observed.push_back({f, points});
   }
-
-  const ResolvedScene resolved = resolve(scene);
-  const RecordedRollout base = record_rollout(resolved);
-  const RolloutLoss loss = chamfer_loss(base, observed);
-  const double adjoint = backpropagate(base, loss.gradient).log_material.stretch;
+  const RolloutLoss loss = chamfer_loss(rollouts.base, observed);
+  const double adjoint = backpropagate(rollouts.base, loss.gradient).log_material.stretch;
   const double e = 1e-5;
   RolloutInputs on_branch;
-  on_branch.start_accelerations = base.accelerations;
-  ResolvedScene plus = resolved, minus = resolved;
+  on_branch.start_accelerations = rollouts.base.accelerations;
+  ResolvedScene plus = rollouts.scene, minus = rollouts.scene;
   plus.scene.material.stretch *= std::exp(e);
   minus.scene.material.stretch *= std::exp(-e);
   const double difference = (chamfer_loss(record_rollout(plus, {}, on_branch), observed).value -

@@ -1,5 +1,7 @@
 #include <fnopt/adjoint/rollout_loss.hpp>
 
+#include <algorithm>
+
 #include <fnopt/metrics/kd_tree.hpp>
 #include <fnopt/util/error.hpp>
 
@@ -16,6 +18,29 @@ std::vector<Vec3> vertex_points(const VecX& x) {
   std::vector<Vec3> points(x.size() / 3);
   for (std::size_t k = 0; k < points.size(); ++k) points[k] = x.segment<3>(3 * k);
   return points;
+}
+
+// CD(P, Y) = mean_{p in P} min_y |p - y|^2 + mean_{y in Y} min_p |p - y|^2 and its gradient with
+// respect to each p (3 per point), nearest neighbours held fixed:
+//   dCD/dp = (2/|P|)(p - nn_Y(p)) + (2/|Y|) sum_{y : nn_P(y) = p} (p - y).
+double point_chamfer(const std::vector<Vec3>& points, const std::vector<Vec3>& observed, VecX& gradient) {
+  const KdTree3 observed_tree(observed);
+  const KdTree3 points_tree(points);
+  const double point_weight = 1.0 / static_cast<double>(points.size());
+  const double observed_weight = 1.0 / static_cast<double>(observed.size());
+  double value = 0.0;
+  gradient = VecX::Zero(3 * static_cast<Eigen::Index>(points.size()));
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const KdTree3::Neighbour nearest = observed_tree.nearest(points[k]);
+    value += point_weight * nearest.squared_distance;
+    gradient.segment<3>(3 * k) += 2.0 * point_weight * (points[k] - observed[nearest.index]);
+  }
+  for (const Vec3& y : observed) {
+    const KdTree3::Neighbour nearest = points_tree.nearest(y);
+    value += observed_weight * nearest.squared_distance;
+    gradient.segment<3>(3 * nearest.index) += 2.0 * observed_weight * (points[nearest.index] - y);
+  }
+  return value;
 }
 
 }  // namespace
@@ -41,21 +66,32 @@ RolloutLoss chamfer_loss(const RecordedRollout& rollout, const std::vector<Frame
     check_frame(rollout, frame.frame);
     require(!frame.points.empty(), "loss", "frame " + std::to_string(frame.frame) + ": no observed points");
     const std::vector<Vec3> cloth = vertex_points(rollout.positions[frame.frame]);
-    const KdTree3 observed_tree(frame.points);
-    const KdTree3 cloth_tree(cloth);
-    const double cloth_weight = 1.0 / static_cast<double>(cloth.size());
-    const double observed_weight = 1.0 / static_cast<double>(frame.points.size());
-    VecX gradient = VecX::Zero(3 * static_cast<Eigen::Index>(cloth.size()));
-    for (std::size_t k = 0; k < cloth.size(); ++k) {
-      const KdTree3::Neighbour nearest = observed_tree.nearest(cloth[k]);
-      loss.value += cloth_weight * nearest.squared_distance;
-      gradient.segment<3>(3 * k) += 2.0 * cloth_weight * (cloth[k] - frame.points[nearest.index]);
-    }
-    for (const Vec3& y : frame.points) {
-      const KdTree3::Neighbour nearest = cloth_tree.nearest(y);
-      loss.value += observed_weight * nearest.squared_distance;
-      gradient.segment<3>(3 * nearest.index) += 2.0 * observed_weight * (cloth[nearest.index] - y);
-    }
+    VecX gradient;
+    loss.value += point_chamfer(cloth, frame.points, gradient);
+    loss.gradient.push_back({frame.frame, std::move(gradient)});
+  }
+  return loss;
+}
+
+RolloutLoss surface_chamfer_loss(const RecordedRollout& rollout, const std::vector<FramePoints>& observed,
+                                 const ChamferOptions& options) {
+  options.validate();
+  RolloutLoss loss;
+  const double frame_weight = 1.0 / static_cast<double>(std::max<std::size_t>(1, observed.size()));
+  const Triangles triangles = rollout.scene.grid.triangles();
+  for (const FramePoints& frame : observed) {
+    check_frame(rollout, frame.frame);
+    require(!frame.points.empty(), "loss", "frame " + std::to_string(frame.frame) + ": no observed points");
+    const VecX& x = rollout.positions[frame.frame];
+    const std::vector<SurfacePoint> samples = sample_surface_points(x, triangles, options.samples, options.seed);
+    VecX point_gradient;
+    loss.value += frame_weight * point_chamfer(surface_point_positions(x, triangles, samples), frame.points,
+                                               point_gradient);
+    VecX gradient = VecX::Zero(x.size());
+    for (std::size_t k = 0; k < samples.size(); ++k)
+      for (int i = 0; i < 3; ++i)
+        gradient.segment<3>(3 * triangles(samples[k].face, i)) +=
+            frame_weight * samples[k].weights[i] * point_gradient.segment<3>(3 * static_cast<Eigen::Index>(k));
     loss.gradient.push_back({frame.frame, std::move(gradient)});
   }
   return loss;

@@ -6,6 +6,7 @@
 
 #include <fnopt/adjoint/recorded_rollout.hpp>
 #include <fnopt/adjoint/rollout_adjoint.hpp>
+#include <fnopt/metrics/chamfer.hpp>
 
 namespace fnopt {
 
@@ -39,5 +40,16 @@ RolloutLoss position_loss(const RecordedRollout& rollout, const std::vector<Fram
 // The cloth's points are its vertices, not points sampled on its triangles (the e_CD metric's).
 // Throws Error("loss", ...) for a frame outside the rollout or an empty point set.
 RolloutLoss chamfer_loss(const RecordedRollout& rollout, const std::vector<FramePoints>& observed);
+
+// e_CD itself (metrics/chamfer.hpp, docs/design.md §8) as a loss: L = mean over the given frames
+// of CD(S(x_f), Y_f), S(x_f) the `options.samples` points sample_mesh_surface draws on the cloth's
+// triangles with options.seed. Each sample is a fixed barycentric combination of its triangle's
+// vertices, p = sum_i w_i x_i, so dL/dx_i = sum over the samples on x_i's triangles of w_i dCD/dp
+// (chamfer_loss's dCD/dp, nearest neighbours held fixed). The triangle a sample falls on is held
+// fixed too: it changes with the triangles' areas only in jumps. With Y_f the observed mesh's
+// samples under the same options, L is the e_CD that `fnopt evaluate` reports for those frames.
+// Throws as chamfer_loss does.
+RolloutLoss surface_chamfer_loss(const RecordedRollout& rollout, const std::vector<FramePoints>& observed,
+                                 const ChamferOptions& options = {});
 
 }  // namespace fnopt

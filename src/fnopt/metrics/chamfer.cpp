@@ -46,9 +46,9 @@ void ChamferOptions::validate() const {
   require(samples >= 1 && samples <= 10'000'000, "cd-samples", "must lie in [1, 10^7]");
 }
 
-std::vector<Vec3> sample_mesh_surface(const VecX& positions, const Triangles& triangles, int count,
-                                      std::uint64_t seed) {
-  std::vector<Vec3> points;
+std::vector<SurfacePoint> sample_surface_points(const VecX& positions, const Triangles& triangles, int count,
+                                                std::uint64_t seed) {
+  std::vector<SurfacePoint> points;
   const Eigen::Index faces = triangles.rows();
   if (faces == 0 || count <= 0) return points;
   std::vector<double> cumulative(faces);
@@ -74,11 +74,25 @@ std::vector<Vec3> sample_mesh_surface(const VecX& positions, const Triangles& tr
       f = std::min<Eigen::Index>(static_cast<Eigen::Index>(u * faces), faces - 1);
     }
     const double root = std::sqrt(r1);
-    points.push_back((1.0 - root) * positions.segment<3>(3 * triangles(f, 0)) +
-                     root * (1.0 - r2) * positions.segment<3>(3 * triangles(f, 1)) +
-                     root * r2 * positions.segment<3>(3 * triangles(f, 2)));
+    points.push_back({f, Vec3(1.0 - root, root * (1.0 - r2), root * r2)});
   }
   return points;
+}
+
+std::vector<Vec3> surface_point_positions(const VecX& positions, const Triangles& triangles,
+                                          const std::vector<SurfacePoint>& points) {
+  std::vector<Vec3> result;
+  result.reserve(points.size());
+  for (const SurfacePoint& p : points)
+    result.push_back(p.weights[0] * positions.segment<3>(3 * triangles(p.face, 0)) +
+                     p.weights[1] * positions.segment<3>(3 * triangles(p.face, 1)) +
+                     p.weights[2] * positions.segment<3>(3 * triangles(p.face, 2)));
+  return result;
+}
+
+std::vector<Vec3> sample_mesh_surface(const VecX& positions, const Triangles& triangles, int count,
+                                      std::uint64_t seed) {
+  return surface_point_positions(positions, triangles, sample_surface_points(positions, triangles, count, seed));
 }
 
 double chamfer_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {

@@ -30,8 +30,19 @@ struct ChamferOptions {
   void validate() const;
 };
 
+// A point on a mesh: its triangle and barycentric weights, p = sum_i weights[i] x_{triangles(face, i)}.
+struct SurfacePoint {
+  Eigen::Index face = 0;
+  Vec3 weights = Vec3::Zero();
+};
+
 // `count` points uniformly by area on the mesh (positions: 3 per vertex). A mesh of zero area
 // gets its points on the triangles picked uniformly.
+std::vector<SurfacePoint> sample_surface_points(const VecX& positions, const Triangles& triangles, int count,
+                                                std::uint64_t seed);
+// The same points' positions.
+std::vector<Vec3> surface_point_positions(const VecX& positions, const Triangles& triangles,
+                                          const std::vector<SurfacePoint>& points);
 std::vector<Vec3> sample_mesh_surface(const VecX& positions, const Triangles& triangles, int count, std::uint64_t seed);
 
 // Symmetric mean squared nearest-neighbour distance between two point sets (NaN if either set

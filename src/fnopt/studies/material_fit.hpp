@@ -4,9 +4,10 @@
 // paper's Table 6.1 metric. The paper fits by grid search; here a compass search
 // (adjoint/compass_search.hpp) in the logarithms of the coefficients:
 // poll +-s along each coefficient, move to the first point that lowers the error, halve s after a
-// poll without improvement, stop when s is below final_step. Derivative-free (e_CD of a whole
-// rollout has no useful gradient), deterministic (e_CD uses a fixed sampling seed), and in log
-// space a step means the same relative change for every coefficient.
+// poll without improvement, stop when s is below final_step. Derivative-free (the gradient method,
+// adjoint/rollout_loss.hpp's surface_chamfer_loss through the adjoint, needs far fewer rollouts),
+// deterministic (e_CD uses a fixed sampling seed), and in log space a step means the same relative
+// change for every coefficient.
 #include <functional>
 #include <string>
 #include <vector>
