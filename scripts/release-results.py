@@ -687,7 +687,8 @@ def part_adjoint(ctx, part, plan_):
         write_atomic(start, FIT_START)
         refs = [os.path.join(ctx.arcsim_dir, "arcsim_N32_%s.h5" % m) for m in ("xy_v2", "rot_h0")]
         fit_rows = []
-        for method, extra in (("gradient", []), ("compass", ["--initial-step", "0.7", "--final-step", "0.08"])):
+        for method, extra in (("gradient", ["--initial-step", "0.7"]),
+                              ("compass", ["--initial-step", "0.7", "--final-step", "0.08"])):
             args = (["fit-material", "--method", method, "--reference"] + refs +
                     ["--start", ctx.runner.rel(start), "--fit", "stretch,shear,damping"] + plan_["fit_material"] +
                     extra + ["--threads", "1", "--out", ctx.runner.rel(os.path.join(d, "fitted-%s.txt" % method))])
