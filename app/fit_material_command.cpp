@@ -172,9 +172,8 @@ GradientFit fit_by_gradient(const std::vector<GradientReference>& references, co
         value = std::numeric_limits<double>::infinity();
         break;
       }
-      const RolloutLoss loss =
-          reference.positions ? position_loss(rollout, reference.targets)
-                              : surface_chamfer_loss(rollout, reference.points, chamfer);
+      const RolloutLoss loss = reference.positions ? position_loss(rollout, reference.targets)
+                                                   : surface_chamfer_loss(rollout, reference.points, chamfer);
       const RolloutGradient adjoint = backpropagate(rollout, loss.gradient);
       value += loss.value / references.size();
       for (Eigen::Index i = 0; i < n; ++i) gradient[i] += adjoint.log_material.coefficient(fit[i]) / references.size();
@@ -267,8 +266,8 @@ void run_gradient_fit(FitFlags& flags, int threads) {
       flags.coefficients.c_str(), flags.start.c_str(), material_text(start).c_str(), flags.iterations, threads,
       threads == 1 ? "" : "s");
   std::fflush(stdout);
-  const GradientFit result = fit_by_gradient(targets, start, fit, ranges, flags.iterations, flags.params.initial_step,
-                                             flags.params.chamfer);
+  const GradientFit result =
+      fit_by_gradient(targets, start, fit, ranges, flags.iterations, flags.params.initial_step, flags.params.chamfer);
   std::printf("fitted:  %s (%s after %d iterations; loss %s, start %s)\n", material_text(result.material).c_str(),
               to_string(result.status), result.iterations, number_text(result.loss).c_str(),
               number_text(result.start_loss).c_str());

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <random>
 
 #include <fnopt/adjoint/rollout_loss.hpp>
@@ -119,9 +120,22 @@ TwoMaterials two_materials() {
 std::vector<FramePoints> sampled_frames(const RecordedRollout& rollout, const ChamferOptions& options) {
   std::vector<FramePoints> frames;
   for (int f : {0, 10, 20, 30})
-    frames.push_back({f, sample_mesh_surface(rollout.positions[f], rollout.scene.grid.triangles(), options.samples,
-                                             options.seed)});
+    frames.push_back(
+        {f, sample_mesh_surface(rollout.positions[f], rollout.scene.grid.triangles(), options.samples, options.seed)});
   return frames;
+}
+
+// Central differences of loss(rollout(k)) in ln k of one coefficient, each perturbed step started
+// at the base rollout's acceleration (gradient_check.hpp's protocol, so that both stay on its branch).
+double log_coefficient_difference(const TwoMaterials& rollouts, double Material::*coefficient,
+                                  const std::function<double(const RecordedRollout&)>& loss) {
+  const double e = 1e-5;
+  RolloutInputs on_branch;
+  on_branch.start_accelerations = rollouts.base.accelerations;
+  ResolvedScene plus = rollouts.scene, minus = rollouts.scene;
+  plus.scene.material.*coefficient *= std::exp(e);
+  minus.scene.material.*coefficient *= std::exp(-e);
+  return (loss(record_rollout(plus, {}, on_branch)) - loss(record_rollout(minus, {}, on_branch))) / (2.0 * e);
 }
 
 TEST(RolloutLoss, SurfaceChamferIsTheMeanMeshChamferDistance) {
@@ -132,8 +146,8 @@ TEST(RolloutLoss, SurfaceChamferIsTheMeanMeshChamferDistance) {
   double mean = 0.0;
   const Triangles triangles = rollouts.base.scene.grid.triangles();
   for (const FramePoints& frame : observed)
-    mean += mesh_chamfer_distance(rollouts.base.positions[frame.frame], triangles, rollouts.other.positions[frame.frame],
-                                  triangles, options) /
+    mean += mesh_chamfer_distance(rollouts.base.positions[frame.frame], triangles,
+                                  rollouts.other.positions[frame.frame], triangles, options) /
             observed.size();
   EXPECT_GT(mean, 0.0);
   EXPECT_NEAR(surface_chamfer_loss(rollouts.base, observed, options).value, mean, 1e-12 * mean);
@@ -158,7 +172,7 @@ TEST(RolloutLoss, SurfaceChamferGradientMatchesDifferences) {
 }
 
 // End to end: e_CD against another material's rollout through the backward pass, against central
-// differences of the whole rollout in log shear (the protocol of the test below).
+// differences of the whole rollout in log shear.
 TEST(RolloutLoss, SurfaceChamferThroughTheRolloutMatchesDifferencesInLogShear) {
   const TwoMaterials rollouts = two_materials();
   ChamferOptions options;
@@ -166,21 +180,14 @@ TEST(RolloutLoss, SurfaceChamferThroughTheRolloutMatchesDifferencesInLogShear) {
   const std::vector<FramePoints> observed = sampled_frames(rollouts.other, options);
   const RolloutLoss loss = surface_chamfer_loss(rollouts.base, observed, options);
   const double adjoint = backpropagate(rollouts.base, loss.gradient).log_material.shear;
-  const double e = 1e-5;
-  RolloutInputs on_branch;
-  on_branch.start_accelerations = rollouts.base.accelerations;
-  ResolvedScene plus = rollouts.scene, minus = rollouts.scene;
-  plus.scene.material.shear *= std::exp(e);
-  minus.scene.material.shear *= std::exp(-e);
-  const double difference = (surface_chamfer_loss(record_rollout(plus, {}, on_branch), observed, options).value -
-                             surface_chamfer_loss(record_rollout(minus, {}, on_branch), observed, options).value) /
-                            (2.0 * e);
+  const double difference = log_coefficient_difference(rollouts, &Material::shear, [&](const RecordedRollout& r) {
+    return surface_chamfer_loss(r, observed, options).value;
+  });
   EXPECT_NEAR(adjoint, difference, 1e-4 * std::abs(difference));
 }
 
 // End to end: the Chamfer loss against another material's rollout, through the backward pass,
-// against central differences of the whole rollout in log stretch (each perturbed step started at
-// the base rollout's acceleration, gradient_check.hpp's protocol).
+// against central differences of the whole rollout in log stretch.
 TEST(RolloutLoss, ChamferThroughTheRolloutMatchesDifferencesInLogStretch) {
   const TwoMaterials rollouts = two_materials();
   std::vector<FramePoints> observed;
@@ -192,15 +199,8 @@ TEST(RolloutLoss, ChamferThroughTheRolloutMatchesDifferencesInLogStretch) {
   }
   const RolloutLoss loss = chamfer_loss(rollouts.base, observed);
   const double adjoint = backpropagate(rollouts.base, loss.gradient).log_material.stretch;
-  const double e = 1e-5;
-  RolloutInputs on_branch;
-  on_branch.start_accelerations = rollouts.base.accelerations;
-  ResolvedScene plus = rollouts.scene, minus = rollouts.scene;
-  plus.scene.material.stretch *= std::exp(e);
-  minus.scene.material.stretch *= std::exp(-e);
-  const double difference = (chamfer_loss(record_rollout(plus, {}, on_branch), observed).value -
-                             chamfer_loss(record_rollout(minus, {}, on_branch), observed).value) /
-                            (2.0 * e);
+  const double difference = log_coefficient_difference(
+      rollouts, &Material::stretch, [&](const RecordedRollout& r) { return chamfer_loss(r, observed).value; });
   EXPECT_NEAR(adjoint, difference, 1e-4 * std::abs(difference));
 }
 

@@ -10,8 +10,9 @@ namespace {
 
 void check_frame(const RecordedRollout& rollout, int frame) {
   require(!rollout.empty(), "rollout", "no recorded forward pass (record_rollout gives one)");
-  require(frame >= 0 && frame < rollout.frame_count(), "loss",
-          "frame " + std::to_string(frame) + " is outside the rollout's 0.." + std::to_string(rollout.frame_count() - 1));
+  require(
+      frame >= 0 && frame < rollout.frame_count(), "loss",
+      "frame " + std::to_string(frame) + " is outside the rollout's 0.." + std::to_string(rollout.frame_count() - 1));
 }
 
 std::vector<Vec3> vertex_points(const VecX& x) {
@@ -85,8 +86,8 @@ RolloutLoss surface_chamfer_loss(const RecordedRollout& rollout, const std::vect
     const VecX& x = rollout.positions[frame.frame];
     const std::vector<SurfacePoint> samples = sample_surface_points(x, triangles, options.samples, options.seed);
     VecX point_gradient;
-    loss.value += frame_weight * point_chamfer(surface_point_positions(x, triangles, samples), frame.points,
-                                               point_gradient);
+    loss.value +=
+        frame_weight * point_chamfer(surface_point_positions(x, triangles, samples), frame.points, point_gradient);
     VecX gradient = VecX::Zero(x.size());
     for (std::size_t k = 0; k < samples.size(); ++k)
       for (int i = 0; i < 3; ++i)
