@@ -179,9 +179,13 @@ double ContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to) const {
     swept_lower = swept_lower.cwiseMin(x_from.segment<3>(3 * i)).cwiseMin(x_to.segment<3>(3 * i));
     swept_upper = swept_upper.cwiseMax(x_from.segment<3>(3 * i)).cwiseMax(x_to.segment<3>(3 * i));
   }
+  return safe_fraction(x_from, x_to, swept_lower, swept_upper);
+}
+
+double ContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to, const Vec3& lower, const Vec3& upper) const {
   double fraction = 1.0;
   for (std::size_t k = 0; k < obstacles_.size(); ++k) {
-    if (!may_reach(k, swept_lower, swept_upper, params_.thickness)) continue;
+    if (!may_reach(k, lower, upper, params_.thickness)) continue;
     for (int i = 0; i < vertex_count_; ++i) {
       const Vec3 p0 = x_from.segment<3>(3 * i), p1 = x_to.segment<3>(3 * i);
       if (p0 == p1) continue;  // a vertex that does not move cannot enter an obstacle

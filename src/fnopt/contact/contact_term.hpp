@@ -58,6 +58,9 @@ class ContactTerm final : public EnergyTerm {
   // The largest s in [0, 1] such that no vertex that moves comes within the thickness of an
   // obstacle (at the step's end pose) on the straight path from x_from to x_to before s (ccd.hpp).
   double safe_fraction(const VecX& x_from, const VecX& x_to) const;
+  // The same, given a box [lower, upper] that holds every vertex of both states (a caller that has
+  // bounded them already: the box is not computed again).
+  double safe_fraction(const VecX& x_from, const VecX& x_to, const Vec3& lower, const Vec3& upper) const;
   // Whether some obstacle (at the step's end pose) may come within the thickness of a point in the
   // box [lower, upper]; where none may, every straight path inside the box is safe (the broad
   // phase of safe_fraction, for a caller that bounds the paths more cheaply than by their ends).

@@ -23,7 +23,7 @@ double StepProblem::feasible_fraction(const VecX& a_from, const VecX& a_to) {
   if (!contact->may_touch(lower, upper)) return 1.0;
   objective_->trial_positions(a_from, x_from_);
   objective_->trial_positions(a_to, x_to_);
-  return contact->safe_fraction(x_from_, x_to_);
+  return contact->safe_fraction(x_from_, x_to_, lower, upper);
 }
 
 double StepProblem::feasible_step(const VecX& a, const VecX& direction, double step) {
