@@ -95,19 +95,21 @@ TEST(RecordedRollout, StartsWhereTheScenePlacesTheCloth) {
   EXPECT_NE(rollout.positions.front(), resolved.grid.rest_positions());
 }
 
-// The backward pass keeps the handles fixed: a scene whose handles are released mid-way is refused,
-// naming the setting, rather than differentiated as another scene.
-TEST(RecordedRollout, ReleasedHandlesAreRefused) {
-  Scene released;
-  released.rows = released.cols = 6;
-  released.frames = 3;
-  released.let_go = 0.02;
-  try {
-    record_rollout(resolve(released));
-    ADD_FAILURE() << "no error";
-  } catch (const Error& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("let-go: ", 0), 0u) << e.what();
-  }
+// Handles let go mid-way: the steps that end after the let-go time are marked released, and from
+// then on the handle vertices fall with the cloth instead of following the motion.
+TEST(RecordedRollout, StepsAfterTheLetGoAreReleased) {
+  Scene scene;
+  scene.rows = scene.cols = 6;
+  scene.frames = 11;
+  scene.let_go = 4.5 * scene.dt;
+  const ResolvedScene resolved = resolve(scene);
+  const RecordedRollout rollout = record_rollout(resolved);
+  ASSERT_EQ(rollout.step_count(), 10);
+  for (int s = 0; s < rollout.step_count(); ++s) EXPECT_EQ(rollout.steps[s].released, s >= 4) << "step " << s;
+  const int corner = resolved.handles.vertices.front();
+  const double held_z = resolved.start_positions()[3 * corner + 2];
+  EXPECT_NEAR(rollout.positions[4][3 * corner + 2], held_z, 1e-12);  // the motion starts at 0.5 s
+  EXPECT_LT(rollout.positions[10][3 * corner + 2], held_z - 1e-3);
 }
 
 }  // namespace

@@ -38,12 +38,14 @@ RecordedStep ExactStepper::step(const std::vector<Vec3>& targets, const VecX* st
   const VecX x = simulator_.positions(), v = simulator_.velocities();
   const double time = simulator_.time();
   StepProblem& problem = simulator_.prepare_step(a, targets);
+  linearization_.set_released(simulator_.handles_released());
   const std::vector<int>& free_index = problem.dirichlet().free_index();
   if (start)
     for (std::size_t k = 0; k < free_index.size(); ++k)
       if (free_index[k] >= 0) a.segment<3>(3 * k) = start->segment<3>(3 * k);
 
   RecordedStep step;
+  step.released = simulator_.handles_released();
   if (optimizer) {
     step.iterations = solve_step(*optimizer, problem, a, solve).iterations;
     const VecX solved = a;

@@ -17,9 +17,6 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
 RecordedRollout record(const ResolvedScene& scene, InnerOptimizer* optimizer, const InnerSolveOptions& solve,
                        const RecordOptions& options, const RolloutInputs& inputs) {
   options.validate();
-  // The backward pass keeps the handles' vertices fixed throughout (docs/design.md §15): a rollout
-  // whose handles are released mid-way would be differentiated as another scene than the one simulated.
-  require(scene.scene.let_go < 0.0, "let-go", "the adjoint does not cover released handles yet");
   const auto begin = std::chrono::steady_clock::now();
   const int steps = scene.scene.frames - 1;
   if (inputs.handle_targets)

@@ -74,6 +74,7 @@ struct RecordedStep {
   int negative_eigenvalues = 0;                 // of H_FF (-1 singular) with classify_steps
   double repulsion_energy = 0.0;                // self-repulsion at the result [J]: > 0 where pairs act
   double solve_ms = 0.0;                        // the step's solves (optimizer, Newton, exact steps)
+  bool released = false;                        // the handles were let go: every vertex free
 };
 
 struct RecordedRollout {

@@ -120,6 +120,7 @@ RolloutGradient backpropagate(const RecordedRollout& rollout, const std::vector<
   for (int s = rollout.step_count() - 1; s >= 0; --s) {
     if (!is_converged(rollout.steps[s].status)) out.unconverged_steps.insert(out.unconverged_steps.begin(), s);
     states.load(s);
+    step.set_released(rollout.steps[s].released);
     const StepStationarity stationarity = step.linearize(states.x(), states.v(), states.a(), s * dt);
     if (stationarity == StepStationarity::Singular) {
       out.status = AdjointStatus::Singular;
@@ -145,7 +146,7 @@ RolloutGradient backpropagate(const RecordedRollout& rollout, const std::vector<
     vbar -= k_lambda / dt;
     for (Eigen::Index k = 0; k < dofs / 3; ++k)
       vbar.segment<3>(3 * k) -= step.damping_weight(static_cast<int>(k)) * lambda.segment<3>(3 * k);
-    for (int h = 0; h < handles; ++h) {
+    for (int h = 0; h < handles && !rollout.steps[s].released; ++h) {
       const int k = rollout.scene.handles.vertices[h];
       const Vec3 abar_h = abar.segment<3>(3 * k) - k_lambda.segment<3>(3 * k);
       out.handle_targets[s][h] = abar_h / (dt * dt);

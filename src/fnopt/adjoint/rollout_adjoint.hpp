@@ -14,7 +14,8 @@
 //   ybar_s    = abar_H / dt^2,
 //   xbar_s    = xbar_{s+1} - dt^2 K lambda - [abar_H / dt^2 on the handles] + dL/dx_s,
 //   vbar_s    = dt xbar_{s+1} + vbar_{s+1} - dt^3 K lambda - dt^2 c M lambda - [abar_H / dt on the handles].
-// After step 0, xbar_0 and vbar_0 are the gradient with respect to the initial state. A
+// After step 0, xbar_0 and vbar_0 are the gradient with respect to the initial state. A step after
+// the handles are let go (Scene::let_go) has every vertex free: no a_H, and dL/dy_s = 0. A
 // checkpointed record's steps are re-simulated segment by segment from its checkpoints, last first.
 #include <vector>
 

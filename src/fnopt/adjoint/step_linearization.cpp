@@ -41,13 +41,19 @@ StepLinearization::StepLinearization(const ResolvedScene& scene)
       objective_(scene.grid, scene.scene.material, scene.scene.dt, scene.scene.gravity, scene.scene.obstacles,
                  scene.scene.contact),
       unit_terms_(unit_stiffness_terms(scene.grid)),
-      handle_vertices_(scene.handles.vertices),
+      scene_handles_(scene.handles.vertices),
       handle_vertex_(scene.grid.vertex_count(), 0),
       all_free_(scene.grid.vertex_count()),
       masses_(objective_.masses()),
       areas_(lumped_masses(scene.grid, 1.0)) {
-  for (int k : handle_vertices_) handle_vertex_[k] = 1;
   for (int k = 0; k < scene.grid.vertex_count(); ++k) all_free_[k] = k;
+  set_released(false);
+}
+
+void StepLinearization::set_released(bool released) {
+  handle_vertices_ = released ? std::vector<int>{} : scene_handles_;
+  std::fill(handle_vertex_.begin(), handle_vertex_.end(), 0);
+  for (int k : handle_vertices_) handle_vertex_[k] = 1;
 }
 
 StepStationarity StepLinearization::linearize(const VecX& x, const VecX& v, const VecX& a, double time) {

@@ -68,9 +68,9 @@ class StepLinearization {
   // The linearised step's damping-weighted mass of vertex k, dt^2 c m_k, the part of dg/dv_t that
   // is not dt K.
   double damping_weight(int k) const { return objective_.dt() * objective_.dt() * material_.damping * masses_[k]; }
+  // The scene's handles let go (Scene::let_go): from the next linearize() on, every vertex is free.
+  void set_released(bool released);
   const BackwardEulerObjective& objective() const { return objective_; }
-  const std::vector<int>& handle_vertices() const { return handle_vertices_; }
-  bool is_handle(int vertex) const { return handle_vertex_[vertex] != 0; }
 
   long factorizations() const { return factorizations_; }  // Cholesky and LDL^T
   long solves() const { return solves_; }
@@ -79,7 +79,8 @@ class StepLinearization {
   Material material_;
   BackwardEulerObjective objective_;
   std::vector<std::unique_ptr<EnergyTerm>> unit_terms_;  // stretch, shear, bend at stiffness 1
-  std::vector<int> handle_vertices_;
+  std::vector<int> scene_handles_;    // the scene's handle vertices
+  std::vector<int> handle_vertices_;  // those held at this step: the scene's, none once released
   std::vector<char> handle_vertex_;
   std::vector<int> all_free_;                             // every vertex free: H over every dof
   VecX masses_, areas_;                                   // m_k and A_k = m_k / rho
