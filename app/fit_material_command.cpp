@@ -97,6 +97,7 @@ struct GradientReference {
   bool positions = false;
   std::vector<FramePositions> targets;
   std::vector<FramePoints> points;
+  std::size_t matched = 0;  // reference frames matched by time, the initial one included
 };
 
 GradientReference gradient_reference(const FitReference& reference, const Material& start,
@@ -115,6 +116,7 @@ GradientReference gradient_reference(const FitReference& reference, const Materi
   reference_grid.cols = reference.frames.cols;
   const Triangles triangles = reference_grid.triangles();
   const std::vector<FrameMatch> matches = match_frames(reference.frames.times, times);
+  r.matched = matches.size();
   for (std::size_t k = 0; k < matches.size(); ++k) {
     const FrameMatch& match = matches[k];
     const Eigen::VectorXf& x = reference.frames.positions[match.reference];
@@ -255,10 +257,12 @@ void run_gradient_fit(FitFlags& flags, int threads) {
   for (const auto& r : references) {
     targets.push_back(gradient_reference(r, start, flags.params));
     const GradientReference& t = targets.back();
+    const std::string loss = t.positions ? "position loss on the " + std::to_string(t.targets.size()) +
+                                               " after the first (an fnopt rollout: vertex for vertex)"
+                                         : "e_CD on " + std::to_string(t.points.size()) + " (every --cd-stride-th)";
     std::printf("reference %s: %dx%d, motion %s, %d steps of %.4g s, %zu frames matched, %s\n", r.path.c_str(),
-                r.scene.rows, r.scene.cols, r.scene.motion.c_str(), t.scene.scene.frames - 1, r.scene.dt,
-                t.positions ? t.targets.size() : t.points.size(),
-                t.positions ? "position loss (an fnopt rollout: vertex for vertex)" : "e_CD");
+                r.scene.rows, r.scene.cols, r.scene.motion.c_str(), t.scene.scene.frames - 1, r.scene.dt, t.matched,
+                loss.c_str());
   }
   std::printf(
       "fitting %s from %s (%s); bounded L-BFGS in ln(coefficient) on the adjoint gradient, at most %d iterations; %d "
