@@ -19,7 +19,7 @@ Aggregate aggregate(const std::vector<RunResult>& results, const std::string& re
     ms.push_back(plotted_ms(r, threads));
     cd.push_back(r.e_cd);
     e3d.push_back(r.e_3d);
-    step.push_back(r.step_mean);
+    step.push_back(r.step_median);
   }
   a.ms = mean_finite(ms);
   a.e_cd = mean_finite(cd);

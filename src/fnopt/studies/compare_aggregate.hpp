@@ -12,7 +12,8 @@ namespace fnopt {
 // One method and budget at one resolution, averaged over the motions it ran.
 struct Aggregate {
   int runs = 0, diverged = 0, failed = 0;
-  double ms = NAN, e_cd = NAN, e_3d = NAN, step = NAN;
+  double ms = NAN, e_cd = NAN, e_3d = NAN;
+  double step = NAN;  // the per-step error's median over each run's reference states
   std::string note;  // the first run's note if it diverged or failed
 };
 

@@ -32,13 +32,14 @@ void write_compare_report(const CompareReport& report, const std::vector<RunResu
 
   md.heading("Results per resolution");
   md.paragraph(std::string("Errors against the Newton reference rollout of the same scene (e_CD x 10^3: Chamfer; ") +
-               "e_3D x 10^2: relative vertex error; per-step error: mean (L(a_N) - L*)/(L(a_0) - L*) from the "
-               "reference's states). ms/frame: " +
+               "e_3D x 10^2: relative vertex error; per-step error: the median over the reference's states of "
+               "(L(a_N) - L*)/(L(a_0) - L*), whose mean one state where Newton's step is poor can swamp). "
+               "ms/frame: " +
                (report.threads == 1 ? "one thread, after warm-up, wall time x the CPU share the process got"
                                     : "after warm-up, wall time") +
                (report.motions.size() > 1 ? "; every number is the mean over the motions" : "") + ".");
   const std::vector<std::string> header = {"method",         "N",       "ms/frame", "e_CD x10^3", "e_3D x10^2",
-                                           "per-step error", "diverged"};
+                                           "per-step error (median)", "diverged"};
   for (const auto& res : report.resolutions) {
     std::vector<std::vector<std::string>> rows;
     for (const auto& method : report.methods)
