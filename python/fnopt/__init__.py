@@ -8,7 +8,8 @@
 
 Arrays are NumPy arrays shaped (rows, cols, 3) per frame; records (StepRecord, Evaluation, ...)
 are frozen dataclasses; errors are fnopt.Error, a ValueError, with the command line's texts.
-Gradients through rollouts: fnopt.record_rollout and RecordedRollout.gradients, and the PyTorch
+Gradients through rollouts: fnopt.record_rollout and RecordedRollout.gradients (e_CD as a loss:
+RecordedRollout.chamfer_loss against fnopt.sample_surface of observed meshes), and the PyTorch
 bridge fnopt.torch (imported on its own: it imports torch). The whole surface is in docs/api.md.
 """
 from ._fnopt import (
@@ -27,6 +28,7 @@ from ._fnopt import (
     read_rollout,
     record_rollout,
     run_rollout,
+    sample_surface,
     set_threads,
     shipped_model_path,
     threads,
@@ -54,6 +56,7 @@ __all__ = [
     "read_rollout",
     "record_rollout",
     "run_rollout",
+    "sample_surface",
     "set_threads",
     "shipped_model_path",
     "threads",

@@ -1,7 +1,8 @@
 // Gradients through rollouts from Python (docs/design.md §15): fnopt.record_rollout records a
 // rollout of exact steps (adjoint/recorded_rollout.hpp), RecordedRollout.gradients runs the
 // backward pass of a loss given by its dL/dX (adjoint/rollout_adjoint.hpp) and returns the
-// gradients by name as NumPy arrays and floats.
+// gradients by name as NumPy arrays and floats; RecordedRollout.chamfer_loss and
+// fnopt.sample_surface give e_CD as such a loss (adjoint/rollout_loss.hpp).
 #include <pybind11/stl.h>
 
 #include <optional>
@@ -10,8 +11,11 @@
 #include <fnopt/adjoint/handle_path.hpp>
 #include <fnopt/adjoint/recorded_rollout.hpp>
 #include <fnopt/adjoint/rollout_adjoint.hpp>
+#include <fnopt/adjoint/rollout_loss.hpp>
+#include <fnopt/cloth/grid.hpp>
 #include <fnopt/scenes/scene.hpp>
 #include <fnopt/util/error.hpp>
+#include <fnopt/util/flag_names.hpp>
 
 #include "common.hpp"
 #include "method.hpp"
@@ -182,6 +186,50 @@ py::dict gradients(const PyRecordedRollout& r, const py::handle& dL_dX) {
   return out;
 }
 
+// (P, 3) points, any P >= 1.
+std::vector<Vec3> observed_points(const py::handle& values, const std::string& field) {
+  const DoubleArray array = double_array(values, field.c_str());
+  require(array.ndim() == 2 && array.shape(0) >= 1 && array.shape(1) == 3, field, "expected shape (P, 3), P >= 1");
+  return point_list(array, static_cast<std::size_t>(array.shape(0)), field.c_str());
+}
+
+ChamferOptions chamfer_options(int samples, std::uint64_t seed) {
+  ChamferOptions options;
+  options.samples = samples;
+  options.seed = seed;
+  with_flag_names({{"cd-samples", "samples"}}, [&] { options.validate(); });
+  return options;
+}
+
+// e_CD of the rollout's frames against observed points (adjoint/rollout_loss.hpp's
+// surface_chamfer_loss) and its dL/dX by frame, ready for gradients().
+py::tuple chamfer_loss(const PyRecordedRollout& r, const py::dict& observed, int samples, std::uint64_t seed) {
+  const ChamferOptions options = chamfer_options(samples, seed);
+  std::vector<FramePoints> frames;
+  for (const auto& item : observed) {
+    const int frame = item.first.cast<int>();
+    frames.push_back({frame, observed_points(item.second, "observed[" + std::to_string(frame) + "]")});
+  }
+  const RolloutLoss loss = surface_chamfer_loss(r.record, frames, options);
+  py::dict gradient;
+  for (const FrameGradient& g : loss.gradient)
+    gradient[py::int_(g.frame)] = grid_array(g.gradient, r.record.scene.grid.rows, r.record.scene.grid.cols);
+  return py::make_tuple(loss.value, gradient);
+}
+
+// e_CD's points on a grid mesh (metrics/chamfer.hpp): `samples` points by area, the fixed seed.
+py::array_t<double> sample_surface(const py::handle& positions, int samples, std::uint64_t seed) {
+  const DoubleArray array = double_array(positions, "positions");
+  require(array.ndim() == 3 && array.shape(0) >= 2 && array.shape(1) >= 2 && array.shape(2) == 3, "positions",
+          "expected shape (rows, cols, 3), rows and cols at least 2");
+  Grid grid;
+  grid.rows = static_cast<int>(array.shape(0));
+  grid.cols = static_cast<int>(array.shape(1));
+  const ChamferOptions options = chamfer_options(samples, seed);
+  return point_array(sample_mesh_surface(grid_vector(array, grid.rows, grid.cols, "positions"), grid.triangles(),
+                                         options.samples, options.seed));
+}
+
 std::string recorded_repr(const PyRecordedRollout& r) {
   std::ostringstream text;
   text << "RecordedRollout(frames=" << r.record.frame_count() - 1 << ", rows=" << r.record.scene.grid.rows
@@ -234,6 +282,28 @@ dict
     'log_' (dL/dlog k), 'gravity' (3,), 'handle_targets' (steps, handles, 3) for each handle's
     target at frame s + 1, 'handle_path' (handles, K, 3) where the rollout followed a handle
     path, 'initial_positions' and 'initial_velocities' (rows, cols, 3).)")
+      .def("chamfer_loss", &chamfer_loss, py::arg("observed"), py::arg("samples") = 10000,
+           py::arg("seed") = ChamferOptions{}.seed, R"(e_CD of the rollout against observed points, and its dL/dX.
+
+The mean over the given frames of the Chamfer distance (squared, both directions) between
+`samples` points sampled by area on the cloth's triangles and the observed points: against
+`sample_surface` of another mesh with the same samples and seed, the e_CD that `evaluate`
+reports (not x 10^3). The gradient holds each sample's triangle and nearest neighbours fixed
+(docs/design.md §15).
+
+Parameters
+----------
+observed : dict
+    Frame -> (P, 3) array of observed points at that frame (frame 0 the initial state).
+samples : int, optional
+    Points sampled on the cloth per frame.
+seed : int, optional
+    The sampling seed (e_CD's fixed one by default).
+
+Returns
+-------
+tuple
+    (loss, dL_dX): the loss in m^2 and a dict frame -> (rows, cols, 3) array for `gradients`.)")
       .def("__repr__", &recorded_repr, R"(The rollout's size, optimizer and outcome.
 
 Returns
@@ -241,6 +311,22 @@ Returns
 str
     ``RecordedRollout(frames=30, rows=10, cols=10, optimizer='newton', diverged=False)``)");
 
+  m.def("sample_surface", &sample_surface, py::arg("positions"), py::arg("samples") = 10000,
+        py::arg("seed") = ChamferOptions{}.seed, R"(Points sampled by area on a grid mesh, as e_CD samples it.
+
+Parameters
+----------
+positions : numpy.ndarray
+    (rows, cols, 3) vertex positions of a grid cloth (a frame of a rollout, or of an ARCSim run).
+samples : int, optional
+    How many points.
+seed : int, optional
+    The sampling seed (e_CD's fixed one by default).
+
+Returns
+-------
+numpy.ndarray
+    (samples, 3) points, for `RecordedRollout.chamfer_loss`'s observed frames.)");
   m.def("record_rollout", &record, py::arg("scene"), py::arg("optimizer") = "newton", py::arg("iters") = 0,
         py::arg("model") = py::none(), py::arg("lr") = py::none(), py::arg("initial_positions") = py::none(),
         py::arg("initial_velocities") = py::none(), py::arg("handle_targets") = py::none(),

@@ -93,6 +93,26 @@ def test_the_handle_path_gradient_is_the_chain_rule_of_the_targets():
     assert np.abs(g["handle_path"]).max() > 0
 
 
+def test_chamfer_loss_is_e_cd_and_its_gradient_matches_differences():
+    # Another material's frames as the observation, sampled as e_CD samples them.
+    recorded = fnopt.record_rollout(SCENE)
+    other = fnopt.record_rollout(SCENE.replace(stretch=700.0, shear=15.0))
+    observed = {f: fnopt.sample_surface(other.positions[f], samples=300) for f in (0, 5, 10)}
+    assert observed[5].shape == (300, 3)
+    value, dL_dX = recorded.chamfer_loss(observed, samples=300)
+    assert value > 0 and sorted(dL_dX) == [0, 5, 10] and dL_dX[5].shape == (6, 6, 3)
+    own = other.chamfer_loss(observed, samples=300)
+    assert own[0] == 0.0 and all(not g.any() for g in own[1].values())
+    g = recorded.gradients(dL_dX)
+
+    def loss(stretch):
+        return fnopt.record_rollout(SCENE.replace(stretch=stretch)).chamfer_loss(observed, samples=300)[0]
+
+    e = 1e-5
+    difference = (loss(473.2 * np.exp(e)) - loss(473.2 * np.exp(-e))) / (2 * e)
+    assert g["log_stretch"] == pytest.approx(difference, rel=1e-4)
+
+
 def test_bad_input_raises_the_one_line_errors():
     recorded = fnopt.record_rollout(SCENE)
     with pytest.raises(fnopt.Error, match=r"^dL_dX: expected shape \(11, 6, 6, 3\) \(the positions'\) or a dict"):
@@ -111,6 +131,14 @@ def test_bad_input_raises_the_one_line_errors():
         fnopt.record_rollout(SCENE, initial_positions=np.zeros((5, 6, 3)))
     with pytest.raises(fnopt.Error, match=r"^optimizer: unknown optimizer 'sgd' \(choose from: pqn, newton, "):
         fnopt.record_rollout(SCENE, optimizer="sgd")
+    with pytest.raises(fnopt.Error, match=r"^observed\[3\]: expected shape \(P, 3\), P >= 1$"):
+        recorded.chamfer_loss({3: np.zeros((4, 2))})
+    with pytest.raises(fnopt.Error, match=r"^loss: frame 12 is outside the rollout's 0..10$"):
+        recorded.chamfer_loss({12: np.zeros((4, 3))})
+    with pytest.raises(fnopt.Error, match=r"^samples: must lie in \[1, 10\^7\]$"):
+        fnopt.sample_surface(recorded.positions[0], samples=0)
+    with pytest.raises(fnopt.Error, match=r"^positions: expected shape \(rows, cols, 3\)"):
+        fnopt.sample_surface(np.zeros((6, 3)))
 
 
 def test_any_optimizer_polished_by_newton_records_the_same_rollout():
