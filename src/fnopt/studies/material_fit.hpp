@@ -5,7 +5,7 @@
 // (adjoint/compass_search.hpp) in the logarithms of the coefficients:
 // poll +-s along each coefficient, move to the first point that lowers the error, halve s after a
 // poll without improvement, stop when s is below final_step. Derivative-free (the gradient method,
-// adjoint/rollout_loss.hpp's surface_chamfer_loss through the adjoint, needs far fewer rollouts),
+// adjoint/rollout_loss.hpp's surface_chamfer_loss through the adjoint, needs fewer rollouts),
 // deterministic (e_CD uses a fixed sampling seed), and in log space a step means the same relative
 // change for every coefficient.
 #include <functional>
