@@ -42,18 +42,21 @@ StepLinearization::StepLinearization(const ResolvedScene& scene)
                  scene.scene.contact),
       unit_terms_(unit_stiffness_terms(scene.grid)),
       scene_handles_(scene.handles.vertices),
+      handle_vertices_(scene_handles_),
       handle_vertex_(scene.grid.vertex_count(), 0),
       all_free_(scene.grid.vertex_count()),
       masses_(objective_.masses()),
       areas_(lumped_masses(scene.grid, 1.0)) {
   for (int k = 0; k < scene.grid.vertex_count(); ++k) all_free_[k] = k;
-  set_released(false);
+  for (int k : handle_vertices_) handle_vertex_[k] = 1;
 }
 
 void StepLinearization::set_released(bool released) {
+  // Called before every step's linearisation: the handle set changes at most once per rollout.
+  if (released == released_) return;
+  released_ = released;
   handle_vertices_ = released ? std::vector<int>{} : scene_handles_;
-  std::fill(handle_vertex_.begin(), handle_vertex_.end(), 0);
-  for (int k : handle_vertices_) handle_vertex_[k] = 1;
+  for (int k : scene_handles_) handle_vertex_[k] = released ? 0 : 1;
 }
 
 StepStationarity StepLinearization::linearize(const VecX& x, const VecX& v, const VecX& a, double time) {

@@ -79,9 +79,10 @@ class StepLinearization {
   Material material_;
   BackwardEulerObjective objective_;
   std::vector<std::unique_ptr<EnergyTerm>> unit_terms_;  // stretch, shear, bend at stiffness 1
-  std::vector<int> scene_handles_;    // the scene's handle vertices
-  std::vector<int> handle_vertices_;  // those held at this step: the scene's, none once released
+  std::vector<int> scene_handles_;                       // the scene's handle vertices
+  std::vector<int> handle_vertices_;                     // those held at this step: the scene's, none once released
   std::vector<char> handle_vertex_;
+  bool released_ = false;
   std::vector<int> all_free_;                             // every vertex free: H over every dof
   VecX masses_, areas_;                                   // m_k and A_k = m_k / rho
   VecX x_, x_start_, a_;                                  // the linearised step's x_{t+1}, x_t and a
