@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """ctest release_results_quick: scripts/release-results.py --quick on the built fnopt, then a check that
-the assembled results.md has every section, each headed by its command, and no empty table."""
+the assembled results.md has every section, each headed by its command, no empty table, and every picture it
+shows beside it."""
 
 import os
 import re
@@ -42,6 +43,11 @@ def main():
             failures.append("section '%s' has no table rows" % title)
         elif any(set(c.strip()) <= {"—", ""} for c in rows[1].strip("|").split("|")[:1]):
             failures.append("section '%s': an empty first cell" % title)
+    pictures = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", text)
+    if not pictures:
+        failures.append("no pictures")
+    failures += ["picture %s is not beside results.md" % p for p in pictures
+                 if not os.path.exists(os.path.join(out, p))]
     for f in failures:
         print("results.md: " + f)
     return 1 if failures else 0
