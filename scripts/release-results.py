@@ -36,6 +36,7 @@ import os
 import re
 import shlex
 import shutil
+import signal
 import statistics
 import subprocess
 import sys
@@ -882,6 +883,9 @@ def main(argv=None):
     parser.add_argument("--only", help="run only these parts, comma-separated; the other parts' finished sections are "
                                        "kept in results.md (with --resume, compare keeps the parts' finished rows)")
     args = parser.parse_args(argv)
+    # A terminated run stops the fnopt run it waits for too (subprocess.run kills its child on the exception),
+    # so that --resume finds no stray process still writing the part's files.
+    signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(128 + signum))
 
     if not os.access(args.binary, os.X_OK):
         print("release-results: no executable fnopt at %s (--binary)" % args.binary, file=sys.stderr)
