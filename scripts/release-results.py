@@ -229,6 +229,8 @@ def fmt(value, digits=3):
         return "—"
     if value == 0:
         return "0"
+    if 10 ** digits - 0.5 <= abs(value) < 1e7:
+        return "%.0f" % value  # 1670, not 1.67e+03
     return "%.*g" % (digits, value)
 
 
