@@ -1,4 +1,4 @@
-// The contact scenes shipped in examples/scenes (docs/results.md, "Contact with obstacles") load,
+// The contact scenes shipped in examples/scenes (docs/design.md §14) load,
 // and run on a small grid with pqn and Newton without a vertex coming within the contact thickness
 // of an obstacle; each does what its comment says (the table's overhang hangs, the tilted plane's
 // cloth slides, the pushed sphere pushes).
