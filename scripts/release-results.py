@@ -35,7 +35,6 @@ import json
 import os
 import re
 import shlex
-import shutil
 import signal
 import statistics
 import subprocess
@@ -161,9 +160,8 @@ def publish_picture(ctx, source, name, alt):
     docs/ together) and returns the markdown that shows it; "" when the run wrote none."""
     if not os.path.exists(source):
         return ""
-    tmp = os.path.join(ctx.out, "." + name + ".tmp")
-    shutil.copyfile(source, tmp)
-    os.replace(tmp, os.path.join(ctx.out, name))
+    with open(source, encoding="utf-8") as f:
+        write_atomic(os.path.join(ctx.out, name), f.read())
     return "\n\n![%s](%s)" % (alt, name)
 
 
