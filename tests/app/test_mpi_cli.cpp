@@ -1,4 +1,4 @@
-// The command line under mpirun with two ranks, as the README runs it: training and the sweeps
+// The command line under mpirun with two ranks, as docs/cluster.md runs it: training and the sweeps
 // give what one process gives, and a bad flag stops both ranks with one line.
 #include <gtest/gtest.h>
 
