@@ -22,7 +22,9 @@ Parts, in order:
 --quick is a smoke pass for CI (tiny grids, a few frames, a couple of methods, every part
 exercised: a minute or two on 2 cores). The full run takes many hours on one thread per run;
 --resume keeps the parts already finished and passes --resume to compare and stability, which
-keep their finished rows. A part that fails stops the run: exit status 1 and one line naming it.
+keep their finished rows. A line per part says what is done and left, with the run's ETA; under it, the part's
+fnopt runs print their progress (a line per 10 %, with their own ETA); OUT/logs/ has their whole output. A part
+that fails stops the run: exit status 1 and one line naming it.
 
 Python 3 standard library only.
 """
@@ -40,6 +42,7 @@ import statistics
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -181,6 +184,10 @@ def run_capture(cmd):
     return r.stdout
 
 
+# fnopt's progress bar in a log (util/progress_bar.hpp): "LABEL 3/10  30% elapsed 1m05s ETA 2m31s ...".
+PROGRESS_LINE = re.compile(r" \d+/\d+ +\d+% elapsed \S+ ETA ")
+
+
 class Runner:
     """Runs fnopt commands for one part, their output in the part's log files."""
 
@@ -197,15 +204,39 @@ class Runner:
         with open(log, "a", encoding="utf-8") as f:
             f.write("$ " + command_text(cmd) + "\n")
             f.flush()
-            r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=f, universal_newlines=True, cwd=self.out)
-            f.write(r.stdout)
-        if r.returncode != 0:
+            stdout, returncode = self._run_logged(part, cmd, f)
+            f.write(stdout)
+        if returncode != 0:
             with open(log, encoding="utf-8", errors="replace") as f:
                 lines = [l.strip() for l in f.read().replace("\r", "\n").splitlines()
                          if l.strip() and not l.startswith("$ ")]
             raise PartFailed("'%s' exited with %d (%s; log %s)" %
-                             (command_text(cmd), r.returncode, lines[-1] if lines else "no output", log))
-        return r.stdout
+                             (command_text(cmd), returncode, lines[-1] if lines else "no output", log))
+        return stdout
+
+    def _run_logged(self, part, cmd, log):
+        """Runs cmd with its standard error into the log, echoing fnopt's progress lines (a line per 10 %, with
+        the ETA) under the part's name, so that an hours-long part shows how far it is. Returns (stdout, exit
+        status); an exception (SIGTERM included) kills the child first, as subprocess.run does."""
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True,
+                                cwd=self.out)
+        stdout = []
+        reader = threading.Thread(target=lambda: stdout.append(proc.stdout.read()))
+        reader.start()
+        try:
+            for line in proc.stderr:
+                log.write(line)
+                log.flush()
+                if PROGRESS_LINE.search(line):
+                    print("    %s: %s" % (part, line.strip()), flush=True)
+            proc.wait()
+        except BaseException:
+            proc.kill()
+            proc.wait()
+            raise
+        finally:
+            reader.join()
+        return "".join(stdout), proc.returncode
 
     def rel(self, path):
         return os.path.relpath(path, self.out)
@@ -883,7 +914,7 @@ def main(argv=None):
     parser.add_argument("--only", help="run only these parts, comma-separated; the other parts' finished sections are "
                                        "kept in results.md (with --resume, compare keeps the parts' finished rows)")
     args = parser.parse_args(argv)
-    # A terminated run stops the fnopt run it waits for too (subprocess.run kills its child on the exception),
+    # A terminated run stops the fnopt run it waits for too (Runner kills its child on the exception),
     # so that --resume finds no stray process still writing the part's files.
     signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(128 + signum))
 

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """ctest release_results_quick: scripts/release-results.py --quick on the built fnopt, then a check that
 the assembled results.md has every section, each headed by its command, no empty table, and every picture it
-shows beside it."""
+shows beside it; and that the script's output shows the progress of the fnopt runs inside a part."""
 
 import os
 import re
@@ -21,7 +21,9 @@ def main():
     binary, out = sys.argv[1], sys.argv[2]
     script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "release-results.py")
     shutil.rmtree(out, ignore_errors=True)
-    r = subprocess.run([sys.executable, script, "--quick", "--binary", binary, "--out", out])
+    r = subprocess.run([sys.executable, script, "--quick", "--binary", binary, "--out", out],
+                       stdout=subprocess.PIPE, universal_newlines=True)
+    print(r.stdout)
     if r.returncode != 0:
         print("release-results.py --quick exited with %d" % r.returncode)
         return 1
@@ -29,6 +31,9 @@ def main():
     parts = re.split(r"^## ", text, flags=re.M)[1:]
     found = {p.splitlines()[0].strip(): p for p in parts}
     failures = []
+    # Each part's fnopt runs show their progress under the part's name.
+    if not re.search(r"^    frontier-12: compare .*% elapsed .* ETA ", r.stdout, flags=re.M):
+        failures.append("the script's output shows no progress of frontier-12's compare")
     for title in SECTIONS:
         body = found.get(title)
         if body is None:
