@@ -56,7 +56,7 @@ def table_rows(design: pathlib.Path) -> list:
     return rows
 
 
-def row_files(root: pathlib.Path, folder: pathlib.Path, suffixes, owned) -> list:
+def row_files(folder: pathlib.Path, suffixes, owned) -> list:
     """The files a row names: those of `folder` and of its subfolders that `owned` gives to it."""
     return sorted(p for p in folder.rglob("*") if p.is_file() and p.suffix in suffixes and owned(p.parent))
 
@@ -130,7 +130,7 @@ def problems(root: pathlib.Path) -> list:
             found.append(f"design.md §1: src/fnopt/{folder}/ has no row (nor has its module)")
     for module, contents in modules.items():
         base = src / module
-        files = row_files(root, base, CPP, lambda parent: row_of(parent.relative_to(src).as_posix()) == module)
+        files = row_files(base, CPP, lambda parent: row_of(parent.relative_to(src).as_posix()) == module)
         found += check_names(root, module + "/", contents, files, [base], base)
     for path, contents in rows:
         if path in TOP_LEVEL_FILES and path.rstrip("/") not in modules:
