@@ -29,11 +29,12 @@ from ._fnopt import (
     record_rollout,
     run_rollout,
     sample_surface,
+    scene_keys,
     set_threads,
     shipped_model_path,
     threads,
 )
-from .records import CompareRow, Comparison, Evaluation, Material, RolloutFile, StepRecord
+from .records import CompareRow, Comparison, Evaluation, Material, RolloutFile, SceneKey, StepRecord
 
 __all__ = [
     "CompareRow",
@@ -45,6 +46,7 @@ __all__ = [
     "Rollout",
     "RolloutFile",
     "Scene",
+    "SceneKey",
     "Simulator",
     "StepProblem",
     "StepRecord",
@@ -57,6 +59,7 @@ __all__ = [
     "record_rollout",
     "run_rollout",
     "sample_surface",
+    "scene_keys",
     "set_threads",
     "shipped_model_path",
     "threads",

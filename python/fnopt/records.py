@@ -15,7 +15,7 @@ import numpy as np
 if TYPE_CHECKING:
     from ._fnopt import Scene
 
-__all__ = ["CompareRow", "Comparison", "Evaluation", "Material", "RolloutFile", "StepRecord"]
+__all__ = ["CompareRow", "Comparison", "Evaluation", "Material", "RolloutFile", "SceneKey", "StepRecord"]
 
 
 @dataclass(frozen=True)
@@ -83,6 +83,37 @@ class Material:
     repulsion: bool
     repulsion_stiffness: float
     repulsion_range: float
+
+
+@dataclass(frozen=True)
+class SceneKey:
+    """One keyword of `Scene` (`scene_keys`): the same setting as a scene file's key and a flag.
+
+    Parameters
+    ----------
+    name : str
+        The scene file's key and the command line's flag (``--name``).
+    keyword : str
+        The keyword of `Scene` (``handle_vertices``, ``obstacles``).
+    type : str
+        ``int``, ``float``, ``str``, ``x,y,z``, ``auto|true|false`` or ``obstacle specs``.
+    unit : str
+        The SI unit, empty if none.
+    default : str
+        The default as the command line's help says it.
+    help : str
+        What the setting does.
+    example : str
+        A valid value, as a scene file writes it.
+    """
+
+    name: str
+    keyword: str
+    type: str
+    unit: str
+    default: str
+    help: str
+    example: str
 
 
 @dataclass(frozen=True)

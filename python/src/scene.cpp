@@ -1,11 +1,15 @@
-// fnopt.Scene: the command line's scene, from the same settings with the same checks and texts.
+// fnopt.Scene: the command line's scene, from the same table of keys with the same checks and texts.
 #include <pybind11/stl.h>
 
+#include <set>
 #include <sstream>
 
+#include <fnopt/contact/obstacle_spec.hpp>
 #include <fnopt/scenes/scene.hpp>
+#include <fnopt/scenes/scene_keys.hpp>
 #include <fnopt/scenes/scene_settings.hpp>
 #include <fnopt/util/error.hpp>
+#include <fnopt/util/parse_text.hpp>
 
 #include "common.hpp"
 
@@ -30,28 +34,103 @@ std::string setting_text(const py::handle& value) {
   return py::str(value).cast<std::string>();
 }
 
-// Keyword arguments as settings: handle_vertices -> handle-vertices, as on the command line.
-std::map<std::string, std::string> settings_of(const py::kwargs& keywords) {
-  std::map<std::string, std::string> settings;
-  for (const auto& [key, value] : keywords) {
-    std::string name = key.cast<std::string>();
-    for (char& c : name)
-      if (c == '_') c = '-';
-    if (name == "obstacles" && !py::isinstance<py::str>(value)) {
-      // A list of obstacle specs, as --obstacle given once for each (docs/design.md §14).
-      std::string specs;
-      for (const py::handle spec : value) specs += (specs.empty() ? "" : ";") + py::str(spec).cast<std::string>();
-      settings["obstacle"] = specs;
+// Keyword arguments as settings, by the scene key table (scenes/scene_keys.hpp): handle_vertices
+// is the key handle-vertices; obstacles, a list of specs, arrive as obstacles, each parsed once.
+struct KeywordSettings {
+  std::map<std::string, std::string> values;
+  std::vector<Obstacle> obstacles;
+};
+
+KeywordSettings settings_of(const py::kwargs& keywords) {
+  KeywordSettings settings;
+  for (const auto& [keyword, value] : keywords) {
+    const std::string name = keyword.cast<std::string>();
+    const SceneKey* key = find_scene_keyword(name);
+    if (key && key->type == SceneKeyType::Obstacles && !py::isinstance<py::str>(value)) {
+      for (const py::handle spec : value) settings.obstacles.push_back(parse_obstacle(py::str(spec)));
       continue;
     }
-    settings[name == "obstacles" ? "obstacle" : name] = setting_text(value);
+    std::string setting = key ? key->name : name;  // an unknown name fails, with the valid keys
+    for (char& c : setting)
+      if (c == '_') c = '-';
+    settings.values[setting] = setting_text(value);
   }
   return settings;
 }
 
+Scene with_keywords(const Scene& base, const py::kwargs& keywords) {
+  const KeywordSettings settings = settings_of(keywords);
+  return apply_scene_settings(base, settings.values, settings.obstacles);
+}
+
 Scene make_scene(const py::object& file, const py::kwargs& keywords) {
-  const Scene base = file.is_none() ? Scene{} : load_scene_file(py::str(file).cast<std::string>());
-  return apply_scene_settings(base, settings_of(keywords));
+  return with_keywords(file.is_none() ? Scene{} : load_scene_file(py::str(file).cast<std::string>()), keywords);
+}
+
+// A value of the scene file as a Python literal of its keyword: text quoted, x,y,z as a tuple.
+std::string python_literal(const SceneKey& key, const std::string& value) {
+  switch (key.type) {
+    case SceneKeyType::Integer:
+    case SceneKeyType::Number:
+      return value;
+    case SceneKeyType::Vector3: {
+      std::vector<std::string> parts;
+      for (const std::string_view part : split(value, ',')) parts.emplace_back(part);
+      return "(" + joined(parts) + ")";
+    }
+    default:
+      return py::repr(py::str(value)).cast<std::string>();
+  }
+}
+
+// Scene(...) with the keywords that make this scene: the grid, material, handles, motion, frames
+// and dt always, every other key where it differs from the defaults'.
+std::string scene_repr(const Scene& scene) {
+  static const std::set<std::string> always = {"rows", "cols", "material", "handles", "motion", "frames", "dt"};
+  std::vector<std::string> keywords;
+  for (const SceneKey& key : scene_keys()) {
+    if (!key.accepted_by(kPython)) continue;
+    std::vector<std::string> values, defaults;
+    key.codec.write(scene, values);
+    key.codec.write(Scene{}, defaults);
+    if (values.empty() || (values == defaults && !always.count(key.name))) continue;
+    std::vector<std::string> literals;
+    for (const std::string& value : values) literals.push_back(python_literal(key, value));
+    const std::string text = key.repeatable() ? "[" + joined(literals, ", ") + "]" : literals.front();
+    keywords.push_back(key.python_keyword() + "=" + text);
+  }
+  return "Scene(" + joined(keywords, ", ") + ")";
+}
+
+// The class docstring, with one entry per keyword of the scene key table.
+const std::string& scene_doc() {
+  static const std::string doc = [] {
+    std::string text = R"(A scene: grid, material, handles and their motion, time step and frames, obstacles.
+
+Checked as the command line checks it: a bad value raises fnopt.Error (a ValueError) with the
+command line's text. Two scenes are equal when their scene files' texts are. ``fnopt.scene_keys()``
+lists the keywords with their types, units and defaults.
+
+Parameters
+----------
+scene : str or os.PathLike, optional
+    A scene file (key = value lines) the keywords apply on top of; default: the defaults.
+**settings
+    The flags of ``fnopt simulate`` with '_' for '-':
+)";
+    for (const SceneKey& key : scene_keys())
+      if (key.accepted_by(kPython))
+        text += "\n    " + key.python_keyword() + " (" + to_string(key.type) + "): " + key.help_text() + ".";
+    return text;
+  }();
+  return doc;
+}
+
+py::object scene_key_record(const SceneKey& key) {
+  using namespace pybind11::literals;
+  return record_type("SceneKey")("name"_a = key.name, "keyword"_a = key.python_keyword(),
+                                 "type"_a = to_string(key.type), "unit"_a = key.unit,
+                                 "default"_a = key.default_text, "help"_a = key.help, "example"_a = key.example);
 }
 
 // Scene::handle_vertices' "i,j;i,j" text (already checked) as (row, column) pairs.
@@ -79,26 +158,11 @@ py::object material_record(const Scene& s) {
 }  // namespace
 
 void define_scene(py::module_& m) {
-  py::class_<Scene>(m, "Scene", R"(A scene: grid, material, handles and their motion, time step and frames.
-
-Checked as the command line checks it: a bad value raises fnopt.Error (a ValueError) with the
-command line's text. Two scenes are equal when their scene files' texts are.
-
-Parameters
-----------
-scene : str or os.PathLike, optional
-    A scene file (key = value lines) the keywords apply on top of; default: the defaults.
-**settings
-    The flags of ``fnopt simulate`` with '_' for '-': res, rows, cols, size, grid_units_of,
-    material, stretch, shear, bend, density, damping, handles, handle_vertices (pairs or
-    "i,j;i,j"), motion, trajectory, speed, frames, dt, gravity (x, y, z), repulsion,
-    repulsion_stiffness, repulsion_range.)")
+  py::class_<Scene>(m, "Scene", scene_doc().c_str())
       .def(py::init(&make_scene), py::arg("scene") = py::none())
       .def(
           "replace",
-          [](const Scene& self, const py::kwargs& keywords) {
-            return apply_scene_settings(self, settings_of(keywords));
-          },
+          [](const Scene& self, const py::kwargs& keywords) { return with_keywords(self, keywords); },
           R"(A copy with the given settings applied on top.
 
 Parameters
@@ -172,22 +236,28 @@ Returns
 -------
 bool
     True if both would write the same scene file.)")
-      .def(
-          "__repr__",
-          [](const Scene& s) {
-            std::ostringstream text;
-            text << "Scene(rows=" << s.rows << ", cols=" << s.cols << ", handles='"
-                 << (s.handle_vertices.empty() ? s.handles : s.handle_vertices) << "', motion='"
-                 << (s.trajectory.empty() ? s.motion : s.trajectory) << "', frames=" << s.frames << ", dt=" << s.dt
-                 << ")";
-            return text.str();
-          },
-          R"(The scene's grid, handles, motion, frames and time step.
+      .def("__repr__", &scene_repr, R"(The keywords that make this scene.
 
 Returns
 -------
 str
-    ``Scene(rows=32, cols=32, handles='corner', motion='xy_v2', frames=390, dt=0.0166667)``)");
+    ``Scene(rows=32, cols=32, material='default', handles='corner', motion='xy_v2', dt=0.016666666666666666,
+    frames=390)``, with every other keyword whose value is not the default's (material values,
+    gravity, obstacles, ...).)");
+  m.def(
+      "scene_keys", [] {
+        py::list keys;
+        for (const SceneKey& key : scene_keys())
+          if (key.accepted_by(kPython)) keys.append(scene_key_record(key));
+        return keys;
+      },
+      R"(Every keyword of Scene, from the table the command line's flags and scene files share.
+
+Returns
+-------
+list of SceneKey
+    Each keyword's scene-file key, type, unit, default, help text and an example value, in the order
+    they apply.)");
 }
 
 }  // namespace fnopt::python

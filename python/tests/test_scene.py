@@ -68,9 +68,29 @@ def test_scenes_are_equal_when_their_files_are_and_print_what_identifies_them():
     scene = fnopt.Scene(res=10, motion="rot_h0", frames=3)
     assert scene == fnopt.Scene(frames=3, motion="rot_h0", res=10)
     assert scene != scene.replace(frames=4) and scene != "a scene"
+    assert repr(scene) == ("Scene(rows=10, cols=10, material='default', handles='corner', motion='rot_h0', "
+                           "dt=0.016666666666666666, frames=3)")
+
+
+def test_the_repr_shows_every_setting_off_its_default_and_evaluates_to_the_same_scene():
+    scene = fnopt.Scene(res=12, stretch=80, gravity=(0, 0, -5), handles="none", placement="horizontal",
+                        obstacles=["sphere center=0,0,-0.3 radius=0.2 friction=0.3"], contact_thickness=0.002)
     text = repr(scene)
-    assert text.startswith("Scene(rows=10, cols=10, handles='corner', motion='rot_h0', frames=3, dt=")
-    assert float(text.rsplit("dt=", 1)[1].rstrip(")")) == pytest.approx(scene.dt, rel=1e-5)
+    for shown in ("stretch=80", "gravity=(0, 0, -5)", "placement='horizontal'", "contact_thickness=0.002",
+                  "obstacles=['sphere center=0,0,-0.3 radius=0.2 friction=0.3']"):
+        assert shown in text
+    assert eval(text, {"Scene": fnopt.Scene}) == scene
+
+
+def test_every_scene_key_is_a_documented_keyword():
+    keys = fnopt.scene_keys()
+    assert [k.keyword for k in keys][:3] == ["res", "rows", "cols"]
+    for key in keys:
+        assert isinstance(key, fnopt.SceneKey)
+        assert f"\n    {key.keyword} ({key.type}): " in fnopt.Scene.__doc__, key.keyword
+        value = [key.example] if key.keyword == "obstacles" else key.example
+        scene = fnopt.Scene(**{key.keyword: value})
+        assert scene.text != fnopt.Scene().text, key.keyword
 
 
 def test_obstacles_are_a_list_of_specs_and_the_cloth_stays_outside():

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include <fnopt/baselines/newton.hpp>
+#include <fnopt/scenes/scene_keys.hpp>
 #include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/util/parse_text.hpp>
 #include "tests/app/run_fnopt.hpp"
@@ -176,6 +177,19 @@ TEST(Cli, EverySubcommandHasHelp) {
                       " m/s^2"),
         std::string::npos)
         << r.output;
+  }
+}
+
+// The scene flags are the scene key table's command-line keys, each with its help.
+TEST(Cli, SceneFlagsAreTheKeysOfTheSceneKeyTable) {
+  const CommandResult r = run_fnopt("simulate --help");
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const fnopt::SceneKey& key : fnopt::scene_keys()) {
+    if (!key.accepted_by(fnopt::kCommandLine)) continue;
+    EXPECT_NE(r.output.find("--" + std::string(key.name) + " "), std::string::npos) << key.name;
+    if (key.type == fnopt::SceneKeyType::Switch) {
+      EXPECT_NE(r.output.find("--no-" + std::string(key.name)), std::string::npos) << key.name;
+    }
   }
 }
 

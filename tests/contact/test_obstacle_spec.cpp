@@ -52,7 +52,9 @@ TEST(ObstacleSpec, CanonicalTextParsesBackToTheSameObstacle) {
         Obstacle::capsule(point(), point() + Vec3(2, 0, 0), positive(rng))};
     obstacles[1].with_friction(positive(rng)).with_motion(ObstacleMotion::named("yz_v2", obstacles[1].point()));
     for (const Obstacle& o : obstacles) expect_same(parse_obstacle(o.to_text()), o);
-    const std::vector<Obstacle> back = parse_obstacles(obstacles_text(obstacles));
+    std::string specs;
+    for (const Obstacle& o : obstacles) specs += o.to_text() + "; ";
+    const std::vector<Obstacle> back = parse_obstacles(specs);
     ASSERT_EQ(back.size(), obstacles.size());
     for (std::size_t k = 0; k < back.size(); ++k) expect_same(back[k], obstacles[k]);
   }

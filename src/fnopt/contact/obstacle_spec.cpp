@@ -121,10 +121,4 @@ std::vector<Obstacle> parse_obstacles(const std::string& specs) {
   return obstacles;
 }
 
-std::string obstacles_text(const std::vector<Obstacle>& obstacles) {
-  std::string text;
-  for (const auto& o : obstacles) text += (text.empty() ? "" : "; ") + o.to_text();
-  return text;
-}
-
 }  // namespace fnopt

@@ -19,10 +19,7 @@ namespace fnopt {
 // NaN (obstacle.hpp).
 Obstacle parse_obstacle(const std::string& spec);
 
-// Several specs separated by ';' (a named setting's one value); empty pieces are skipped.
+// Several specs separated by ';' (one line of a scene file); empty pieces are skipped.
 std::vector<Obstacle> parse_obstacles(const std::string& specs);
-
-// The canonical specs joined by "; ", which parse_obstacles reads back.
-std::string obstacles_text(const std::vector<Obstacle>& obstacles);
 
 }  // namespace fnopt

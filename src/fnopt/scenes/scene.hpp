@@ -62,21 +62,15 @@ struct Scene {
 };
 
 // Scene file: one "key = value" per line, blank lines ignored; '#' at the start of a line or
-// after a blank starts a comment (so "trajectory = motions.csv#xy_v2" keeps its '#'). Keys are
-// the `fnopt simulate` flag names: res (rows = cols = N), rows, cols, size, grid-units-of, material, stretch,
-// shear, bend, density, damping, handles, handle-vertices, motion, trajectory, speed,
-// dt (a number or a fraction "1/60"), frames, gravity ("x,y,z"), repulsion (auto, true or
-// false; also 1/0, on/off), repulsion-stiffness (lambda [N/m]), repulsion-range (delta / h),
-// placement (vertical or horizontal), let-go (a time [s]), obstacle (one spec,
-// contact/obstacle_spec.hpp, or several separated by ';'; the one key that may repeat, each line
-// adding its obstacles, an empty value clearing them), contact-stiffness (kappa [N/m]),
-// contact-range (dhat / h), contact-thickness [m].
+// after a blank starts a comment (so "trajectory = motions.csv#xy_v2" keeps its '#'). The keys,
+// their values and checks are the table of scene_keys.hpp; only a repeatable key (obstacle) may
+// stand on several lines, each adding to it, and an empty value clears a key that allows it
+// (handle-vertices, trajectory, obstacle).
 // Settings apply in order on top of `base`, later ones winning: `material = NAME` resets all
 // material values to material_preset(NAME) and later stretch/shear/bend/density/damping lines
 // override single values; `handles` clears an earlier handle-vertices and `motion` an earlier
-// trajectory; an empty handle-vertices or trajectory clears it. A relative trajectory path, an
-// obstacle's path= file, or a material file next to the scene file, is taken relative to the
-// scene file. Throws
+// trajectory. A relative trajectory path, an obstacle's path= file, or a material file next to
+// the scene file, is taken relative to the scene file. Throws
 // Error("<path>:<line>: <key>: ...") for an unknown key, a malformed or out-of-range value
 // (the checks of Scene::validate that need no other field), and Error("scene", "...") for an
 // unreadable file.
@@ -84,8 +78,8 @@ Scene load_scene_file(const std::string& path, Scene base = {});
 // The same format from memory (e.g. the scene a rollout file stores): `name` starts every error
 // message ("<name>:<line>: <key>: ..."); relative paths are taken as given.
 Scene load_scene_text(const std::string& text, const std::string& name, Scene base = {});
-// Applies one "key = value" setting (the same keys and checks as the file format, paths taken
-// as given). Throws Error("<key>: ...").
+// Applies one "key = value" setting (a key of scene_keys.hpp, with its checks; paths taken as
+// given). Throws Error("<key>: ...").
 void apply_scene_setting(Scene& scene, const std::string& key, const std::string& value);
 // The one rule for self-repulsion: On and Off as given; Auto is on exactly for the handle presets
 // whose cloth folds onto itself, `corner-center` and `single-mid-edge` (and off for an explicit

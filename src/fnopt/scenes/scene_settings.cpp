@@ -1,62 +1,23 @@
 #include <fnopt/scenes/scene_settings.hpp>
 
-#include <algorithm>
-#include <vector>
-
+#include <fnopt/scenes/scene_keys.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/parse_text.hpp>
 
 namespace fnopt {
-namespace {
 
-// The order settings apply in; keys not listed (unknown ones) come last, and fail there.
-const std::vector<std::string>& setting_order() {
-  static const std::vector<std::string> order = {"res",
-                                                 "rows",
-                                                 "cols",
-                                                 "size",
-                                                 "grid-units-of",
-                                                 "material",
-                                                 "stretch",
-                                                 "shear",
-                                                 "bend",
-                                                 "density",
-                                                 "damping",
-                                                 "handles",
-                                                 "handle-vertices",
-                                                 "motion",
-                                                 "trajectory",
-                                                 "speed",
-                                                 "frames",
-                                                 "dt",
-                                                 "gravity",
-                                                 "repulsion-stiffness",
-                                                 "repulsion-range",
-                                                 "repulsion",
-                                                 "placement",
-                                                 "let-go",
-                                                 "contact-stiffness",
-                                                 "contact-range",
-                                                 "contact-thickness",
-                                                 "obstacle"};
-  return order;
-}
-
-std::size_t rank_of(const std::string& key) {
-  const auto& order = setting_order();
-  return static_cast<std::size_t>(std::find(order.begin(), order.end(), key) - order.begin());
-}
-
-}  // namespace
-
-Scene apply_scene_settings(Scene base, const std::map<std::string, std::string>& settings) {
-  std::vector<std::pair<std::string, std::string>> ordered(settings.begin(), settings.end());
-  std::stable_sort(ordered.begin(), ordered.end(),
-                   [](const auto& a, const auto& b) { return rank_of(a.first) < rank_of(b.first); });
-  for (const auto& [key, value] : ordered) {
+Scene apply_scene_settings(Scene base, const std::map<std::string, std::string>& settings,
+                           const std::vector<Obstacle>& obstacles) {
+  for (const auto& [key, value] : settings)
+    require(find_scene_key(key) != nullptr, key, "unknown setting (valid: " + scene_key_names() + ")");
+  for (const SceneKey& key : scene_keys()) {
+    if (key.type == SceneKeyType::Obstacles)
+      base.obstacles.insert(base.obstacles.end(), obstacles.begin(), obstacles.end());
+    const auto setting = settings.find(key.name);
+    if (setting == settings.end()) continue;
     // In a scene file an empty list clears an earlier one; given as a setting it is a mistake.
-    require(!trim(value).empty(), key, "is empty: give a value or leave the flag out");
-    apply_scene_setting(base, key, value);
+    require(!trim(setting->second).empty(), key.name, "is empty: give a value or leave the flag out");
+    apply_scene_setting(base, key.name, setting->second);
   }
   resolve_repulsion(base);
   base.validate();
