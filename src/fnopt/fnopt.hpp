@@ -39,12 +39,12 @@
 #include <fnopt/metrics/trajectory_error.hpp>
 
 #include <fnopt/adjoint/adjoint_bench.hpp>
-#include <fnopt/adjoint/bounded_lbfgs.hpp>
-#include <fnopt/adjoint/compass_search.hpp>
+#include <fnopt/fits/bounded_lbfgs.hpp>
+#include <fnopt/fits/compass_search.hpp>
 #include <fnopt/adjoint/gradient_check.hpp>
-#include <fnopt/adjoint/gradient_material_fit.hpp>
+#include <fnopt/fits/material_fit_gradient.hpp>
 #include <fnopt/adjoint/handle_path.hpp>
-#include <fnopt/adjoint/handle_path_fit.hpp>
+#include <fnopt/fits/handle_path_fit.hpp>
 #include <fnopt/adjoint/recorded_rollout.hpp>
 #include <fnopt/adjoint/rollout_adjoint.hpp>
 #include <fnopt/adjoint/rollout_loss.hpp>

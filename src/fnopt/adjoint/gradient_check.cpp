@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <random>
 
 #include <fnopt/util/error.hpp>
@@ -80,110 +81,143 @@ void GradientCheckParams::validate() const {
   path.validate();
 }
 
-GradientCheckResult gradient_check(const ResolvedScene& scene, const GradientCheckParams& params,
-                                   const RolloutInputs& inputs) {
-  params.validate();
-  const int frames = scene.scene.frames;
-  std::mt19937_64 random(params.seed);
-  LinearLoss loss;
-  loss.frames = params.frames;
-  if (loss.frames.empty())
-    for (int f = 1; f < frames; ++f) loss.frames.push_back(f);
-  for (int f : loss.frames) {
-    require(f >= 0 && f < frames, "frames",
-            "frame " + std::to_string(f) + " is outside the rollout's 0.." + std::to_string(frames - 1));
-    loss.weights.push_back(random_vector(scene.grid.dof_count(), random));
+namespace {
+
+// The check of one scene: the base rollout, its adjoint gradient of the random linear loss, and
+// the loss of perturbed rollouts, each starting every step from the base rollout's acceleration
+// so that it follows the base's branch of stationary points (RolloutInputs::start_accelerations).
+class GradientChecker {
+ public:
+  GradientChecker(const ResolvedScene& scene, const GradientCheckParams& params, const RolloutInputs& inputs)
+      : scene_(scene), params_(params), inputs_(inputs), random_(params.seed) {
+    const int frames = scene.scene.frames;
+    loss_.frames = params.frames;
+    if (loss_.frames.empty())
+      for (int f = 1; f < frames; ++f) loss_.frames.push_back(f);
+    for (int f : loss_.frames) {
+      require(f >= 0 && f < frames, "frames",
+              "frame " + std::to_string(f) + " is outside the rollout's 0.." + std::to_string(frames - 1));
+      loss_.weights.push_back(random_vector(scene.grid.dof_count(), random_));
+    }
+    base_ = record_rollout(scene, params.record, inputs);
+    std::vector<FrameGradient> loss_gradient;
+    for (std::size_t i = 0; i < loss_.frames.size(); ++i) loss_gradient.push_back({loss_.frames[i], loss_.weights[i]});
+    gradient_ = backpropagate(base_, loss_gradient);
+    perturbed_record_ = params.record;
+    perturbed_record_.classify_steps = false;
+    path_.emplace(params.path, base_.step_count(), static_cast<int>(scene.handles.vertices.size()));
+    base_targets_ = flatten(base_.handle_targets);
   }
 
-  const RecordedRollout base = record_rollout(scene, params.record, inputs);
-  std::vector<FrameGradient> loss_gradient;
-  for (std::size_t i = 0; i < loss.frames.size(); ++i) loss_gradient.push_back({loss.frames[i], loss.weights[i]});
-  const RolloutGradient gradient = backpropagate(base, loss_gradient);
+  const RecordedRollout& base() const { return base_; }
+  const RolloutGradient& gradient() const { return gradient_; }
 
-  GradientCheckResult result;
-  result.status = gradient.status;
-  result.saddle_steps = static_cast<int>(gradient.saddle_steps.size());
-  result.forward_ms = base.forward_ms;
-  result.backward_ms = gradient.backward_ms;
+  GradientCheckRow check(AdjointParameter parameter) {
+    GradientCheckRow row;
+    row.parameter = parameter;
+    if (is_material_coefficient(parameter)) {
+      check_material(parameter, row);
+      return row;
+    }
+    const VectorKind kind = vector_kind(parameter);
+    for (int d = 0; d < params_.directions; ++d) {
+      const VecX direction = tilted_direction(kind.adjoint, random_);
+      const VecX step = params_.vector_step * direction;
+      const double difference = (kind.loss_along(step) - kind.loss_along(-step)) / (2.0 * params_.vector_step);
+      add_comparison(row, kind.adjoint.dot(direction), difference);
+    }
+    return row;
+  }
 
-  // Every perturbed rollout starts each step from the base rollout's acceleration, so that it
-  // follows the base's branch of stationary points (RolloutInputs::start_accelerations).
-  RecordOptions perturbed_record = params.record;
-  perturbed_record.classify_steps = false;
-  const auto loss_at = [&](const ResolvedScene& perturbed, const RolloutInputs& perturbed_inputs) {
-    RolloutInputs on_branch = perturbed_inputs;
-    on_branch.start_accelerations = base.accelerations;
-    return loss.value(record_rollout(perturbed, perturbed_record, on_branch));
-  };
-  const HandlePath path(params.path, base.step_count(), static_cast<int>(scene.handles.vertices.size()));
-  const VecX base_targets = flatten(base.handle_targets);
-  const VecX x0 = base.positions.front(), v0 = base.velocities.front();
-
+ private:
   // (adjoint . d, loss at p + e d as a function of e) for a vector kind.
   struct VectorKind {
     VecX adjoint;
     std::function<double(const VecX& step)> loss_along;
   };
-  const auto vector_kind = [&](AdjointParameter parameter) -> VectorKind {
+
+  double loss_at(const ResolvedScene& perturbed, const RolloutInputs& perturbed_inputs) const {
+    RolloutInputs on_branch = perturbed_inputs;
+    on_branch.start_accelerations = base_.accelerations;
+    return loss_.value(record_rollout(perturbed, perturbed_record_, on_branch));
+  }
+
+  // Central differences in k (or ln k) against the adjoint, both in log units (k dL/dk) so that the
+  // plain form's difference needs no division by k.
+  void check_material(AdjointParameter parameter, GradientCheckRow& row) const {
+    const double e = params_.material_step;
+    ResolvedScene plus = scene_, minus = scene_;
+    const double k = material_coefficient(plus.scene.material, parameter);
+    material_coefficient(plus.scene.material, parameter) = params_.log_coordinates ? k * std::exp(e) : k * (1.0 + e);
+    material_coefficient(minus.scene.material, parameter) = params_.log_coordinates ? k * std::exp(-e) : k * (1.0 - e);
+    const double difference = (loss_at(plus, inputs_) - loss_at(minus, inputs_)) / (2.0 * e);
+    const double adjoint = params_.log_coordinates ? gradient_.log_material.coefficient(parameter)
+                                                   : k * gradient_.material.coefficient(parameter);
+    add_comparison(row, adjoint, difference);
+  }
+
+  VectorKind vector_kind(AdjointParameter parameter) const {
     switch (parameter) {
       case AdjointParameter::Gravity:
-        return {gradient.material.gravity, [&](const VecX& step) {
-                  ResolvedScene perturbed = scene;
+        return {gradient_.material.gravity, [this](const VecX& step) {
+                  ResolvedScene perturbed = scene_;
                   perturbed.scene.gravity += step;
-                  return loss_at(perturbed, inputs);
+                  return loss_at(perturbed, inputs_);
                 }};
       case AdjointParameter::HandlePositions:
-        return {flatten(gradient.handle_targets), [&](const VecX& step) {
-                  RolloutInputs perturbed = inputs;
-                  perturbed.handle_targets = unflatten(base_targets + step, base.handle_targets);
-                  return loss_at(scene, perturbed);
+        return {flatten(gradient_.handle_targets), [this](const VecX& step) {
+                  RolloutInputs perturbed = inputs_;
+                  perturbed.handle_targets = unflatten(base_targets_ + step, base_.handle_targets);
+                  return loss_at(scene_, perturbed);
                 }};
       case AdjointParameter::HandlePath:
-        return {flatten(path.control_gradient(gradient.handle_targets)), [&](const VecX& step) {
-                  RolloutInputs perturbed = inputs;
+        return {flatten(path_->control_gradient(gradient_.handle_targets)), [this](const VecX& step) {
+                  RolloutInputs perturbed = inputs_;
                   perturbed.handle_targets = unflatten(
-                      base_targets + flatten(path.offsets(unflatten(step, path.zero_control_points()))),
-                      base.handle_targets);
-                  return loss_at(scene, perturbed);
+                      base_targets_ + flatten(path_->offsets(unflatten(step, path_->zero_control_points()))),
+                      base_.handle_targets);
+                  return loss_at(scene_, perturbed);
                 }};
       case AdjointParameter::InitialPositions:
-        return {gradient.initial_positions, [&](const VecX& step) {
-                  RolloutInputs perturbed = inputs;
-                  perturbed.initial_positions = x0 + step;
-                  return loss_at(scene, perturbed);
+        return {gradient_.initial_positions, [this](const VecX& step) {
+                  RolloutInputs perturbed = inputs_;
+                  perturbed.initial_positions = base_.positions.front() + step;
+                  return loss_at(scene_, perturbed);
                 }};
       default:
-        return {gradient.initial_velocities, [&](const VecX& step) {
-                  RolloutInputs perturbed = inputs;
-                  perturbed.initial_velocities = v0 + step;
-                  return loss_at(scene, perturbed);
+        return {gradient_.initial_velocities, [this](const VecX& step) {
+                  RolloutInputs perturbed = inputs_;
+                  perturbed.initial_velocities = base_.velocities.front() + step;
+                  return loss_at(scene_, perturbed);
                 }};
     }
-  };
+  }
 
+  const ResolvedScene& scene_;
+  const GradientCheckParams& params_;
+  const RolloutInputs& inputs_;
+  std::mt19937_64 random_;
+  LinearLoss loss_;
+  RecordedRollout base_;
+  RolloutGradient gradient_;
+  RecordOptions perturbed_record_;
+  std::optional<HandlePath> path_;
+  VecX base_targets_;
+};
+
+}  // namespace
+
+GradientCheckResult gradient_check(const ResolvedScene& scene, const GradientCheckParams& params,
+                                   const RolloutInputs& inputs) {
+  params.validate();
+  GradientChecker checker(scene, params, inputs);
+  GradientCheckResult result;
+  result.status = checker.gradient().status;
+  result.saddle_steps = static_cast<int>(checker.gradient().saddle_steps.size());
+  result.forward_ms = checker.base().forward_ms;
+  result.backward_ms = checker.gradient().backward_ms;
   for (AdjointParameter parameter : params.parameters) {
-    GradientCheckRow row;
-    row.parameter = parameter;
-    if (is_material_coefficient(parameter)) {
-      const double e = params.material_step;
-      ResolvedScene plus = scene, minus = scene;
-      const double k = material_coefficient(plus.scene.material, parameter);
-      material_coefficient(plus.scene.material, parameter) = params.log_coordinates ? k * std::exp(e) : k * (1.0 + e);
-      material_coefficient(minus.scene.material, parameter) = params.log_coordinates ? k * std::exp(-e) : k * (1.0 - e);
-      const double difference = (loss_at(plus, inputs) - loss_at(minus, inputs)) / (2.0 * e);
-      const double adjoint = params.log_coordinates ? gradient.log_material.coefficient(parameter)
-                                                    : k * gradient.material.coefficient(parameter);
-      // Both in log units (k dL/dk) so that the plain form's difference needs no division by k.
-      add_comparison(row, adjoint, difference);
-    } else {
-      const VectorKind kind = vector_kind(parameter);
-      for (int d = 0; d < params.directions; ++d) {
-        const VecX direction = tilted_direction(kind.adjoint, random);
-        const VecX step = params.vector_step * direction;
-        const double difference = (kind.loss_along(step) - kind.loss_along(-step)) / (2.0 * params.vector_step);
-        add_comparison(row, kind.adjoint.dot(direction), difference);
-      }
-    }
+    const GradientCheckRow row = checker.check(parameter);
     result.max_relative_error = std::max(result.max_relative_error, row.max_relative_error);
     result.rows.push_back(row);
   }

@@ -65,6 +65,41 @@ class StepStates {
   double error_ = 0.0;
 };
 
+// The loss gradient's terms summed per frame (empty where a frame has none). Throws
+// Error("loss", ...) for a frame outside the rollout or a gradient of the wrong size.
+std::vector<VecX> loss_by_frame(const std::vector<FrameGradient>& loss_gradient, int frames, Eigen::Index dofs) {
+  std::vector<VecX> loss(frames);
+  for (const FrameGradient& term : loss_gradient) {
+    require(term.frame >= 0 && term.frame < frames, "loss",
+            "frame " + std::to_string(term.frame) + " is outside the rollout's 0.." + std::to_string(frames - 1));
+    require(term.gradient.size() == dofs, "loss",
+            "frame " + std::to_string(term.frame) + ": expected " + std::to_string(dofs) +
+                " values (3 per vertex), got " + std::to_string(term.gradient.size()));
+    if (loss[term.frame].size() == 0)
+      loss[term.frame] = term.gradient;
+    else
+      loss[term.frame] += term.gradient;
+  }
+  return loss;
+}
+
+// A complete pass through unconverged or saddle steps says so; the material's gradient also in
+// ln k (dL/dln k = k dL/dk).
+void finish_status_and_material(RolloutGradient& out, const Material& material) {
+  if (out.status == AdjointStatus::Exact) {
+    if (!out.unconverged_steps.empty())
+      out.status = AdjointStatus::Unconverged;
+    else if (!out.saddle_steps.empty())
+      out.status = AdjointStatus::ThroughSaddles;
+  }
+  out.log_material = out.material;
+  out.log_material.stretch *= material.stretch;
+  out.log_material.shear *= material.shear;
+  out.log_material.bend *= material.bend;
+  out.log_material.density *= material.density;
+  out.log_material.damping *= material.damping;
+}
+
 }  // namespace
 
 const char* to_string(AdjointStatus status) {
@@ -93,20 +128,8 @@ RolloutGradient backpropagate(const RecordedRollout& rollout, const std::vector<
   require(!rollout.empty(), "rollout", "no recorded forward pass (record_rollout gives one)");
   require(!rollout.diverged, "rollout", "the forward pass " + rollout.divergence + ": no gradient through it");
   const auto begin = std::chrono::steady_clock::now();
-  const int frames = rollout.frame_count();
   const Eigen::Index dofs = rollout.positions.front().size();
-  std::vector<VecX> loss(frames);
-  for (const FrameGradient& term : loss_gradient) {
-    require(term.frame >= 0 && term.frame < frames, "loss",
-            "frame " + std::to_string(term.frame) + " is outside the rollout's 0.." + std::to_string(frames - 1));
-    require(term.gradient.size() == dofs, "loss",
-            "frame " + std::to_string(term.frame) + ": expected " + std::to_string(dofs) +
-                " values (3 per vertex), got " + std::to_string(term.gradient.size()));
-    if (loss[term.frame].size() == 0)
-      loss[term.frame] = term.gradient;
-    else
-      loss[term.frame] += term.gradient;
-  }
+  const std::vector<VecX> loss = loss_by_frame(loss_gradient, rollout.frame_count(), dofs);
 
   const double dt = rollout.scene.scene.dt;
   const int handles = static_cast<int>(rollout.scene.handles.vertices.size());
@@ -155,22 +178,9 @@ RolloutGradient backpropagate(const RecordedRollout& rollout, const std::vector<
     }
     if (loss[s].size()) xbar += loss[s];
   }
-  if (out.status == AdjointStatus::Exact) {
-    if (!out.unconverged_steps.empty())
-      out.status = AdjointStatus::Unconverged;
-    else if (!out.saddle_steps.empty())
-      out.status = AdjointStatus::ThroughSaddles;
-  }
   out.initial_positions = std::move(xbar);
   out.initial_velocities = std::move(vbar);
-
-  const Material& material = rollout.scene.scene.material;
-  out.log_material = out.material;
-  out.log_material.stretch *= material.stretch;
-  out.log_material.shear *= material.shear;
-  out.log_material.bend *= material.bend;
-  out.log_material.density *= material.density;
-  out.log_material.damping *= material.damping;
+  finish_status_and_material(out, rollout.scene.scene.material);
   out.resimulated_steps = states.resimulated_steps();
   out.resimulation_error = states.resimulation_error();
   out.factorizations = step.factorizations();

@@ -1,7 +1,6 @@
 #include <fnopt/training/probe_loss.hpp>
 
 #include <cmath>
-#include <deque>
 #include <functional>
 
 #include <fnopt/baselines/curvature_history.hpp>
@@ -58,10 +57,6 @@ SymmetricJacobianMap linear_map(std::function<void(VecX&)> apply_in_place) {
           },
           [apply_in_place](const VecX&, VecX& v) { apply_in_place(v); }};
 }
-
-struct TensorPair {
-  torch::Tensor s, y, rho;
-};
 
 }  // namespace
 
@@ -155,40 +150,33 @@ torch::Tensor ProbeLoss::surface_after_pqn(const torch::Tensor& probe) const {
   auto gradient_at = [&](const torch::Tensor& d) {
     return quadratic ? g0 + apply(maps_->hessian, d) : apply(maps_->energy_gradient, d);
   };
-  std::deque<TensorPair> history;  // oldest first, as pqn's ring
-  // pqn's test for a pair (baselines/pqn.cpp).
+  // pqn's ring of pairs and its test for a pair (baselines/pqn.cpp), on tensors.
+  using TensorHistory = BasicCurvatureHistory<torch::Tensor, torch::Tensor>;
+  TensorHistory history(options_.pqn.history);
   auto keep = [&](const torch::Tensor& s, const torch::Tensor& y) {
-    if (options_.pqn.history == 0) return;
-    const torch::Tensor sy = s.dot(y);
-    if (!clearly_positive_curvature(sy.item<double>(), s.norm().item<double>() * y.norm().item<double>())) return;
-    if (static_cast<int>(history.size()) == options_.pqn.history) history.pop_front();
-    history.push_back({s, y, 1.0 / sy});
+    history.push_pair(s, y, [](const TensorHistory::Pair& pair, const torch::Tensor& sy) {
+      return clearly_positive_curvature(sy.item<double>(),
+                                        pair.s.norm().item<double>() * pair.y.norm().item<double>());
+    });
   };
   if (probe.defined()) keep(probe, gradient_at(probe) - g0);
 
   const BacktrackingParams& search = options_.pqn.line_search;
   torch::Tensor d = torch::zeros({gradient_.size()}, torch::kFloat64), g = g0;
   double value = start_value_;
+  std::vector<torch::Tensor> alphas;
   for (int k = 0; k < options_.iterations; ++k) {
-    // The two-loop recursion (baselines/curvature_history.hpp) on A^-1; pqn restarts from
-    // -A^-1 g where rounding leaves it no descent.
+    // The two-loop recursion on A^-1; pqn restarts from -A^-1 g where rounding leaves it no descent.
     torch::Tensor direction;
     double slope = 0.0;
-    if (!history.empty()) {
-      torch::Tensor q = g;
-      std::vector<torch::Tensor> alphas(history.size());
-      for (int i = static_cast<int>(history.size()) - 1; i >= 0; --i) {
-        alphas[i] = history[i].rho * history[i].s.dot(q);
-        q = q - alphas[i] * history[i].y;
-      }
-      torch::Tensor r = apply(maps_->matrix_inverse, q);
-      for (std::size_t i = 0; i < history.size(); ++i)
-        r = r + (alphas[i] - history[i].rho * history[i].y.dot(r)) * history[i].s;
-      direction = -r;
+    if (history.size() > 0) {
+      lbfgs_two_loop(
+          history.oldest_first(), [&](torch::Tensor& q) { q = apply(maps_->matrix_inverse, q); }, g, direction,
+          alphas);
       slope = g.dot(direction).item<double>();
       if (!(std::isfinite(slope) && slope < 0.0)) history.clear();
     }
-    if (history.empty()) {
+    if (history.size() == 0) {
       direction = -apply(maps_->matrix_inverse, g);
       slope = g.dot(direction).item<double>();
     }

@@ -1,0 +1,217 @@
+#include <fnopt/fits/material_fit_run.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <fnopt/adjoint/material_gradient.hpp>
+#include <fnopt/fits/material_fit_gradient.hpp>
+#include <fnopt/util/error.hpp>
+#include <fnopt/util/flag_names.hpp>
+#include <fnopt/util/parse_text.hpp>
+#include <fnopt/util/progress_bar.hpp>
+
+namespace fnopt {
+namespace {
+
+std::string material_text(const Material& m) {
+  char text[240];
+  std::snprintf(text, sizeof text,
+                "stretch %.4g N/m, shear %.4g N/m, bend %.4g N m, density %.4g kg/m^2, damping %.4g 1/s", m.stretch,
+                m.shear, m.bend, m.density, m.damping);
+  return text;
+}
+
+std::string errors_text(const FitEvaluation& e) {
+  std::string text;
+  for (double error : e.errors) text += (text.empty() ? "" : ", ") + number_text(1e3 * error);
+  return text;
+}
+
+std::string thread_text(int threads) { return std::to_string(threads) + " thread" + (threads == 1 ? "" : "s"); }
+
+std::vector<FitReference> load_references(const std::vector<std::string>& paths) {
+  std::vector<FitReference> references;
+  for (const auto& path : paths) references.push_back(load_fit_reference(path));
+  return references;
+}
+
+// "COEFFICIENT=LOW:HIGH" as a name and an interval.
+CoefficientRange parse_range(const std::string& text, std::string& name) {
+  CoefficientRange range;
+  require(parse_named_interval(text, name, range.low, range.high), "range",
+          "expected COEFFICIENT=LOW:HIGH, got '" + text + "'");
+  return range;
+}
+
+// The checks: the fitted and the start material's e_CD on further references.
+void report_checks(const MaterialFitRun& run, const Material& fitted_material, const Material& start) {
+  for (const auto& reference : load_references(run.checks)) {
+    const auto fitted = evaluate_material({reference}, fitted_material, run.params);
+    const auto before = evaluate_material({reference}, start, run.params);
+    std::printf("check %s (%dx%d, %s): e_CD x 10^3 = %s fitted, %s start material\n", reference.path.c_str(),
+                reference.scene.rows, reference.scene.cols, reference.scene.motion.c_str(),
+                number_text(1e3 * fitted.mean_error).c_str(), number_text(1e3 * before.mean_error).c_str());
+  }
+}
+
+// The material file, its comment saying how it was fitted.
+void write_fit(const MaterialFitRun& run, const Material& material, const FitEvaluation& fitted,
+               const FitEvaluation& start) {
+  std::string comment = "fitted by fnopt fit-material --method " + run.method + " (" + run.coefficients + ") to";
+  for (const auto& path : run.references) comment += "\n  " + path;
+  comment += "\ne_CD x 10^3 = " + number_text(1e3 * fitted.mean_error) +
+             " (start material: " + number_text(1e3 * start.mean_error) + ")";
+  write_material_file(run.out, material, comment);
+  std::printf("wrote %s (use it with --material %s)\n", run.out.c_str(), run.out.c_str());
+}
+
+// The gradient method's parameters from the run's coefficients, ranges and budget.
+GradientMaterialFitParams gradient_params(const MaterialFitRun& run) {
+  GradientMaterialFitParams params;
+  params.fit.clear();
+  for (const auto& name : name_list("fit", run.coefficients)) {
+    AdjointParameter kind = AdjointParameter::Stretch;
+    with_flag_names({{"parameter", "fit"}}, [&] { kind = adjoint_parameter_from_name(name); });
+    require(is_material_coefficient(kind), "fit",
+            "unknown coefficient '" + name + "' (choose from stretch, shear, bend, density, damping)");
+    params.fit.push_back(kind);
+  }
+  for (const auto& text : run.ranges) {
+    std::string name;
+    const CoefficientRange range = parse_range(text, name);
+    const auto found = std::find_if(params.ranges.begin(), params.ranges.end(),
+                                    [&](const auto& entry) { return name == to_string(entry.first); });
+    require(found != params.ranges.end(), "range",
+            "unknown coefficient '" + name + "' (choose from stretch, shear, bend, density, damping)");
+    require(std::isfinite(range.low) && std::isfinite(range.high) && range.low > 0.0 && range.low < range.high, "range",
+            "'" + text + "' must be 0 < LOW < HIGH");
+    found->second = range;
+  }
+  require(run.iterations >= 1, "iterations", "must be at least 1");
+  params.optimizer.max_iterations = run.iterations;
+  params.optimizer.first_step = run.params.initial_step;
+  params.chamfer = run.params.chamfer;
+  return params;
+}
+
+void print_gradient_reference(const FitReference& r, const GradientFitTarget& t) {
+  const std::string loss = !t.positions.empty() ? "position loss on the " + std::to_string(t.positions.size()) +
+                                                      " after the first (an fnopt rollout: vertex for vertex)"
+                                                : "e_CD on " + std::to_string(t.points.size()) +
+                                                      " (every --cd-stride-th)";
+  std::printf("reference %s: %dx%d, motion %s, %d steps of %.4g s, %zu frames matched, %s\n", r.path.c_str(),
+              r.scene.rows, r.scene.cols, r.scene.motion.c_str(), t.scene.scene.frames - 1, r.scene.dt, t.matched,
+              loss.c_str());
+}
+
+void run_gradient_fit(MaterialFitRun& run) {
+  if (run.coefficients.empty()) run.coefficients = "stretch,shear,damping";
+  const GradientMaterialFitParams params = gradient_params(run);
+  with_flag_names({{"fit.frames", "frames"},
+                   {"chamfer.samples", "cd-samples"},
+                   {"fit.chamfer_stride", "cd-stride"},
+                   {"fit.initial_step", "initial-step"},
+                   {"fit.final_step", "final-step"}},
+                  [&] { run.params.validate(); });
+  const Material start = material_preset(run.start);
+  const auto references = load_references(run.references);
+  std::vector<GradientFitTarget> targets;
+  for (const auto& r : references) {
+    targets.push_back(gradient_fit_target(r, start, run.params));
+    print_gradient_reference(r, targets.back());
+  }
+  std::printf(
+      "fitting %s from %s (%s); bounded L-BFGS in ln(coefficient) on the adjoint gradient, at most %d iterations; "
+      "%s\n",
+      run.coefficients.c_str(), run.start.c_str(), material_text(start).c_str(), run.iterations,
+      thread_text(run.threads).c_str());
+  std::fflush(stdout);
+  const GradientMaterialFitResult result =
+      fit_material_by_gradient(targets, start, params, [](int evaluation, const Material& material, double loss) {
+        std::printf("  %3d  %s  ->  loss %s\n", evaluation, material_text(material).c_str(), number_text(loss).c_str());
+        std::fflush(stdout);
+      });
+  std::printf("fitted:  %s (%s after %d iterations; loss %s, start %s)\n", material_text(result.material).c_str(),
+              to_string(result.status), result.iterations, number_text(result.loss).c_str(),
+              number_text(result.start_loss).c_str());
+  const FitEvaluation fitted = evaluate_material(references, result.material, run.params);
+  const FitEvaluation before = evaluate_material(references, start, run.params);
+  report_checks(run, result.material, start);
+  write_fit(run, result.material, fitted, before);
+  std::printf(
+      "e_CD x 10^3 = %s fitted, %s start material; %d rollouts (%d recorded forward + %d backward passes), and %d "
+      "Newton rollouts for e_CD\n",
+      number_text(1e3 * fitted.mean_error).c_str(), number_text(1e3 * before.mean_error).c_str(), 2 * result.rollouts,
+      result.rollouts, result.rollouts, 2 * static_cast<int>(references.size()));
+}
+
+// The compass's coefficients and intervals from the run, validated with the flags' names.
+void set_compass_params(MaterialFitRun& run) {
+  if (run.coefficients.empty()) run.coefficients = "stretch,shear,bend,damping";
+  run.params.coefficients.clear();
+  for (auto name : split(run.coefficients, ','))
+    run.params.coefficients.push_back(material_coefficient(std::string(trim(name))));
+  for (const auto& text : run.ranges) {
+    std::string name;
+    const CoefficientRange range = parse_range(text, name);
+    run.params.range(material_coefficient(name)) = range;
+  }
+  with_flag_names({{"fit.coefficients", "fit"},
+                   {"fit.initial_step", "initial-step"},
+                   {"fit.final_step", "final-step"},
+                   {"fit.max_evaluations", "max-evaluations"},
+                   {"fit.frames", "frames"},
+                   {"fit.chamfer_stride", "cd-stride"},
+                   {"chamfer.samples", "cd-samples"},
+                   {"fit.stretch_range", "range"},
+                   {"fit.shear_range", "range"},
+                   {"fit.bend_range", "range"},
+                   {"fit.damping_range", "range"}},
+                  [&] { run.params.validate(); });
+}
+
+void run_compass_fit(MaterialFitRun& run) {
+  set_compass_params(run);
+  const Material start = material_preset(run.start);
+  const auto references = load_references(run.references);
+  for (const auto& r : references)
+    std::printf("reference %s: %dx%d, motion %s, %d steps of %.4g s\n", r.path.c_str(), r.scene.rows, r.scene.cols,
+                r.scene.motion.c_str(), run.params.frames > 0 ? run.params.frames : r.scene.frames, r.scene.dt);
+  std::printf(
+      "fitting %s from %s (%s); compass search in ln(coefficient), step %.3g down to %.3g, at most %d "
+      "Newton rollouts per reference; %s\n",
+      run.coefficients.c_str(), run.start.c_str(), material_text(start).c_str(), run.params.initial_step,
+      run.params.final_step, run.params.max_evaluations, thread_text(run.threads).c_str());
+
+  ProgressBar bar("fit", run.params.max_evaluations);
+  const MaterialFitResult result =
+      fit_material(references, start, run.params, [&](int k, const FitEvaluation& e, const FitEvaluation& best) {
+        bar.update(k, "best e_CD x1e3 " + number_text(1e3 * best.mean_error));
+        std::printf("\n  %3d  %s  ->  e_CD x 10^3 = %s\n", k, material_text(e.material).c_str(),
+                    number_text(1e3 * e.mean_error).c_str());
+        std::fflush(stdout);
+      });
+  bar.finish();
+
+  std::printf("fitted:  %s\n", material_text(result.best.material).c_str());
+  std::printf("e_CD x 10^3: %s (mean %s) against %s (mean %s) for the start material; %d rollouts per reference, %s\n",
+              errors_text(result.best).c_str(), number_text(1e3 * result.best.mean_error).c_str(),
+              errors_text(result.start).c_str(), number_text(1e3 * result.start.mean_error).c_str(), result.evaluations,
+              result.converged ? "converged (step below the final step)" : "stopped at --max-evaluations");
+  report_checks(run, result.best.material, start);
+  write_fit(run, result.best.material, result.best, result.start);
+}
+
+}  // namespace
+
+void run_material_fit(MaterialFitRun run) {
+  if (run.method == "gradient")
+    run_gradient_fit(run);
+  else if (run.method == "compass")
+    run_compass_fit(run);
+  else
+    throw Error("method", "expected gradient or compass, got '" + run.method + "'");
+}
+
+}  // namespace fnopt

@@ -1,0 +1,31 @@
+#pragma once
+// `fnopt fit-material`'s run: the material whose exact (Newton) rollout best reproduces reference
+// rollouts, by the rollout's adjoint gradient (material_fit_gradient.hpp; the default) or by the
+// compass search on e_CD (material_fit.hpp). Prints each evaluation, the fitted values and their
+// e_CD against the start material's, optionally the error on further references (`checks`: how
+// the fit transfers to other resolutions), and writes a material file for --material.
+#include <string>
+#include <vector>
+
+#include <fnopt/fits/material_fit.hpp>
+
+namespace fnopt {
+
+struct MaterialFitRun {
+  std::string method = "gradient";  // gradient or compass
+  std::vector<std::string> references;
+  std::vector<std::string> checks;
+  // Comma-separated; empty: stretch,shear,damping (gradient), stretch,shear,bend,damping (compass).
+  std::string coefficients;
+  std::string start = "default";    // a preset or a material file
+  std::vector<std::string> ranges;  // "COEFFICIENT=LOW:HIGH" each
+  std::string out = "fitted-material.txt";
+  int iterations = 30;  // gradient: L-BFGS iterations at most
+  MaterialFitParams params;
+  int threads = 1;  // the thread count in effect, for the header line
+};
+
+// Throws Error named by the flag that set the bad value ("fit", "range", "frames", ...).
+void run_material_fit(MaterialFitRun run);
+
+}  // namespace fnopt

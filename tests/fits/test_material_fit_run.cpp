@@ -1,0 +1,59 @@
+// fnopt fit-material's run in-process: a gradient fit to an fnopt rollout of a hidden material
+// writes a material file that reads back, and bad methods and coefficients are refused by name.
+#include <gtest/gtest.h>
+
+#include <fnopt/baselines/newton.hpp>
+#include <fnopt/fits/material_fit_run.hpp>
+#include <fnopt/simulation/rollout.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
+#include "tests/util/error_message.hpp"
+#include "tests/util/temp_dir.hpp"
+
+namespace fnopt {
+namespace {
+
+// An fnopt rollout of `scene` by Newton, written to `path`.
+void write_reference(const Scene& scene, const std::string& path) {
+  NewtonOptimizer newton;
+  RolloutOptions options;
+  options.solve = NewtonOptimizer::reference_solve_options();
+  write_rollout_file(path, run_rollout(resolve(scene), newton, options), to_scene_text(scene), newton.settings());
+}
+
+TEST(MaterialFitRun, AGradientFitWritesAMaterialFileThatReadsBack) {
+  const testing::TempDir tmp;
+  Scene hidden;
+  hidden.rows = hidden.cols = 6;
+  hidden.frames = 8;
+  hidden.speed = 4.0;
+  hidden.material.stretch *= 1.5;
+  const std::string reference = (tmp.path() / "reference.h5").string();
+  write_reference(hidden, reference);
+  MaterialFitRun run;
+  run.references = {reference};
+  run.coefficients = "stretch";
+  run.iterations = 3;
+  run.out = (tmp.path() / "fitted.txt").string();
+  ::testing::internal::CaptureStdout();
+  run_material_fit(run);
+  const std::string printed = ::testing::internal::GetCapturedStdout();
+  EXPECT_NE(printed.find("fitted:"), std::string::npos) << printed;
+  const Material fitted = material_preset(run.out);
+  EXPECT_GT(fitted.stretch, Material{}.stretch);
+  EXPECT_EQ(fitted.shear, Material{}.shear);
+}
+
+TEST(MaterialFitRun, RefusesAnUnknownMethodOrCoefficientByName) {
+  MaterialFitRun run;
+  run.method = "grid";
+  EXPECT_TRUE(testing::throws_error([&] { run_material_fit(run); }, "method: expected gradient or compass"));
+  run.method = "gradient";
+  run.coefficients = "stretch,colour";
+  EXPECT_TRUE(testing::throws_error([&] { run_material_fit(run); }, "fit: "));
+  run.method = "compass";
+  run.coefficients = "density";
+  EXPECT_TRUE(testing::throws_error([&] { run_material_fit(run); }, "fit: unknown coefficient 'density'"));
+}
+
+}  // namespace
+}  // namespace fnopt
