@@ -1,4 +1,4 @@
-// fnopt compare: its flags, turned into a CompareStudy (studies/compare_study.hpp) that runs
+// fnopt compare: its flags, turned into a CompareStudy (studies/compare/compare_study.hpp) that runs
 // every inner optimizer on the same scenes, error against run time (docs/design.md §8, §10).
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <vector>
 
 #include <fnopt/boundary/trajectory.hpp>
-#include <fnopt/studies/compare_study.hpp>
+#include <fnopt/studies/compare/compare_study.hpp>
 #include <fnopt/util/command_line.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/flag_names.hpp>
@@ -67,10 +67,6 @@ std::vector<double> number_list(const std::string& flag, const std::string& text
 }
 
 // --res: "N" (N x N) or "RxC" (R rows x C columns), comma-separated.
-struct GridSize {
-  int rows = 0, cols = 0;
-};
-
 std::vector<GridSize> resolution_list(const std::string& text) {
   std::vector<GridSize> sizes;
   const std::string expected =
@@ -118,32 +114,18 @@ const Preset kSuperres = {"32x64,64x32,48,48x80,64,100,128",
                           8};
 
 // The scenes of every resolution and motion; a trajectory file replaces the motion list.
-std::vector<Scene> compare_scenes(const CompareFlags& flags) {
+std::vector<Scene> scenes_of(const CompareFlags& flags) {
   const std::vector<GridSize> resolutions = resolution_list(flags.resolutions);
   const std::vector<std::string> motions =
       flags.motions == "eval" ? benchmark_motion_names() : name_list("motions", flags.motions);
   Scene base = flags.scene.scene();
   if (flags.preset_frames > 0) base.frames = flags.preset_frames;
-  std::vector<Scene> scenes;
-  for (const GridSize& res : resolutions)
-    for (const auto& motion : motions) {
-      Scene scene = base;
-      if (res.rows == res.cols) {
-        apply_scene_setting(scene, "res", std::to_string(res.rows));
-      } else {
-        apply_scene_setting(scene, "rows", std::to_string(res.rows));
-        apply_scene_setting(scene, "cols", std::to_string(res.cols));
-      }
-      if (base.trajectory.empty()) apply_scene_setting(scene, "motion", motion);
-      scenes.push_back(scene);
-      if (!base.trajectory.empty()) break;
-    }
-  return scenes;
+  return compare_scenes(base, resolutions, motions);
 }
 
 void run_compare(const CompareFlags& flags) {
   CompareStudy study;
-  study.scenes = compare_scenes(flags);
+  study.scenes = scenes_of(flags);
   study.methods = name_list("optimizers", flags.optimizers);
   study.budgets = int_list("iters", flags.iters);
   for (const std::string& entry : flags.iters_for) {  // later entries win
@@ -180,6 +162,44 @@ void run_compare(const CompareFlags& flags) {
   require_writable_directory(flags.out, "out");
   study.threads = set_thread_count(flags.threads);
   run_compare_study(study);
+}
+
+// The learning rates, method settings, outputs and measurement flags.
+void add_output_flags(CLI::App* command, CompareFlags& flags) {
+  command
+      ->add_option("--lr-gd", flags.lr_gd,
+                   "gd learning rates (x 1/lambda_max); several: the best per budget on the first scene")
+      ->capture_default_str();
+  command
+      ->add_option("--lr-adam", flags.lr_adam,
+                   "adam learning rates (cell widths per step^2); several: the best per budget on the first scene")
+      ->capture_default_str();
+  add_method_setting_flags(*command, flags.settings);
+  command->add_option("--out", flags.out, "output directory (CSV, SVG, cached references)")->required();
+  command
+      ->add_option("--error-levels", flags.error_levels,
+                   "e_CD x 10^3 levels at which the fastest method is printed (and in report.md)")
+      ->capture_default_str();
+  command
+      ->add_option("--reference", flags.reference,
+                   "the rollout every error is measured against: newton (the exact step), or newton-min, which "
+                   "leaves saddles and ends at minima: the reference off the corner presets (docs/design.md §6)")
+      ->check(CLI::IsMember({"newton", "newton-min"}))
+      ->capture_default_str();
+  command->add_option("--arcsim-dir", flags.arcsim_dir,
+                      "also report e_CD against DIR/arcsim_N{res}_{motion}.h5 where it exists");
+  add_threads_flag(*command, flags.threads);
+  command->add_option("--step-samples", flags.step_samples, "reference states for the per-step error")
+      ->capture_default_str();
+  command->add_option("--cd-samples", flags.cd_samples, "points sampled per mesh for e_CD")->capture_default_str();
+  command->add_flag("--warm-start", flags.warm_start, "start each step from the previous step's acceleration");
+  command->add_flag("--keep-rollouts", flags.keep_rollouts, "also write every rollout to DIR");
+  command->add_flag("--resume", flags.resume,
+                    "keep the runs already in DIR/compare.csv (same method, N, resolution, motion) and run the rest");
+  command
+      ->add_option("--cd-stride", flags.cd_stride,
+                   "e_CD on every k-th matched frame (2: every 1/30 s at dt = 1/60, as the ARCSim files)")
+      ->capture_default_str();
 }
 
 const RegisterCommand kRegister([](CLI::App& app) {
@@ -219,41 +239,8 @@ const RegisterCommand kRegister([](CLI::App& app) {
               "coarse step, interpolate); "
               "also writes superres.svg and a super-resolution table in report.md")
       ->check(CLI::IsMember({"superres"}));
-  command
-      ->add_option("--lr-gd", flags->lr_gd,
-                   "gd learning rates (x 1/lambda_max); several: the best per budget on the first scene")
-      ->capture_default_str();
-  command
-      ->add_option("--lr-adam", flags->lr_adam,
-                   "adam learning rates (cell widths per step^2); several: the best per budget on the first scene")
-      ->capture_default_str();
-  add_method_setting_flags(*command, flags->settings);
-  command->add_option("--out", flags->out, "output directory (CSV, SVG, cached references)")->required();
-  command
-      ->add_option("--error-levels", flags->error_levels,
-                   "e_CD x 10^3 levels at which the fastest method is printed (and in report.md)")
-      ->capture_default_str();
-  command
-      ->add_option("--reference", flags->reference,
-                   "the rollout every error is measured against: newton (the exact step), or newton-min, which "
-                   "leaves saddles and ends at minima: the reference off the corner presets (docs/design.md §6)")
-      ->check(CLI::IsMember({"newton", "newton-min"}))
-      ->capture_default_str();
-  command->add_option("--arcsim-dir", flags->arcsim_dir,
-                      "also report e_CD against DIR/arcsim_N{res}_{motion}.h5 where it exists");
-  add_threads_flag(*command, flags->threads);
-  CLI::Option* step_samples =
-      command->add_option("--step-samples", flags->step_samples, "reference states for the per-step error");
-  step_samples->capture_default_str();
-  command->add_option("--cd-samples", flags->cd_samples, "points sampled per mesh for e_CD")->capture_default_str();
-  command->add_flag("--warm-start", flags->warm_start, "start each step from the previous step's acceleration");
-  command->add_flag("--keep-rollouts", flags->keep_rollouts, "also write every rollout to DIR");
-  command->add_flag("--resume", flags->resume,
-                    "keep the runs already in DIR/compare.csv (same method, N, resolution, motion) and run the rest");
-  command
-      ->add_option("--cd-stride", flags->cd_stride,
-                   "e_CD on every k-th matched frame (2: every 1/30 s at dt = 1/60, as the ARCSim files)")
-      ->capture_default_str();
+  add_output_flags(command, *flags);
+  CLI::Option* step_samples = command->get_option("--step-samples");
   CLI::Option* frames = command->get_option("--frames");
   command->callback([flags, res, motions, optimizers, iters, iters_for, frames, step_samples] {
     if (flags->preset == "superres") {

@@ -10,7 +10,7 @@
 #include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/metrics/obstacle_distance.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
-#include <fnopt/studies/step_error.hpp>
+#include <fnopt/studies/compare/step_error.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/output_path.hpp>
 #include "app/commands.hpp"

@@ -1,8 +1,8 @@
-// fnopt repulsion-study: its flags, turned into a RepulsionStudy (studies/repulsion_study.hpp):
+// fnopt repulsion-study: its flags, turned into a RepulsionStudy (studies/repulsion/repulsion_study.hpp):
 // self-repulsion off and on, on the handle presets whose cloth folds onto itself and on the corner
 // control (the paper's Table 6.5).
 
-#include <fnopt/studies/repulsion_study.hpp>
+#include <fnopt/studies/repulsion/repulsion_study.hpp>
 #include <fnopt/util/command_line.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/output_path.hpp>

@@ -1,10 +1,10 @@
-// fnopt stability: its flags, turned into a StabilityStudy (studies/stability_study.hpp) that runs
+// fnopt stability: its flags, turned into a StabilityStudy (studies/stability/stability_study.hpp) that runs
 // the stiff and extreme cases, every optimizer on every case (docs/design.md §8 "Stability").
 #include <algorithm>
 #include <cstdio>
 #include <map>
 
-#include <fnopt/studies/stability_study.hpp>
+#include <fnopt/studies/stability/stability_study.hpp>
 #include <fnopt/util/command_line.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/output_path.hpp>

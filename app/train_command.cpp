@@ -38,32 +38,63 @@ struct TrainFlags {
   std::vector<std::string> ranges;  // --range QUANTITY=LOW:HIGH
 };
 
-void run_train(TrainFlags& flags) {
-  // The model's shape, named by its flags (the model's own checks name its options).
+// The model's shape from its flags, named by them (the model's own checks name its options), or
+// from --init's file.
+void set_model_shape(TrainFlags& flags) {
   require(flags.width >= 1, "width", "must be positive");
   require(flags.layers >= 2, "layers",
           "must be at least 2: the step-scale head reads the second Fourier layer's features (docs/design.md §4)");
   require(flags.modes >= 2 && flags.modes % 2 == 0, "modes", "must be a positive even number");
   require(flags.lifting >= 1, "lifting", "must be positive");
   require(flags.projection >= 1, "projection", "must be positive");
-  // fnopt's rule in the pool and in the validation alike: a model trained for it is judged by it.
-  flags.validation.pqn_direction = flags.options.pool.pqn_direction;
   flags.options.model.width(flags.width)
       .fourier_layers(flags.layers)
       .modes_x(flags.modes)
       .modes_y(flags.modes)
       .lifting_channels(flags.lifting)
       .projection_channels(flags.projection);
-  if (!flags.options.initial_model.empty()) {  // the shape is the file's
-    const FNO2dOptions given = load_fno_options(flags.options.initial_model);
-    check_learned_model(given, flags.options.initial_model);
-    flags.options.model.width(given.width())
-        .fourier_layers(given.fourier_layers())
-        .modes_x(given.modes_x())
-        .modes_y(given.modes_y())
-        .lifting_channels(given.lifting_channels())
-        .projection_channels(given.projection_channels());
-  }
+  if (flags.options.initial_model.empty()) return;
+  const FNO2dOptions given = load_fno_options(flags.options.initial_model);
+  check_learned_model(given, flags.options.initial_model);
+  flags.options.model.width(given.width())
+      .fourier_layers(given.fourier_layers())
+      .modes_x(given.modes_x())
+      .modes_y(given.modes_y())
+      .lifting_channels(given.lifting_channels())
+      .projection_channels(given.projection_channels());
+}
+
+// The training options' fields and the flags that set them.
+const std::map<std::string, std::string>& train_flag_names() {
+  static const std::map<std::string, std::string> names = {{"train.steps", "steps"},
+                                                           {"train.batch", "batch"},
+                                                           {"train.environments", "envs"},
+                                                           {"train.resolutions", "res"},
+                                                           {"train.max_age", "env-lifetime"},
+                                                           {"train.learning_rate", "lr"},
+                                                           {"train.decay_every", "decay-every"},
+                                                           {"train.clip_norm", "clip"},
+                                                           {"train.newton_weight", "newton-weight"},
+                                                           {"train.average_decay", "average-decay"},
+                                                           {"train.score_after_subspace_step", "score"},
+                                                           {"train.subspace", "subspace"},
+                                                           {"train.pqn_direction", "pqn-direction"},
+                                                           {"train.reference_pqn_iterations", "reference-pqn-iters"},
+                                                           {"train.ranges.undamped_share", "undamped-share"},
+                                                           {"train.range", "range"},
+                                                           {"train.ranges.stretch", "range"},
+                                                           {"train.ranges.shear", "range"},
+                                                           {"train.ranges.bend", "range"},
+                                                           {"train.ranges.gravity", "range"},
+                                                           {"train.ranges.damping", "range"}};
+  return names;
+}
+
+// The session the flags describe, validated.
+TrainingSessionOptions session_of(TrainFlags& flags) {
+  // fnopt's rule in the pool and in the validation alike: a model trained for it is judged by it.
+  flags.validation.pqn_direction = flags.options.pool.pqn_direction;
+  set_model_shape(flags);
   require(!flags.validate || flags.options.objective == TrainObjective::Energy, "validate-res",
           "validates fnopt-ss rollouts, not a probe (--objective probe): compare fnopt-pqn with --model instead");
   for (const std::string& text : flags.ranges) {
@@ -72,28 +103,7 @@ void run_train(TrainFlags& flags) {
     require(parse_named_interval(text, quantity, low, high), "range", "expected QUANTITY=LOW:HIGH, got '" + text + "'");
     with_flag_names({{"train.range", "range"}}, [&] { flags.options.pool.ranges.set(quantity, low, high); });
   }
-  with_flag_names({{"train.steps", "steps"},
-                   {"train.batch", "batch"},
-                   {"train.environments", "envs"},
-                   {"train.resolutions", "res"},
-                   {"train.max_age", "env-lifetime"},
-                   {"train.learning_rate", "lr"},
-                   {"train.decay_every", "decay-every"},
-                   {"train.clip_norm", "clip"},
-                   {"train.newton_weight", "newton-weight"},
-                   {"train.average_decay", "average-decay"},
-                   {"train.score_after_subspace_step", "score"},
-                   {"train.subspace", "subspace"},
-                   {"train.pqn_direction", "pqn-direction"},
-                   {"train.reference_pqn_iterations", "reference-pqn-iters"},
-                   {"train.ranges.undamped_share", "undamped-share"},
-                   {"train.range", "range"},
-                   {"train.ranges.stretch", "range"},
-                   {"train.ranges.shear", "range"},
-                   {"train.ranges.bend", "range"},
-                   {"train.ranges.gravity", "range"},
-                   {"train.ranges.damping", "range"}},
-                  [&] { flags.options.validate(); });
+  with_flag_names(train_flag_names(), [&] { flags.options.validate(); });
   TrainingSessionOptions session;
   session.train = flags.options;
   session.out = flags.out;
@@ -104,6 +114,11 @@ void run_train(TrainFlags& flags) {
   session.validate_every = flags.validate_every;
   session.keep_validated = flags.keep_validated;
   session.validate();
+  return session;
+}
+
+void run_train(TrainFlags& flags) {
+  TrainingSessionOptions session = session_of(flags);
   session.threads = set_thread_count(flags.threads);
   TrainingSessionResult result;
   with_flag_names({{"train.batch", "batch"}}, [&] { result = run_training_session(session, Communicator::world()); });
@@ -121,11 +136,8 @@ void run_train(TrainFlags& flags) {
                 result.validation_motions.c_str(), result.best_model_path.c_str(), result.validation_log_path.c_str());
 }
 
-const RegisterCommand kRegister([](CLI::App& app) {
-  auto flags = std::make_shared<TrainFlags>();
-  TrainOptions& o = flags->options;
-  CLI::App* command = app.add_subcommand("train", "meta-train a learned optimizer from the energy alone");
-  command->add_option("--out", flags->out, "output folder: model.pt, checkpoint.pt, train_log.csv")->required();
+// The loss: what a training step scores, and where the run starts from.
+void add_objective_flags(CLI::App* command, TrainOptions& o) {
   command->add_option("--steps", o.steps, "training steps")->capture_default_str();
   command
       ->add_option("--objective", o.objective,
@@ -153,6 +165,11 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_option("--init", o.initial_model,
                       "start a fresh run from this model's weights (its shape replaces --width, --layers, --modes, "
                       "--lifting, --projection), e.g. models/fnopt-32.pt");
+}
+
+// The pool of environments and the optimiser's settings.
+void add_pool_flags(CLI::App* command, TrainFlags& flags) {
+  TrainOptions& o = flags.options;
   command->add_option("--batch", o.batch, "environments per step")->capture_default_str();
   command->add_option("--envs", o.pool.environments, "environments in the pool")->capture_default_str();
   command
@@ -181,7 +198,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
                    "the model written and validated is the moving average of the trained weights, "
                    "w_avg <- d w_avg + (1 - d) w after every step; 0: the trained weights themselves")
       ->capture_default_str();
-  command->add_option("--range", flags->ranges,
+  command->add_option("--range", flags.ranges,
                       "sampling range of the pool, QUANTITY=LOW:HIGH, log-uniform, in grid units (repeatable): "
                       "stretch k~_s (default 40:8000), shear k~_sh (0.5:600), bend k~_b (0.005:20), gravity g~ "
                       "(0.03:0.6), damping c dt (0.005:0.3); docs/training.md, \"The training pool in numbers\"");
@@ -210,6 +227,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->capture_default_str();
   command->add_option("--undamped-share", o.pool.ranges.undamped_share, "share of the environments without damping")
       ->capture_default_str();
+}
+
+// The model's shape, checkpoints and the validation that keeps the best model.
+void add_model_and_session_flags(CLI::App* command, const std::shared_ptr<TrainFlags>& flags) {
   command->add_option("--width", flags->width, "FNO width")->capture_default_str();
   command->add_option("--layers", flags->layers, "Fourier layers")->capture_default_str();
   command->add_option("--modes", flags->modes, "Fourier modes per axis")->capture_default_str();
@@ -240,6 +261,15 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->add_flag("--keep-validated", flags->keep_validated,
                  "also keep every validated model as OUT/validated/model-STEP.pt (to compare them later)")
       ->needs(validate_res);
+}
+
+const RegisterCommand kRegister([](CLI::App& app) {
+  auto flags = std::make_shared<TrainFlags>();
+  CLI::App* command = app.add_subcommand("train", "meta-train a learned optimizer from the energy alone");
+  command->add_option("--out", flags->out, "output folder: model.pt, checkpoint.pt, train_log.csv")->required();
+  add_objective_flags(command, flags->options);
+  add_pool_flags(command, *flags);
+  add_model_and_session_flags(command, flags);
   command->callback([flags] { run_train(*flags); });
 });
 

@@ -4,7 +4,7 @@
 #include <fnopt/learned.hpp>
 #include <fnopt/methods/thread_count.hpp>
 #include <fnopt/scenes/scene_settings.hpp>
-#include <fnopt/studies/step_error.hpp>
+#include <fnopt/studies/compare/step_error.hpp>
 
 #include <cstdio>
 #include <string>

@@ -8,9 +8,9 @@
 
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/io/csv_table.hpp>
-#include <fnopt/studies/step_error.hpp>
+#include <fnopt/studies/compare/step_error.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
-#include <fnopt/studies/compare_study.hpp>
+#include <fnopt/studies/compare/compare_study.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/flag_names.hpp>
 #include <fnopt/util/output_path.hpp>

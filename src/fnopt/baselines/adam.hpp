@@ -9,7 +9,7 @@
 // step_unit, so learning_rate is in grid units: cell widths per step^2 (step_unit = h/dt^2, the
 // unit of the learned optimizer's step s), i.e. 0.003 moves a vertex by at most 0.3 % of a cell
 // per iteration at any resolution. The default 0.003 had the lowest mean per-step error
-// (studies/step_error.hpp, 16 states of the 390-frame 32^2 xy_v2 Newton rollout) among
+// (studies/compare/step_error.hpp, 16 states of the 390-frame 32^2 xy_v2 Newton rollout) among
 // {3e-4, 1e-3, 3e-3, 1e-2} for N = 10 and N = 500, and the second lowest for N = 100 (1e-2). Moments and the bias
 // correction restart every time step. `fnopt compare` sweeps learning_rate per budget (a small budget needs a larger
 // rate).

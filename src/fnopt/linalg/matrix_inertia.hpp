@@ -2,7 +2,7 @@
 // How many eigenvalues of a symmetric sparse matrix are negative, without computing them: by
 // Sylvester's law of inertia, the congruence P A P^T = L D L^T (fill-reducing P, no pivoting) has
 // as many negative entries in D as A has negative eigenvalues. Used to say whether a stationary
-// point of a step's energy is a minimum (none) or a saddle (some) of it (studies/step_error.hpp),
+// point of a step's energy is a minimum (none) or a saddle (some) of it (studies/compare/step_error.hpp),
 // and to leave such a saddle (baselines/newton.hpp, newton-min).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>

@@ -1,5 +1,5 @@
 #pragma once
-// Which rank runs which task of a sweep (studies/sweep_runner.hpp): the independent tasks are
+// Which rank runs which task of a sweep (studies/sweep/sweep_runner.hpp): the independent tasks are
 // handed out largest first, each to the rank with the least estimated work so far (the LPT rule
 // of Graham 1969, within 4/3 of the best split when the estimates are right). Every rank
 // computes the same split from the same estimates, so it needs no messages; a rank runs its

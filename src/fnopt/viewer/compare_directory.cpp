@@ -61,7 +61,7 @@ CompareDirectory read_compare_directory(const std::string& path) {
   for (const auto& row : table.rows()) {
     CompareRun run;
     run.cells = row;
-    // The name compare --keep-rollouts gives a run's rollout (studies/compare_study.cpp): the
+    // The name compare --keep-rollouts gives a run's rollout (studies/compare/compare_study.cpp): the
     // budget is left out for the converged reference run ("converged").
     const std::string method = row[column("method")], budget = row[column("N")];
     const std::string label = row[column("resolution")] + "_" + row[column("motion")];

@@ -1,4 +1,4 @@
-// The error-time frontier of compare (studies/compare_frontier.hpp): which runs are Pareto-optimal.
+// The error-time frontier of compare (studies/compare/compare_frontier.hpp): which runs are Pareto-optimal.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include <fnopt/studies/compare_frontier.hpp>
+#include <fnopt/studies/compare/compare_frontier.hpp>
 
 namespace fnopt {
 namespace {

@@ -1,9 +1,9 @@
-// compare's study options (studies/compare_study.hpp): its runs from its methods and budgets
+// compare's study options (studies/compare/compare_study.hpp): its runs from its methods and budgets
 // (Newton to its tolerance and capped where asked, a one-solve method once, the rest at every
 // budget or at their own), and validate() naming the field of a bad request.
 #include <gtest/gtest.h>
 
-#include <fnopt/studies/compare_study.hpp>
+#include <fnopt/studies/compare/compare_study.hpp>
 #include "tests/util/error_message.hpp"
 
 namespace fnopt {

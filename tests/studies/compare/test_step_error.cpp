@@ -4,7 +4,7 @@
 
 #include <fnopt/baselines/gradient_descent.hpp>
 #include <fnopt/baselines/newton.hpp>
-#include <fnopt/studies/step_error.hpp>
+#include <fnopt/studies/compare/step_error.hpp>
 #include <fnopt/simulation/rollout.hpp>
 
 namespace fnopt {

@@ -1,4 +1,4 @@
-// The stability suite (studies/stability_suite.hpp): a diverging optimizer is detected and
+// The stability suite (studies/stability/stability_suite.hpp): a diverging optimizer is detected and
 // reported with its step, never thrown; a healthy run finishes with energy growth ~1; the
 // reference against itself has e_3D = 0 and growth 1; Newton steps short of convergence are
 // counted with their status; every case makes a valid scene that differs where it says; a
@@ -10,7 +10,7 @@
 #include <fnopt/baselines/gradient_descent.hpp>
 #include <fnopt/baselines/lbfgs.hpp>
 #include <fnopt/baselines/newton.hpp>
-#include <fnopt/studies/stability_suite.hpp>
+#include <fnopt/studies/stability/stability_suite.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {

@@ -1,4 +1,4 @@
-// The rows a sweep writes (studies/sweep_rows.hpp): the earlier rows the plan does not name
+// The rows a sweep writes (studies/sweep/sweep_rows.hpp): the earlier rows the plan does not name
 // first, in the file's order, then the planned rows in plan order, each resumed or finished.
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <vector>
 
 #include <fnopt/io/csv_table.hpp>
-#include <fnopt/studies/sweep_rows.hpp>
+#include <fnopt/studies/sweep/sweep_rows.hpp>
 #include "tests/util/temp_dir.hpp"
 
 namespace fnopt {

@@ -1,4 +1,4 @@
-// The sweep runner (studies/sweep_runner.hpp) in one process: each phase runs after the one
+// The sweep runner (studies/sweep/sweep_runner.hpp) in one process: each phase runs after the one
 // before, every task once and in plan order, its results recorded with their task before the
 // task's end, and the schedule gives every task to the only rank.
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include <fnopt/studies/sweep_runner.hpp>
+#include <fnopt/studies/sweep/sweep_runner.hpp>
 #include <fnopt/util/parse_text.hpp>
 
 namespace fnopt {

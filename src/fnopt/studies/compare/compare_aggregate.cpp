@@ -1,4 +1,4 @@
-#include <fnopt/studies/compare_aggregate.hpp>
+#include <fnopt/studies/compare/compare_aggregate.hpp>
 
 #include <algorithm>
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include <fnopt/studies/compare_run_result.hpp>
+#include <fnopt/studies/compare/compare_run_result.hpp>
 
 namespace fnopt {
 

@@ -1,4 +1,4 @@
-#include <fnopt/studies/compare_frontier.hpp>
+#include <fnopt/studies/compare/compare_frontier.hpp>
 
 #include <algorithm>
 #include <map>

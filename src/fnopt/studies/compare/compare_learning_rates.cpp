@@ -1,4 +1,4 @@
-// compare's learning rates (CompareSweep, studies/compare_sweep.hpp): those of resumed runs, else
+// compare's learning rates (CompareSweep, studies/compare/compare_sweep.hpp): those of resumed runs, else
 // swept once by rank 0 on the first scene that runs, per method and budget, by the mean
 // per-step error on its reference states; every rank runs with rank 0's choice.
 #include <algorithm>
@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include <fnopt/io/csv_table.hpp>
-#include <fnopt/studies/compare_rows.hpp>
-#include <fnopt/studies/compare_sweep.hpp>
+#include <fnopt/studies/compare/compare_rows.hpp>
+#include <fnopt/studies/compare/compare_sweep.hpp>
 #include <fnopt/util/parse_text.hpp>
 
 namespace fnopt {

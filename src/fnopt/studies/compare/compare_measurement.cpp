@@ -1,4 +1,4 @@
-#include <fnopt/studies/compare_measurement.hpp>
+#include <fnopt/studies/compare/compare_measurement.hpp>
 
 #include <time.h>
 

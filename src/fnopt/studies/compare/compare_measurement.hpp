@@ -6,10 +6,10 @@
 #include <memory>
 #include <optional>
 
-#include <fnopt/studies/step_error.hpp>
+#include <fnopt/studies/compare/step_error.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/simulation/rollout.hpp>
-#include <fnopt/studies/compare_study.hpp>
+#include <fnopt/studies/compare/compare_study.hpp>
 
 namespace fnopt {
 

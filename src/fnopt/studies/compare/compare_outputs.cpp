@@ -1,4 +1,4 @@
-// compare's outputs on rank 0 (CompareSweep, studies/compare_sweep.hpp): compare.csv, compare.svg
+// compare's outputs on rank 0 (CompareSweep, studies/compare/compare_sweep.hpp): compare.csv, compare.svg
 // and report.md, rewritten after every run, and what the console shows.
 #include <algorithm>
 #include <cstdio>
@@ -7,8 +7,8 @@
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/io/csv_table.hpp>
 #include <fnopt/io/svg_plot.hpp>
-#include <fnopt/studies/compare_rows.hpp>
-#include <fnopt/studies/compare_sweep.hpp>
+#include <fnopt/studies/compare/compare_rows.hpp>
+#include <fnopt/studies/compare/compare_sweep.hpp>
 #include <fnopt/util/parse_text.hpp>
 
 namespace fnopt {

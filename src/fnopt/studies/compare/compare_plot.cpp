@@ -1,9 +1,9 @@
-#include <fnopt/studies/compare_plot.hpp>
+#include <fnopt/studies/compare/compare_plot.hpp>
 
 #include <algorithm>
 #include <map>
 
-#include <fnopt/studies/compare_frontier.hpp>
+#include <fnopt/studies/compare/compare_frontier.hpp>
 
 namespace fnopt {
 

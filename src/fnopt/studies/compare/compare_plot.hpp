@@ -4,7 +4,7 @@
 #include <vector>
 
 #include <fnopt/io/svg_plot.hpp>
-#include <fnopt/studies/compare_run_result.hpp>
+#include <fnopt/studies/compare/compare_run_result.hpp>
 
 namespace fnopt {
 

@@ -1,10 +1,10 @@
-#include <fnopt/studies/compare_report.hpp>
+#include <fnopt/studies/compare/compare_report.hpp>
 
 #include <filesystem>
 
 #include <fnopt/io/markdown_report.hpp>
-#include <fnopt/studies/compare_aggregate.hpp>
-#include <fnopt/studies/superres_report.hpp>
+#include <fnopt/studies/compare/compare_aggregate.hpp>
+#include <fnopt/studies/compare/superres_report.hpp>
 #include <fnopt/util/parse_text.hpp>
 #include <fnopt/version.hpp>
 

@@ -2,13 +2,13 @@
 // What `fnopt compare` reports besides its CSV: the error-time plot (compare.svg), the
 // zero-shot super-resolution plot (superres.svg: error and ms/frame against vertex count, the
 // learned optimizer run on each grid against the same optimizer solving at 32^2 and
-// interpolating), and DIR/report.md tying them together. Written by studies/compare_outputs.cpp.
+// interpolating), and DIR/report.md tying them together. Written by studies/compare/compare_outputs.cpp.
 #include <string>
 #include <vector>
 
-#include <fnopt/studies/compare_frontier.hpp>
-#include <fnopt/studies/compare_plot.hpp>
-#include <fnopt/studies/compare_run_result.hpp>
+#include <fnopt/studies/compare/compare_frontier.hpp>
+#include <fnopt/studies/compare/compare_plot.hpp>
+#include <fnopt/studies/compare/compare_run_result.hpp>
 
 namespace fnopt {
 

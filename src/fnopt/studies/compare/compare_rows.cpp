@@ -1,4 +1,4 @@
-#include <fnopt/studies/compare_rows.hpp>
+#include <fnopt/studies/compare/compare_rows.hpp>
 
 #include <algorithm>
 #include <cmath>

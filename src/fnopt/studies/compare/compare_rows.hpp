@@ -1,10 +1,10 @@
 #pragma once
 // compare.csv's rows: its columns, a run's row, a row back into a run (--resume), and a run's
-// result as text for the trip from the rank that ran it to rank 0 (studies/sweep_runner.hpp).
+// result as text for the trip from the rank that ran it to rank 0 (studies/sweep/sweep_runner.hpp).
 #include <string>
 #include <vector>
 
-#include <fnopt/studies/compare_report.hpp>
+#include <fnopt/studies/compare/compare_report.hpp>
 
 namespace fnopt {
 

@@ -1,4 +1,4 @@
-#include <fnopt/studies/compare_run_result.hpp>
+#include <fnopt/studies/compare/compare_run_result.hpp>
 
 #include <algorithm>
 

@@ -1,13 +1,32 @@
-#include <fnopt/studies/compare_study.hpp>
+#include <fnopt/studies/compare/compare_study.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 
-#include <fnopt/studies/compare_sweep.hpp>
+#include <fnopt/studies/compare/compare_sweep.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
+
+std::vector<Scene> compare_scenes(const Scene& base, const std::vector<GridSize>& resolutions,
+                                  const std::vector<std::string>& motions) {
+  std::vector<Scene> scenes;
+  for (const GridSize& res : resolutions)
+    for (const auto& motion : motions) {
+      Scene scene = base;
+      if (res.rows == res.cols) {
+        apply_scene_setting(scene, "res", std::to_string(res.rows));
+      } else {
+        apply_scene_setting(scene, "rows", std::to_string(res.rows));
+        apply_scene_setting(scene, "cols", std::to_string(res.cols));
+      }
+      if (base.trajectory.empty()) apply_scene_setting(scene, "motion", motion);
+      scenes.push_back(scene);
+      if (!base.trajectory.empty()) break;
+    }
+  return scenes;
+}
 
 std::string resolution_text(const Scene& scene) {
   return scene.rows == scene.cols ? std::to_string(scene.rows)

@@ -15,9 +15,19 @@
 #include <fnopt/metrics/chamfer.hpp>
 #include <fnopt/parallel/communicator.hpp>
 #include <fnopt/scenes/scene.hpp>
-#include <fnopt/studies/compare_report.hpp>
+#include <fnopt/studies/compare/compare_report.hpp>
 
 namespace fnopt {
+
+// A grid of the study: rows x cols vertices.
+struct GridSize {
+  int rows = 0, cols = 0;
+};
+
+// The scenes of every resolution and motion on `base` (resolution by resolution); a base with a
+// trajectory file runs that instead of the motions, once per resolution.
+std::vector<Scene> compare_scenes(const Scene& base, const std::vector<GridSize>& resolutions,
+                                  const std::vector<std::string>& motions);
 
 struct CompareStudy {
   std::vector<Scene> scenes;         // resolution x motion

@@ -1,4 +1,4 @@
-#include <fnopt/studies/compare_sweep.hpp>
+#include <fnopt/studies/compare/compare_sweep.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -7,7 +7,7 @@
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/simulation/newton_reference.hpp>
-#include <fnopt/studies/compare_rows.hpp>
+#include <fnopt/studies/compare/compare_rows.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/parse_text.hpp>
 

@@ -1,5 +1,5 @@
 #pragma once
-// `fnopt compare`'s work as a sweep (studies/sweep_runner.hpp): per scene its Newton reference
+// `fnopt compare`'s work as a sweep (studies/sweep/sweep_runner.hpp): per scene its Newton reference
 // (phase 0, where the output directory has none yet), then every run not resumed (phase 1);
 // between them rank 0 settles the learning rates. Used by run_compare_study.
 #include <cstddef>
@@ -13,11 +13,11 @@
 
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/io/csv_table.hpp>
-#include <fnopt/studies/compare_measurement.hpp>
-#include <fnopt/studies/compare_study.hpp>
-#include <fnopt/studies/resumed_rows.hpp>
-#include <fnopt/studies/sweep_rows.hpp>
-#include <fnopt/studies/sweep_runner.hpp>
+#include <fnopt/studies/compare/compare_measurement.hpp>
+#include <fnopt/studies/compare/compare_study.hpp>
+#include <fnopt/studies/sweep/resumed_rows.hpp>
+#include <fnopt/studies/sweep/sweep_rows.hpp>
+#include <fnopt/studies/sweep/sweep_runner.hpp>
 
 namespace fnopt {
 

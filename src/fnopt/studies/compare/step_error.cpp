@@ -1,4 +1,4 @@
-#include <fnopt/studies/step_error.hpp>
+#include <fnopt/studies/compare/step_error.hpp>
 
 #include <algorithm>
 #include <cmath>

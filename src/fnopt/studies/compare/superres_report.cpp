@@ -1,11 +1,11 @@
-#include <fnopt/studies/superres_report.hpp>
+#include <fnopt/studies/compare/superres_report.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 
 #include <fnopt/methods/registry.hpp>
-#include <fnopt/studies/compare_aggregate.hpp>
+#include <fnopt/studies/compare/compare_aggregate.hpp>
 
 namespace fnopt {
 

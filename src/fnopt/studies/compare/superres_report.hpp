@@ -5,7 +5,7 @@
 #include <vector>
 
 #include <fnopt/io/markdown_report.hpp>
-#include <fnopt/studies/compare_report.hpp>
+#include <fnopt/studies/compare/compare_report.hpp>
 
 namespace fnopt {
 

@@ -1,4 +1,4 @@
-#include <fnopt/studies/repulsion_report.hpp>
+#include <fnopt/studies/repulsion/repulsion_report.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include <fnopt/studies/repulsion_study.hpp>
+#include <fnopt/studies/repulsion/repulsion_study.hpp>
 
 namespace fnopt {
 

@@ -1,4 +1,4 @@
-#include <fnopt/studies/repulsion_study.hpp>
+#include <fnopt/studies/repulsion/repulsion_study.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -8,10 +8,10 @@
 #include <fnopt/io/csv_table.hpp>
 #include <fnopt/metrics/self_contact.hpp>
 #include <fnopt/simulation/rollout.hpp>
-#include <fnopt/studies/repulsion_report.hpp>
-#include <fnopt/studies/resumed_rows.hpp>
-#include <fnopt/studies/sweep_rows.hpp>
-#include <fnopt/studies/sweep_runner.hpp>
+#include <fnopt/studies/repulsion/repulsion_report.hpp>
+#include <fnopt/studies/sweep/resumed_rows.hpp>
+#include <fnopt/studies/sweep/sweep_rows.hpp>
+#include <fnopt/studies/sweep/sweep_runner.hpp>
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/parse_text.hpp>
 
@@ -75,7 +75,7 @@ RunRows run_one(const Scene& base, const std::string& preset, bool repulsion, co
   return result;
 }
 
-// The study as a sweep (studies/sweep_runner.hpp): one task per preset, repulsion off or on, and
+// The study as a sweep (studies/sweep/sweep_runner.hpp): one task per preset, repulsion off or on, and
 // optimizer, in that order.
 class RepulsionSweep final : public SweepWork<RunRows> {
  public:

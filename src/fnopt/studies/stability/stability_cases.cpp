@@ -1,4 +1,4 @@
-#include <fnopt/studies/stability_cases.hpp>
+#include <fnopt/studies/stability/stability_cases.hpp>
 
 #include <cmath>
 #include <functional>

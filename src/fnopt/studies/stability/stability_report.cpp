@@ -1,4 +1,4 @@
-#include <fnopt/studies/stability_report.hpp>
+#include <fnopt/studies/stability/stability_report.hpp>
 
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/cloth/grid_units.hpp>

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include <fnopt/io/csv_table.hpp>
-#include <fnopt/studies/stability_study.hpp>
+#include <fnopt/studies/stability/stability_study.hpp>
 
 namespace fnopt {
 

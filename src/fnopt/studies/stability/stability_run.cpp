@@ -1,4 +1,4 @@
-#include <fnopt/studies/stability_run.hpp>
+#include <fnopt/studies/stability/stability_run.hpp>
 
 #include <algorithm>
 #include <map>
@@ -6,6 +6,7 @@
 
 #include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/objective/backward_euler.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {

@@ -1,7 +1,7 @@
 #pragma once
 // One run of the stability suite and its measured row: a rollout of a case's scene, or the
 // error that stopped it, against the case's Newton reference (the energy growth is defined in
-// studies/stability_suite.hpp).
+// studies/stability/stability_suite.hpp).
 #include <cmath>
 #include <functional>
 #include <memory>

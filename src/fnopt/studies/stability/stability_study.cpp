@@ -1,4 +1,4 @@
-#include <fnopt/studies/stability_study.hpp>
+#include <fnopt/studies/stability/stability_study.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -7,10 +7,10 @@
 #include <optional>
 
 #include <fnopt/methods/registry.hpp>
-#include <fnopt/studies/resumed_rows.hpp>
-#include <fnopt/studies/stability_report.hpp>
-#include <fnopt/studies/sweep_rows.hpp>
-#include <fnopt/studies/sweep_runner.hpp>
+#include <fnopt/studies/sweep/resumed_rows.hpp>
+#include <fnopt/studies/stability/stability_report.hpp>
+#include <fnopt/studies/sweep/sweep_rows.hpp>
+#include <fnopt/studies/sweep/sweep_runner.hpp>
 #include <fnopt/util/parse_text.hpp>
 
 namespace fnopt {
@@ -47,7 +47,7 @@ struct FinishedRow {
   std::vector<std::string> cells;
 };
 
-// The study as a sweep (studies/sweep_runner.hpp): one task per case not resumed whole, its
+// The study as a sweep (studies/sweep/sweep_runner.hpp): one task per case not resumed whole, its
 // Newton reference and every row measured against it (the reference lives in memory, so a case
 // stays on one rank).
 class StabilitySweep final : public SweepWork<FinishedRow> {

@@ -1,6 +1,6 @@
 #pragma once
 // `fnopt stability`'s study (docs/design.md §8 "Stability"): the cases of
-// studies/stability_suite.hpp, every optimizer on every case, one table. Per case: the Newton
+// studies/stability/stability_suite.hpp, every optimizer on every case, one table. Per case: the Newton
 // reference rollout, then every optimizer; per row: finished / diverged (step, why) / error, max
 // strain, energy growth, e_3D against the reference, ms/frame, steps short of convergence.
 // Writes DIR/stability.csv (after every row), DIR/stability.svg and DIR/report.md (after every
@@ -10,7 +10,7 @@
 
 #include <fnopt/parallel/communicator.hpp>
 #include <fnopt/scenes/scene.hpp>
-#include <fnopt/studies/stability_suite.hpp>
+#include <fnopt/studies/stability/stability_suite.hpp>
 
 namespace fnopt {
 

@@ -2,7 +2,7 @@
 // The stability study (docs/design.md §8 "Stability"; `fnopt stability`): a fixed suite of
 // stiff and extreme cases, each a change of a base scene (the default: 32^2, corner handles,
 // xy_v2, the default material, dt = 1/60), every inner optimizer on every case, one row per
-// case x optimizer. Optimizers come from a factory: the study (studies/stability_study.hpp) makes
+// case x optimizer. Optimizers come from a factory: the study (studies/stability/stability_study.hpp) makes
 // them by name through the registry, tests inject their own.
 //
 // Per row: finished / diverged (the step, and RolloutResult::divergence) / error (an exception:
@@ -18,7 +18,7 @@
 // (gravity makes E negative, so a plain ratio of peaks means nothing). 1 for the reference
 // itself and ~1 for a healthy run; >> 1 for a blow-up (a diverging step's elastic energy
 // counts); < 1 for a run that loses energy (under-solved steps dissipate).
-#include <fnopt/studies/stability_cases.hpp>
-#include <fnopt/studies/stability_run.hpp>
-#include <fnopt/studies/stability_summary.hpp>
-#include <fnopt/studies/stability_table.hpp>
+#include <fnopt/studies/stability/stability_cases.hpp>
+#include <fnopt/studies/stability/stability_run.hpp>
+#include <fnopt/studies/stability/stability_summary.hpp>
+#include <fnopt/studies/stability/stability_table.hpp>

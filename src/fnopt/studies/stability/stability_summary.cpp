@@ -1,4 +1,4 @@
-#include <fnopt/studies/stability_summary.hpp>
+#include <fnopt/studies/stability/stability_summary.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include <fnopt/io/csv_table.hpp>
-#include <fnopt/studies/stability_table.hpp>
+#include <fnopt/studies/stability/stability_table.hpp>
 #include <fnopt/util/parse_text.hpp>
 
 namespace fnopt {

@@ -5,8 +5,8 @@
 #include <vector>
 
 #include <fnopt/io/svg_plot.hpp>
-#include <fnopt/studies/stability_cases.hpp>
-#include <fnopt/studies/stability_run.hpp>
+#include <fnopt/studies/stability/stability_cases.hpp>
+#include <fnopt/studies/stability/stability_run.hpp>
 
 namespace fnopt {
 

@@ -1,4 +1,4 @@
-#include <fnopt/studies/stability_table.hpp>
+#include <fnopt/studies/stability/stability_table.hpp>
 
 #include <cmath>
 #include <cstdio>

@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include <fnopt/studies/stability_run.hpp>
+#include <fnopt/studies/stability/stability_run.hpp>
 
 namespace fnopt {
 

@@ -1,4 +1,4 @@
-#include <fnopt/studies/resumed_rows.hpp>
+#include <fnopt/studies/sweep/resumed_rows.hpp>
 
 #include <algorithm>
 #include <filesystem>

@@ -2,7 +2,7 @@
 // The rows a study's --resume keeps (compare, stability, repulsion-study): the earlier CSV's
 // rows, keyed by the columns that name a run, so that a run already in the file is not run
 // again, and rows that the new plan does not name (other methods, budgets, scenes) stay in the
-// file (studies/sweep_rows.hpp puts them in order).
+// file (studies/sweep/sweep_rows.hpp puts them in order).
 #include <map>
 #include <set>
 #include <string>

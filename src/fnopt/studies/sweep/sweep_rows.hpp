@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include <fnopt/studies/resumed_rows.hpp>
+#include <fnopt/studies/sweep/resumed_rows.hpp>
 
 namespace fnopt {
 

@@ -1,4 +1,4 @@
-#include <fnopt/studies/sweep_runner.hpp>
+#include <fnopt/studies/sweep/sweep_runner.hpp>
 
 #include <unistd.h>
 

@@ -4,7 +4,7 @@
 // after), spread over the ranks largest first (parallel/sweep_schedule.hpp), one progress bar
 // with an ETA over every rank's work, and the results of every task brought to rank 0, which
 // writes the outputs. A study describes its work with a SweepWork; which rows a --resume keeps
-// and in which order they are written is studies/sweep_rows.hpp.
+// and in which order they are written is studies/sweep/sweep_rows.hpp.
 #include <cstddef>
 #include <functional>
 #include <optional>
