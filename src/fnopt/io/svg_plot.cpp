@@ -103,11 +103,88 @@ struct Axis {
 
 bool drawable(double v, bool log) { return std::isfinite(v) && (!log || v > 0.0); }
 
+// A panel's plotting area in pixels and its two axes.
+struct PanelFrame {
+  double x0, x1, y0, y1;
+  Axis ax, ay;
+  double px(double v) const { return x0 + ax.fraction(v) * (x1 - x0); }
+  double py(double v) const { return y1 - ay.fraction(v) * (y1 - y0); }
+};
+
+// Grid lines, tick labels and the axis titles.
+void render_axes(std::ostringstream& svg, const PlotPanel& panel, const PanelFrame& f, double ox) {
+  for (double t : f.ax.ticks) {
+    const double x = f.px(t);
+    svg << "<line x1=\"" << fmt(x) << "\" y1=\"" << fmt(f.y0) << "\" x2=\"" << fmt(x) << "\" y2=\"" << fmt(f.y1)
+        << "\" stroke=\"#e4e4e4\"/>\n<line x1=\"" << fmt(x) << "\" y1=\"" << fmt(f.y1) << "\" x2=\"" << fmt(x)
+        << "\" y2=\"" << fmt(f.y1 + 5) << "\" stroke=\"#333\"/>\n<text x=\"" << fmt(x) << "\" y=\"" << fmt(f.y1 + 19)
+        << "\" text-anchor=\"middle\" font-size=\"12\">" << tick_text(t) << "</text>\n";
+  }
+  for (double t : f.ay.ticks) {
+    const double y = f.py(t);
+    svg << "<line x1=\"" << fmt(f.x0) << "\" y1=\"" << fmt(y) << "\" x2=\"" << fmt(f.x1) << "\" y2=\"" << fmt(y)
+        << "\" stroke=\"#e4e4e4\"/>\n<line x1=\"" << fmt(f.x0 - 5) << "\" y1=\"" << fmt(y) << "\" x2=\"" << fmt(f.x0)
+        << "\" y2=\"" << fmt(y) << "\" stroke=\"#333\"/>\n<text x=\"" << fmt(f.x0 - 8) << "\" y=\"" << fmt(y + 4)
+        << "\" text-anchor=\"end\" font-size=\"12\">" << tick_text(t) << "</text>\n";
+  }
+  svg << "<text x=\"" << fmt((f.x0 + f.x1) / 2) << "\" y=\"" << fmt(f.y1 + 42)
+      << "\" text-anchor=\"middle\" font-size=\"13\">" << escape(panel.x_label) << "</text>\n";
+  svg << "<text transform=\"translate(" << fmt(ox + 18) << "," << fmt((f.y0 + f.y1) / 2)
+      << ") rotate(-90)\" text-anchor=\"middle\" font-size=\"13\">" << escape(panel.y_label) << "</text>\n";
+  for (const auto& line : panel.vertical_lines) {
+    if (!drawable(line.x, panel.log_x)) continue;
+    const double x = f.px(line.x);
+    svg << "<line x1=\"" << fmt(x) << "\" y1=\"" << fmt(f.y0) << "\" x2=\"" << fmt(x) << "\" y2=\"" << fmt(f.y1)
+        << "\" stroke=\"#444\" stroke-dasharray=\"6,4\"/>\n<text x=\"" << fmt(x + 4) << "\" y=\"" << fmt(f.y0 + 14)
+        << "\" font-size=\"11\" fill=\"#444\">" << escape(line.label) << "</text>\n";
+  }
+}
+
+// One point's marker (a crossed ring where marked) and its label.
+void render_point(std::ostringstream& svg, const PlotPoint& p, double x, double y, const std::string& colour) {
+  if (p.marked) {
+    svg << "<circle cx=\"" << fmt(x) << "\" cy=\"" << fmt(y) << "\" r=\"6\" fill=\"white\" stroke=\"" << colour
+        << "\" stroke-width=\"2\"/>\n<path d=\"M" << fmt(x - 4) << "," << fmt(y - 4) << " L" << fmt(x + 4) << ","
+        << fmt(y + 4) << " M" << fmt(x - 4) << "," << fmt(y + 4) << " L" << fmt(x + 4) << "," << fmt(y - 4)
+        << "\" stroke=\"" << colour << "\" stroke-width=\"2\"/>\n";
+  } else {
+    svg << "<circle cx=\"" << fmt(x) << "\" cy=\"" << fmt(y) << "\" r=\"4\" fill=\"" << colour << "\"/>\n";
+  }
+  if (!p.label.empty())
+    svg << "<text x=\"" << fmt(x + 7) << "\" y=\"" << fmt(y - 6) << "\" font-size=\"11\" fill=\"" << colour << "\">"
+        << escape(p.label) << "</text>\n";
+}
+
+// The bands first, under the series they connect; then each series' line and points.
+void render_series(std::ostringstream& svg, const PlotPanel& panel, const PanelFrame& f,
+                   const std::map<std::string, std::string>& colours) {
+  auto polyline = [&](const PlotSeries& series) {
+    std::string path;
+    for (const auto& p : series.points)
+      if (drawable(p.x, panel.log_x) && drawable(p.y, panel.log_y))
+        path += (path.empty() ? "" : " ") + fmt(f.px(p.x)) + "," + fmt(f.py(p.y));
+    return path;
+  };
+  for (const auto& series : panel.series)
+    if (series.band && !polyline(series).empty())
+      svg << "<polyline points=\"" << polyline(series) << "\" fill=\"none\" stroke=\"" << colours.at(series.name)
+          << "\" stroke-width=\"" << kBandWidth << "\" stroke-opacity=\"0.5\" stroke-linejoin=\"round\" "
+          << "stroke-linecap=\"round\"/>\n";
+  for (const auto& series : panel.series) {
+    if (series.band) continue;
+    const std::string& colour = colours.at(series.name);
+    const std::string path = polyline(series);
+    if (!path.empty())
+      svg << "<polyline points=\"" << path << "\" fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\"/>\n";
+    for (const auto& p : series.points)
+      if (drawable(p.x, panel.log_x) && drawable(p.y, panel.log_y)) render_point(svg, p, f.px(p.x), f.py(p.y), colour);
+  }
+}
+
 void render_panel(std::ostringstream& svg, const PlotPanel& panel, double ox, double oy,
                   const std::map<std::string, std::string>& colours) {
-  const double x0 = ox + kLeft, x1 = ox + kPanelWidth - kRight;
-  const double y0 = oy + kTop, y1 = oy + kPanelHeight - kBottom;
-  svg << "<text x=\"" << fmt((x0 + x1) / 2) << "\" y=\"" << fmt(oy + 24)
+  PanelFrame f{ox + kLeft, ox + kPanelWidth - kRight, oy + kTop, oy + kPanelHeight - kBottom, {}, {}};
+  svg << "<text x=\"" << fmt((f.x0 + f.x1) / 2) << "\" y=\"" << fmt(oy + 24)
       << "\" text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">" << escape(panel.title) << "</text>\n";
 
   double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin, ymin = xmin, ymax = -xmin;
@@ -123,84 +200,21 @@ void render_panel(std::ostringstream& svg, const PlotPanel& panel, double ox, do
     }
   for (const auto& line : panel.vertical_lines)
     if (drawable(line.x, panel.log_x)) xmin = std::min(xmin, line.x), xmax = std::max(xmax, line.x);
-  svg << "<rect x=\"" << fmt(x0) << "\" y=\"" << fmt(y0) << "\" width=\"" << fmt(x1 - x0) << "\" height=\""
-      << fmt(y1 - y0) << "\" fill=\"none\" stroke=\"#333\"/>\n";
+  svg << "<rect x=\"" << fmt(f.x0) << "\" y=\"" << fmt(f.y0) << "\" width=\"" << fmt(f.x1 - f.x0) << "\" height=\""
+      << fmt(f.y1 - f.y0) << "\" fill=\"none\" stroke=\"#333\"/>\n";
   if (!(xmin <= xmax) || !(ymin <= ymax)) {
-    svg << "<text x=\"" << fmt((x0 + x1) / 2) << "\" y=\"" << fmt((y0 + y1) / 2)
+    svg << "<text x=\"" << fmt((f.x0 + f.x1) / 2) << "\" y=\"" << fmt((f.y0 + f.y1) / 2)
         << "\" text-anchor=\"middle\" font-size=\"13\" fill=\"#777\">no data to show</text>\n";
     return;
   }
-  Axis ax, ay;
-  ax.log = panel.log_x;
-  ay.log = panel.log_y;
-  ax.fit(xmin, xmax);
-  ay.fit(ymin, ymax);
-  auto px = [&](double v) { return x0 + ax.fraction(v) * (x1 - x0); };
-  auto py = [&](double v) { return y1 - ay.fraction(v) * (y1 - y0); };
-
-  // Grid lines and tick labels.
-  for (double t : ax.ticks) {
-    const double x = px(t);
-    svg << "<line x1=\"" << fmt(x) << "\" y1=\"" << fmt(y0) << "\" x2=\"" << fmt(x) << "\" y2=\"" << fmt(y1)
-        << "\" stroke=\"#e4e4e4\"/>\n<line x1=\"" << fmt(x) << "\" y1=\"" << fmt(y1) << "\" x2=\"" << fmt(x)
-        << "\" y2=\"" << fmt(y1 + 5) << "\" stroke=\"#333\"/>\n<text x=\"" << fmt(x) << "\" y=\"" << fmt(y1 + 19)
-        << "\" text-anchor=\"middle\" font-size=\"12\">" << tick_text(t) << "</text>\n";
-  }
-  for (double t : ay.ticks) {
-    const double y = py(t);
-    svg << "<line x1=\"" << fmt(x0) << "\" y1=\"" << fmt(y) << "\" x2=\"" << fmt(x1) << "\" y2=\"" << fmt(y)
-        << "\" stroke=\"#e4e4e4\"/>\n<line x1=\"" << fmt(x0 - 5) << "\" y1=\"" << fmt(y) << "\" x2=\"" << fmt(x0)
-        << "\" y2=\"" << fmt(y) << "\" stroke=\"#333\"/>\n<text x=\"" << fmt(x0 - 8) << "\" y=\"" << fmt(y + 4)
-        << "\" text-anchor=\"end\" font-size=\"12\">" << tick_text(t) << "</text>\n";
-  }
-  svg << "<text x=\"" << fmt((x0 + x1) / 2) << "\" y=\"" << fmt(y1 + 42)
-      << "\" text-anchor=\"middle\" font-size=\"13\">" << escape(panel.x_label) << "</text>\n";
-  svg << "<text transform=\"translate(" << fmt(ox + 18) << "," << fmt((y0 + y1) / 2)
-      << ") rotate(-90)\" text-anchor=\"middle\" font-size=\"13\">" << escape(panel.y_label) << "</text>\n";
-
-  for (const auto& line : panel.vertical_lines) {
-    if (!drawable(line.x, panel.log_x)) continue;
-    const double x = px(line.x);
-    svg << "<line x1=\"" << fmt(x) << "\" y1=\"" << fmt(y0) << "\" x2=\"" << fmt(x) << "\" y2=\"" << fmt(y1)
-        << "\" stroke=\"#444\" stroke-dasharray=\"6,4\"/>\n<text x=\"" << fmt(x + 4) << "\" y=\"" << fmt(y0 + 14)
-        << "\" font-size=\"11\" fill=\"#444\">" << escape(line.label) << "</text>\n";
-  }
-  auto polyline = [&](const PlotSeries& series) {
-    std::string path;
-    for (const auto& p : series.points)
-      if (drawable(p.x, panel.log_x) && drawable(p.y, panel.log_y))
-        path += (path.empty() ? "" : " ") + fmt(px(p.x)) + "," + fmt(py(p.y));
-    return path;
-  };
-  for (const auto& series : panel.series)  // bands first: under the series they connect
-    if (series.band && !polyline(series).empty())
-      svg << "<polyline points=\"" << polyline(series) << "\" fill=\"none\" stroke=\"" << colours.at(series.name)
-          << "\" stroke-width=\"" << kBandWidth << "\" stroke-opacity=\"0.5\" stroke-linejoin=\"round\" "
-          << "stroke-linecap=\"round\"/>\n";
-  for (const auto& series : panel.series) {
-    if (series.band) continue;
-    const std::string& colour = colours.at(series.name);
-    const std::string path = polyline(series);
-    if (!path.empty())
-      svg << "<polyline points=\"" << path << "\" fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\"/>\n";
-    for (const auto& p : series.points) {
-      if (!drawable(p.x, panel.log_x) || !drawable(p.y, panel.log_y)) continue;
-      const double x = px(p.x), y = py(p.y);
-      if (p.marked) {
-        svg << "<circle cx=\"" << fmt(x) << "\" cy=\"" << fmt(y) << "\" r=\"6\" fill=\"white\" stroke=\"" << colour
-            << "\" stroke-width=\"2\"/>\n<path d=\"M" << fmt(x - 4) << "," << fmt(y - 4) << " L" << fmt(x + 4) << ","
-            << fmt(y + 4) << " M" << fmt(x - 4) << "," << fmt(y + 4) << " L" << fmt(x + 4) << "," << fmt(y - 4)
-            << "\" stroke=\"" << colour << "\" stroke-width=\"2\"/>\n";
-      } else {
-        svg << "<circle cx=\"" << fmt(x) << "\" cy=\"" << fmt(y) << "\" r=\"4\" fill=\"" << colour << "\"/>\n";
-      }
-      if (!p.label.empty())
-        svg << "<text x=\"" << fmt(x + 7) << "\" y=\"" << fmt(y - 6) << "\" font-size=\"11\" fill=\"" << colour << "\">"
-            << escape(p.label) << "</text>\n";
-    }
-  }
+  f.ax.log = panel.log_x;
+  f.ay.log = panel.log_y;
+  f.ax.fit(xmin, xmax);
+  f.ay.fit(ymin, ymax);
+  render_axes(svg, panel, f, ox);
+  render_series(svg, panel, f, colours);
   if (hidden > 0)  // above the frame's top right corner, clear of the points and line labels
-    svg << "<text x=\"" << fmt(x1) << "\" y=\"" << fmt(y0 - 4) << "\" text-anchor=\"end\" font-size=\"11\" "
+    svg << "<text x=\"" << fmt(f.x1) << "\" y=\"" << fmt(f.y0 - 4) << "\" text-anchor=\"end\" font-size=\"11\" "
         << "fill=\"#777\">" << hidden << " point" << (hidden == 1 ? "" : "s") << " not shown (not "
         << (panel.log_x || panel.log_y ? "positive/finite" : "finite") << ")</text>\n";
 }

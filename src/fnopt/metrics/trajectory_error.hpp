@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include <fnopt/simulation/rollout_file.hpp>
+#include <fnopt/io/trajectory_frames.hpp>
 #include <fnopt/metrics/chamfer.hpp>
 #include <fnopt/metrics/frame_matching.hpp>
 

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include <fnopt/io/trajectory_frames.hpp>
 #include <fnopt/simulation/rollout.hpp>
 
 namespace fnopt {
@@ -25,16 +26,6 @@ namespace fnopt {
 void write_rollout_file(const std::string& path, const RolloutResult& rollout, const std::string& scene_text,
                         const std::string& optimizer_settings);
 
-// The frames of a rollout file or an ARCSim reference file.
-struct TrajectoryFrames {
-  int rows = 0;
-  int cols = 0;
-  std::vector<double> times;               // [s]
-  std::vector<Eigen::VectorXf> positions;  // per frame, 3 floats per vertex, vertex i*cols + j
-};
-
-// Throws Error naming the file for anything missing or inconsistent.
-TrajectoryFrames read_trajectory_frames(const std::string& path);
 // A rollout's kept frames (frame 0 = the initial state), as a file would give them back.
 TrajectoryFrames frames_of(const RolloutResult& rollout);
 
