@@ -119,10 +119,70 @@ class PySimulator {
   StepRecord last_;
 };
 
+// The simulator's state, set and read, and what it runs.
+void define_simulator_state(py::class_<PySimulator>& simulator) {
+  simulator
+      .def("set_state", &PySimulator::set_state, py::arg("positions"), py::arg("velocities"),
+           py::arg("steps") = py::none(), R"(Sets the cloth's state.
+
+Parameters
+----------
+positions, velocities : array_like
+    (rows, cols, 3).
+steps : int, optional
+    The steps done, so that time = steps * dt; default: unchanged.
+
+Returns
+-------
+None)")
+      .def_property_readonly("positions", &PySimulator::positions, "numpy.ndarray: The positions, (rows, cols, 3).")
+      .def_property_readonly("velocities", &PySimulator::velocities, "numpy.ndarray: The velocities, (rows, cols, 3).")
+      .def_property_readonly(
+          "time", [](const PySimulator& s) { return s.simulator().time(); }, "float: The time in seconds.")
+      .def_property_readonly(
+          "steps_done", [](const PySimulator& s) { return s.simulator().steps_done(); }, "int: The steps taken.")
+      .def_property_readonly(
+          "diverged", [](const PySimulator& s) { return s.simulator().diverged(); },
+          "bool: Whether a step diverged (every later step raises).")
+      .def_property_readonly(
+          "divergence", [](const PySimulator& s) { return s.simulator().divergence(); },
+          "str: Why it diverged, empty if it did not.")
+      .def_property_readonly("handle_vertices", &PySimulator::handle_vertices,
+                             "numpy.ndarray: (H, 2), the (row, column) of each handle.")
+      .def("trajectory_targets", &PySimulator::trajectory_targets, py::arg("t"),
+           R"(Where the scene's motion puts the handles.
+
+Parameters
+----------
+t : float
+    A time in seconds.
+
+Returns
+-------
+numpy.ndarray
+    (H, 3), in the order of `handle_vertices`.)")
+      .def_property_readonly("obstacle_offsets", &PySimulator::obstacle_offsets,
+                             "numpy.ndarray: (K, 3), each obstacle's translation from its rest pose now: its "
+                             "motion's, or where the last step steered it.")
+      .def_property_readonly("last_step", &PySimulator::last_step,
+                             "StepRecord or None: The last step's record; None before the first step.")
+      .def_property_readonly("scene", &PySimulator::scene, "Scene: The scene it runs.")
+      .def_property_readonly("optimizer_settings", &PySimulator::settings,
+                             "str: The optimizer and its settings, as a rollout file stores them.")
+      .def_property_readonly("rows", &PySimulator::rows, "int: The grid's rows of vertices.")
+      .def_property_readonly("cols", &PySimulator::cols, "int: The grid's columns of vertices.")
+      .def("__repr__", &PySimulator::repr, R"(The grid, optimizer and progress.
+
+Returns
+-------
+str
+    ``Simulator(rows=8, cols=8, optimizer='pqn', steps_done=3, time=0.05, diverged=False)``)");
+}
+
 }  // namespace
 
 void define_simulator(py::module_& m) {
-  py::class_<PySimulator>(m, "Simulator", R"(A rollout one step at a time, from rest.
+  py::class_<PySimulator> simulator(m, "Simulator", R"(A rollout one step at a time, from rest.
 
 Positions, velocities and accelerations are float64 arrays shaped (rows, cols, 3).
 
@@ -142,7 +202,8 @@ gd_curvature_scaled : bool, optional
     gd's lr in units of 1/lambda_max (True, as on the command line) or a fixed step along
     inverse_metric * g (False).
 warm_start : bool, optional
-    Start each step from the previous step's acceleration instead of a_0.)")
+    Start each step from the previous step's acceleration instead of a_0.)");
+  simulator
       .def(py::init<const Scene&, const std::string&, int, const py::object&, const py::object&, bool, bool>(),
            py::arg("scene"), py::arg("optimizer") = "pqn", py::arg("iters") = 0, py::arg("model") = py::none(),
            py::arg("lr") = py::none(), py::arg("gd_curvature_scaled") = true, py::arg("warm_start") = false)
@@ -232,62 +293,8 @@ project : bool, optional
 Returns
 -------
 scipy.sparse.csc_matrix
-    hess L(a) over all 3 rows cols dofs, the identity on the handles'.)")
-      .def("set_state", &PySimulator::set_state, py::arg("positions"), py::arg("velocities"),
-           py::arg("steps") = py::none(), R"(Sets the cloth's state.
-
-Parameters
-----------
-positions, velocities : array_like
-    (rows, cols, 3).
-steps : int, optional
-    The steps done, so that time = steps * dt; default: unchanged.
-
-Returns
--------
-None)")
-      .def_property_readonly("positions", &PySimulator::positions, "numpy.ndarray: The positions, (rows, cols, 3).")
-      .def_property_readonly("velocities", &PySimulator::velocities, "numpy.ndarray: The velocities, (rows, cols, 3).")
-      .def_property_readonly(
-          "time", [](const PySimulator& s) { return s.simulator().time(); }, "float: The time in seconds.")
-      .def_property_readonly(
-          "steps_done", [](const PySimulator& s) { return s.simulator().steps_done(); }, "int: The steps taken.")
-      .def_property_readonly(
-          "diverged", [](const PySimulator& s) { return s.simulator().diverged(); },
-          "bool: Whether a step diverged (every later step raises).")
-      .def_property_readonly(
-          "divergence", [](const PySimulator& s) { return s.simulator().divergence(); },
-          "str: Why it diverged, empty if it did not.")
-      .def_property_readonly("handle_vertices", &PySimulator::handle_vertices,
-                             "numpy.ndarray: (H, 2), the (row, column) of each handle.")
-      .def("trajectory_targets", &PySimulator::trajectory_targets, py::arg("t"),
-           R"(Where the scene's motion puts the handles.
-
-Parameters
-----------
-t : float
-    A time in seconds.
-
-Returns
--------
-numpy.ndarray
-    (H, 3), in the order of `handle_vertices`.)")
-      .def_property_readonly("obstacle_offsets", &PySimulator::obstacle_offsets,
-                             "numpy.ndarray: (K, 3), each obstacle's translation from its rest pose now: its "
-                             "motion's, or where the last step steered it.")
-      .def_property_readonly("last_step", &PySimulator::last_step,
-                             "StepRecord or None: The last step's record; None before the first step.")
-      .def_property_readonly("scene", &PySimulator::scene, "Scene: The scene it runs.")
-      .def_property_readonly("optimizer_settings", &PySimulator::settings,
-                             "str: The optimizer and its settings, as a rollout file stores them.")
-      .def_property_readonly("rows", &PySimulator::rows, "int: The grid's rows of vertices.")
-      .def_property_readonly("cols", &PySimulator::cols, "int: The grid's columns of vertices.")
-      .def("__repr__", &PySimulator::repr, R"(The grid, optimizer and progress.
-
-Returns
--------
-str
-    ``Simulator(rows=8, cols=8, optimizer='pqn', steps_done=3, time=0.05, diverged=False)``)");
+    hess L(a) over all 3 rows cols dofs, the identity on the handles'.)");
+  define_simulator_state(simulator);
 }
 
 }  // namespace fnopt::python

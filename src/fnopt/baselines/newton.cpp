@@ -129,28 +129,33 @@ bool NewtonOptimizer::leave_stationary_point(StepProblem& problem, VecX& a, doub
   return false;
 }
 
-std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
-  const DirichletSet& dirichlet = problem.dirichlet();
-  dirichlet.gather_free(gradient, rhs_);
-  const double gradient_norm = rhs_.norm();
+bool NewtonOptimizer::preconditioner_is_stale() {
   if (const bool multigrid = rhs_.size() >= params_.multigrid_from_dofs && !multigrid_failed_;
       multigrid != use_multigrid_) {
     use_multigrid_ = multigrid;
     have_factor_ = false;
   }
-  const bool stale =
-      !have_factor_ || preconditioner_rows() != rhs_.size() || last_cg_iterations_ > params_.refactor_cg_iterations;
-  // H at this iterate, for CG's products (valid until the objective's next Hessian), and P from the
-  // same evaluation of the stencils where it is rebuilt.
+  return !have_factor_ || preconditioner_rows() != rhs_.size() ||
+         last_cg_iterations_ > params_.refactor_cg_iterations;
+}
+
+const SymmetricBlockMatrix* NewtonOptimizer::hessian_and_preconditioner(StepProblem& problem, const VecX& a,
+                                                                        bool stale) {
+  const DirichletSet& dirichlet = problem.dirichlet();
   BackwardEulerObjective& objective = problem.objective();
-  const SymmetricBlockMatrix* exact_hessian = nullptr;
-  if (stale) {
-    const BackwardEulerObjective::HessianPair pair = objective.hessian_pair(a, dirichlet.free_index());
-    exact_hessian = &pair.exact;
-    if (!factorize_preconditioner(problem, pair.projected)) return SolveStatus::FactorizationFailed;
-  } else {
-    exact_hessian = &objective.hessian_blocks(a, dirichlet.free_index(), false);
-  }
+  if (!stale) return &objective.hessian_blocks(a, dirichlet.free_index(), false);
+  const BackwardEulerObjective::HessianPair pair = objective.hessian_pair(a, dirichlet.free_index());
+  return factorize_preconditioner(problem, pair.projected) ? &pair.exact : nullptr;
+}
+
+std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
+  const DirichletSet& dirichlet = problem.dirichlet();
+  dirichlet.gather_free(gradient, rhs_);
+  const double gradient_norm = rhs_.norm();
+  const bool stale = preconditioner_is_stale();
+  BackwardEulerObjective& objective = problem.objective();
+  const SymmetricBlockMatrix* exact_hessian = hessian_and_preconditioner(problem, a, stale);
+  if (!exact_hessian) return SolveStatus::FactorizationFailed;
   auto precondition = [&](VecX& r) {
     if (use_multigrid_)
       multigrid_.solve_in_place(r);

@@ -120,6 +120,12 @@ class NewtonOptimizer final : public InnerOptimizer {
   // The multigrid does not serve this rollout: P's factor from the next build on (counted once).
   void hand_over_to_factor();
   Eigen::Index preconditioner_rows() const { return use_multigrid_ ? multigrid_.rows() : factor_.rows(); }
+  // Whether P must be rebuilt at this iterate (none yet, another size, the multigrid switched on or
+  // off, or the last CG needed too many products); rhs_ holds the free gradient.
+  bool preconditioner_is_stale();
+  // H at a, for CG's products (valid until the objective's next Hessian), and P rebuilt from the
+  // same evaluation of the stencils where `stale`; nullptr where P's factorisation failed.
+  const SymmetricBlockMatrix* hessian_and_preconditioner(StepProblem& problem, const VecX& a, bool stale);
 
   NewtonParams params_;
   SparseCholesky factor_;

@@ -67,19 +67,28 @@ void SinglePrecisionFactor::assign(const SparseCholesky& cholesky, Storage stora
 // A supernode's columns go a panel of four at a time: each pass over the rows below the panel reads
 // their z once for four columns (column by column, the loads and stores of z cost as much as reading
 // the factor: docs/design.md §6). The loops are
-// written out in this function: as inline helpers GCC ran their scalar loops.
+// written out in each pass: as inline helpers GCC ran their scalar loops.
 template <class Value>
 void SinglePrecisionFactor::solve(const Value* values) {
+  forward_solve(values);
+  back_solve(values);
+}
+
+template <class Value>
+SinglePrecisionFactor::Supernode<Value> SinglePrecisionFactor::supernode(int s, const Value* values) const {
+  const int column = first_column_[s], columns = first_column_[s + 1] - column;
+  return {column, columns, row_start_[s + 1] - row_start_[s], values + value_start_[s], &pivots_[column],
+          &rows_of_[row_start_[s] + columns]};
+}
+
+// Forward: z_j /= L_jj, then z_i -= L_ij z_j for every row i below j; in a panel, the same
+// operations in the same order as column by column.
+template <class Value>
+void SinglePrecisionFactor::forward_solve(const Value* values) {
   const int supernodes = static_cast<int>(first_column_.size()) - 1;
   float* z = supernode_rows_.data();
-  // Forward: z_j /= L_jj, then z_i -= L_ij z_j for every row i below j; in a panel, the same
-  // operations in the same order as column by column.
   for (int s = 0; s < supernodes; ++s) {
-    const int column = first_column_[s], columns = first_column_[s + 1] - column;
-    const int height = row_start_[s + 1] - row_start_[s];
-    const Value* block = values + value_start_[s];
-    const float* pivot = &pivots_[column];
-    const int* rows = &rows_of_[row_start_[s] + columns];
+    const auto [column, columns, height, block, pivot, rows] = supernode(s, values);
     std::copy_n(&work_[column], columns, z);
     std::fill(z + columns, z + height, 0.0f);
     int j = 0;
@@ -109,14 +118,16 @@ void SinglePrecisionFactor::solve(const Value* values) {
     std::copy_n(z, columns, &work_[column]);
     for (int i = columns; i < height; ++i) work_[rows[i - columns]] += z[i];
   }
-  // Back, in reverse: z_j = (z_j - sum_{i > j} L_ij z_i) / L_jj; in a panel, its four sums over the
-  // rows below it in one pass, then its own rows from the last column to the first.
+}
+
+// Back, in reverse: z_j = (z_j - sum_{i > j} L_ij z_i) / L_jj; in a panel, its four sums over the
+// rows below it in one pass, then its own rows from the last column to the first.
+template <class Value>
+void SinglePrecisionFactor::back_solve(const Value* values) {
+  const int supernodes = static_cast<int>(first_column_.size()) - 1;
+  float* z = supernode_rows_.data();
   for (int s = supernodes - 1; s >= 0; --s) {
-    const int column = first_column_[s], columns = first_column_[s + 1] - column;
-    const int height = row_start_[s + 1] - row_start_[s];
-    const Value* block = values + value_start_[s];
-    const float* pivot = &pivots_[column];
-    const int* rows = &rows_of_[row_start_[s] + columns];
+    const auto [column, columns, height, block, pivot, rows] = supernode(s, values);
     std::copy_n(&work_[column], columns, z);
     for (int i = columns; i < height; ++i) z[i] = work_[rows[i - columns]];
     int j = columns - 1;

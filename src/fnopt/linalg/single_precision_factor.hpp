@@ -34,6 +34,21 @@ class SinglePrecisionFactor {
   // bfloat16, each value widened to a float as it is read), the arithmetic in floats.
   template <class Value>
   void solve(const Value* values);
+  template <class Value>
+  void forward_solve(const Value* values);
+  // Supernode s: its first column and column count, its rows (the columns' own, then those below:
+  // `rows` holds the latter's indices), its values column by column and its columns' pivots.
+  template <class Value>
+  struct Supernode {
+    int column, columns, height;
+    const Value* block;
+    const float* pivot;
+    const int* rows;
+  };
+  template <class Value>
+  Supernode<Value> supernode(int s, const Value* values) const;
+  template <class Value>
+  void back_solve(const Value* values);
 
   Storage storage_ = Storage::Float;
   int rows_ = 0;
