@@ -24,7 +24,9 @@ exercised: a minute or two on 2 cores). The full run takes many hours on one thr
 --resume keeps the parts already finished and passes --resume to compare and stability, which
 keep their finished rows. A line per part says what is done and left, with the run's ETA; under it, the part's
 fnopt runs print their progress (a line per 10 %, with their own ETA); OUT/logs/ has their whole output. A part
-that fails stops the run: exit status 1 and one line naming it.
+that fails stops the run: exit status 1 and one line naming it. A full run refuses to start (exit status 2) when
+the binary's `fnopt --version` is not the release's (project() in CMakeLists.txt), since results.md prints it as
+the release's; --quick only warns.
 
 The code is the package scripts/release_results/ beside this launcher, one module per part (its __init__.py
 lists them). Python 3 standard library only.

@@ -11,7 +11,7 @@ The pieces they share, one idea a module:
   assemble   results.md: a part's section, its pictures, the header and the page
   parts      the context every part gets, and the parts in order
   session    one run: the parts in order, --resume's state, the progress line per part
-  cli        the command line: arguments, input checks, SIGTERM, main()
+  cli        the command line: arguments, input checks (the binary's version too), SIGTERM, main()
 
 Python 3 standard library only.
 """

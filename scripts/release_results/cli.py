@@ -1,13 +1,19 @@
 """The command line of scripts/release-results.py: its arguments, the checks of its inputs before anything runs
-(the binary, --arcsim-dir, --only's part names), SIGTERM, and main()."""
+(the binary, --arcsim-dir, that the binary is the release's version, --only's part names), SIGTERM, and main()."""
 
 import argparse
 import os
+import re
 import signal
 import sys
 
+from . import REPOSITORY
 from .parts import Context, make_parts
+from .runner import binary_version
 from .session import run_parts
+
+CMAKELISTS = os.path.join(REPOSITORY, "CMakeLists.txt")
+PROJECT_VERSION = re.compile(r"^\s*project\s*\(\s*fnopt\s+VERSION\s+(\S+?)[\s)]", re.M)
 
 
 def build_parser(doc):
@@ -34,12 +40,46 @@ def build_parser(doc):
     return parser
 
 
+def release_version():
+    """The release's version: the project(fnopt VERSION x.y.z ...) line of the repository's CMakeLists.txt; None
+    when it cannot be read."""
+    try:
+        with open(CMAKELISTS, encoding="utf-8") as f:
+            m = PROJECT_VERSION.search(f.read())
+    except OSError:
+        return None
+    return m.group(1) if m else None
+
+
+def version_mismatch(binary):
+    """None when the binary's `fnopt --version` is the release's (results.md prints it as the release's);
+    otherwise a line saying how they differ."""
+    release = release_version()
+    if release is None:
+        return "no project(fnopt VERSION ...) line in %s to check %s's version against" % (CMAKELISTS, binary)
+    try:
+        built = binary_version(binary)
+    except OSError as e:
+        built = "nothing (%s)" % e
+    if built == release:
+        return None
+    return ("`fnopt --version` of %s is %s, the release's (project() in CMakeLists.txt) %s: results.md would "
+            "print a version that is not the release's; build the release's fnopt (--binary)"
+            % (binary, built or "nothing", release))
+
+
 def input_problem(args):
-    """The first problem with the inputs that stops the run before anything runs, or None."""
+    """The first problem with the inputs that stops the run before anything runs, or None. A version mismatch
+    stops a full run; --quick, a smoke pass, only warns of it."""
     if not os.access(args.binary, os.X_OK):
         return "no executable fnopt at %s (--binary)" % args.binary
     if args.arcsim_dir and not os.path.isdir(args.arcsim_dir):
         return "--arcsim-dir %s is not a directory" % args.arcsim_dir
+    mismatch = version_mismatch(args.binary)
+    if mismatch and not args.quick:
+        return mismatch
+    if mismatch:
+        print("release-results: warning (--quick goes on): " + mismatch, file=sys.stderr, flush=True)
     return None
 
 
