@@ -8,7 +8,7 @@ import os
 from .assemble import section
 from .compare import budget_flags, compare_rows, method_groups
 from .files import write_csv
-from .tables import fmt, fnum, markdown_table, mean
+from .tables import markdown_table, max_cell, mean_cell
 
 TITLE = "Against ARCSim"
 HEADER = ["grid", "motions", "method", "N", "e_CD × 10³ vs ARCSim", "e_CD × 10³ vs Newton", "ms/frame (CPU)",
@@ -31,10 +31,10 @@ def grid_rows(grid, rows):
     """The table's rows of one grid's compare.csv: a row per (method, N), means over its motions."""
     n_motions = len(set(r["motion"] for r in rows))
     return [["%d²" % grid, str(n_motions), method, n or "converged",
-             fmt(mean(fnum(r["e_cd_arcsim_x1e3"]) for r in finished)),
-             fmt(mean(fnum(r["e_cd_x1e3"]) for r in finished)),
-             fmt(mean(fnum(r["ms_per_frame_cpu"]) for r in runs)),
-             fmt(max((fnum(r["max_strain_pct"]) or 0.0) for r in runs)),
+             mean_cell(finished, "e_cd_arcsim_x1e3"),
+             mean_cell(finished, "e_cd_x1e3"),
+             mean_cell(runs, "ms_per_frame_cpu"),
+             max_cell(runs, "max_strain_pct"),
              "%d/%d" % (len(runs) - len(finished), len(runs))]
             for method, n, runs, finished in method_groups(rows)]
 

@@ -5,7 +5,7 @@ import os
 
 from .files import read_csv
 from .runner import PartFailed
-from .tables import fmt, fnum, mean, unique
+from .tables import max_cell, mean_cell, unique
 
 
 def budget_flags(budgets):
@@ -45,11 +45,11 @@ def summarise_compare(rows):
     table = []
     for method, n, runs, finished in method_groups(rows):
         table.append([method, n or "converged",
-                      fmt(mean(fnum(r["ms_per_frame_cpu"]) for r in runs)),
-                      fmt(mean(fnum(r["e_cd_x1e3"]) for r in finished)),
-                      fmt(mean(fnum(r["e_3d_x1e2"]) for r in finished)),
-                      fmt(mean(fnum(r["step_error_median"]) for r in finished)),
-                      fmt(max((fnum(r["max_strain_pct"]) or 0.0) for r in runs), 3),
+                      mean_cell(runs, "ms_per_frame_cpu"),
+                      mean_cell(finished, "e_cd_x1e3"),
+                      mean_cell(finished, "e_3d_x1e2"),
+                      mean_cell(finished, "step_error_median"),
+                      max_cell(runs, "max_strain_pct"),
                       "%d/%d" % (sum(r["diverged"] != "no" for r in runs), len(runs)),
                       "%d/%d" % (sum(r["frontier"] == "yes" for r in runs), len(runs))])
     return header, table

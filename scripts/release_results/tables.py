@@ -33,6 +33,16 @@ def mean(values):
     return statistics.mean(values) if values else None
 
 
+def mean_cell(rows, column):
+    """The mean of a numeric column over rows as the tables show it ("—" where there is none)."""
+    return fmt(mean(fnum(r[column]) for r in rows))
+
+
+def max_cell(rows, column):
+    """The largest value of a numeric column over rows (an empty cell counting 0) as the tables show it."""
+    return fmt(max((fnum(r[column]) or 0.0) for r in rows))
+
+
 def unique(values):
     """The values without repeats, in the order they first come."""
     return list(dict.fromkeys(values))
