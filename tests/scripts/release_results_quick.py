@@ -1,17 +1,44 @@
 #!/usr/bin/python3
 """ctest release_results_quick: scripts/release-results.py --quick on the built fnopt, then a check that
 the assembled results.md has every section, each headed by its command, no empty table, and every picture it
-shows beside it; and that the script's output shows the progress of the fnopt runs inside a part."""
+shows beside it; and that the script's output shows the progress of the fnopt runs inside a part. Before it, a
+fake fnopt that says the wrong version checks the guard on the release's version: a full run refuses to start
+(exit status 2, one line, nothing written), --quick warns and goes on."""
 
 import os
 import re
 import shutil
 import subprocess
 import sys
+import tempfile
 
 SECTIONS = ["The error–time frontier at 12²", "The error–time frontier at 16²", "The Newton reference's cost",
             "Zero-shot super-resolution", "Off the corners at 12²", "Against ARCSim", "Stability",
             "Contact with obstacles", "Gradients through rollouts", "The paper's tables beside ours"]
+
+
+def check_version_guard(script):
+    """The failures of the version guard, run with a fake fnopt whose every command prints a wrong version."""
+    failures = []
+    with tempfile.TemporaryDirectory() as tmp:
+        fake = os.path.join(tmp, "fnopt")
+        with open(fake, "w", encoding="utf-8") as f:
+            f.write("#!/bin/sh\necho 0.0.0-not-the-release\n")
+        os.chmod(fake, 0o755)
+        out = os.path.join(tmp, "out")
+        full = subprocess.run([sys.executable, script, "--binary", fake, "--out", out], stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, universal_newlines=True)
+        lines = full.stderr.splitlines()
+        if full.returncode != 2 or len(lines) != 1 or "0.0.0-not-the-release" not in lines[0] or os.path.exists(out):
+            failures.append("a full run with the wrong version: exit status %d, %s (expected 2, one line naming it, "
+                            "no --out)" % (full.returncode, full.stderr.strip() or "no message"))
+        # --quick goes on after a warning; its first part then fails on the fake's output.
+        quick = subprocess.run([sys.executable, script, "--quick", "--binary", fake, "--out", out],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
+        if "warning" not in quick.stderr or "0.0.0-not-the-release" not in quick.stderr or \
+                "frontier-12: running" not in quick.stdout:
+            failures.append("--quick with the wrong version does not warn and go on: %s" % quick.stderr.strip())
+    return ["version guard: " + f for f in failures]
 
 
 def main():
@@ -20,6 +47,9 @@ def main():
         return 2
     binary, out = sys.argv[1], sys.argv[2]
     script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "release-results.py")
+    guard_failures = check_version_guard(script)
+    for f in guard_failures:
+        print(f)
     shutil.rmtree(out, ignore_errors=True)
     r = subprocess.run([sys.executable, script, "--quick", "--binary", binary, "--out", out],
                        stdout=subprocess.PIPE, universal_newlines=True)
@@ -55,7 +85,7 @@ def main():
                  if not os.path.exists(os.path.join(out, p))]
     for f in failures:
         print("results.md: " + f)
-    return 1 if failures else 0
+    return 1 if failures or guard_failures else 0
 
 
 if __name__ == "__main__":

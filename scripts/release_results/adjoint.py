@@ -1,0 +1,126 @@
+"""Gradients through rollouts: the adjoint against central differences (fnopt gradcheck, plain and with an
+obstacle), its cost (fnopt bench adjoint), and the inverse problems fnopt answers by it: handle paths to a
+target (fnopt fit-handles) and, with --arcsim-dir, design.md §7's material fit by gradient and by compass
+(fnopt fit-material). Each step below returns (its commands, its text, the files it wrote)."""
+
+import os
+import re
+
+from .assemble import publish_picture, section
+from .files import read_csv, write_atomic, write_csv
+from .runner import PartFailed
+from .tables import bench_table, fmt, fnum, markdown_table
+
+# design.md §7's fit: the start the fit-material comparison begins from (stretch, shear, damping far off).
+FIT_START = "stretch = 300\nshear = 3\nbend = 2e-5\ndensity = 0.187\ndamping = 1\n"
+GRADCHECK_OBSTACLE = "sphere center=0.5,0.12,-0.6 radius=0.1 friction=0.3"
+GRADCHECK_ROW = re.compile(r"^(\S+)\s+(\d+)\s+(\S+)\s+(\S+)\s+(\S+)\s*$")
+BENCH_HEADER = ["grid", "forward ms/frame", "backward ms/frame", "backward / forward", "factorisations / step",
+                "solves / step", "record MB", "peak RSS MB", "saddle steps", "status"]
+FIT_MATERIAL_HEADER = ["method", "fitted material", "e_CD and rollouts"]
+# fit-material's methods, each with its step flags (the same first step for both).
+FIT_MATERIAL_METHODS = (("gradient", ["--initial-step", "0.7"]),
+                        ("compass", ["--initial-step", "0.7", "--final-step", "0.08"]))
+
+
+def gradcheck(ctx, part, label, extra):
+    """fnopt gradcheck with extra flags, logged as PART LABEL: (its command, {parameter kind: relative error})."""
+    args = ["gradcheck"] + extra + ["--threads", "1"]
+    rows = [m.groups() for m in (GRADCHECK_ROW.match(l) for l in ctx.run(part + " " + label, args).splitlines())
+            if m and m.group(1) != "parameter"]
+    if not rows:
+        raise PartFailed("%s: no rows in gradcheck's output" % part)
+    return ctx.shown(args), {r[0]: r[4] for r in rows}
+
+
+def gradchecks(ctx, part, d, plan_):
+    """The adjoint against central differences, plain and with a sphere behind the cloth."""
+    plain_command, plain = gradcheck(ctx, part, "gradcheck", plan_["gradcheck"])
+    contact_command, contact = gradcheck(ctx, part, "gradcheck contact",
+                                         plan_["contact_gradcheck"] + ["--obstacle", GRADCHECK_OBSTACLE])
+    header = ["parameter", "relative error, plain scene", "with a sphere behind the cloth (friction 0.3)"]
+    table = [[k, plain[k], contact.get(k, "—")] for k in plain]
+    path = os.path.join(d, "gradcheck.csv")
+    write_csv(path, header, table)
+    text = ("The adjoint against central differences of the rollout, a row per parameter kind:\n\n" +
+            markdown_table(header, table) + "\n\n")
+    return [plain_command, contact_command], text, [path]
+
+
+def backward_cost(ctx, part, d, plan_):
+    """fnopt bench adjoint: the backward pass's cost against the forward pass, and the record's memory."""
+    args = ["bench", "adjoint"] + plan_["bench"] + ["--threads", "1"]
+    head, rows = bench_table(ctx.run(part + " bench", args))
+    if head is None or not rows:
+        raise PartFailed("%s: no table in bench adjoint's output" % part)
+    rows = [r[:len(BENCH_HEADER)] for r in rows]
+    path = os.path.join(d, "bench-adjoint.csv")
+    write_csv(path, BENCH_HEADER, rows)
+    text = ("Cost of the backward pass against the recorded forward pass it differentiates (Newton to 1e-10 m/s², "
+            "exact steps), and the memory the record holds:\n\n" + markdown_table(BENCH_HEADER, rows) + "\n\n")
+    return [ctx.shown(args)], text, [path]
+
+
+def fit_handles(ctx, part, d, plan_):
+    """fnopt fit-handles: the best loss after each planned number of passes, per method, and its chart."""
+    loss_csv = os.path.join(d, "fit-handles.csv")
+    args = (["fit-handles"] + plan_["fit_handles"] + ["--threads", "1", "--csv", ctx.rel(loss_csv),
+                                                      "--plot", ctx.rel(os.path.join(d, "fit-handles.svg"))])
+    said = [l for l in ctx.run(part + " fit-handles", args).splitlines()
+            if l.startswith(("scene:", "target:", "path:"))]
+    history = {}
+    for r in read_csv(loss_csv):
+        history.setdefault(r["method"], []).append((int(r["passes"]), fnum(r["loss_m2"])))
+    passes = plan_["passes"]
+    header = ["method", "start loss m²"] + ["after %d passes" % n for n in passes]
+    table = [[method, fmt(points[0][1])] +
+             [fmt(min((loss for k, loss in points if k <= n), default=None)) for n in passes]
+             for method, points in history.items()]
+    path = os.path.join(d, "fit-handles-table.csv")
+    write_csv(path, header, table)
+    chart = publish_picture(ctx, os.path.join(d, "fit-handles.svg"), "fit-handles.svg",
+                            "the loss against passes, gradient and compass")
+    text = ("Handle paths to a target (`fnopt fit-handles`; %s): the best loss after N passes, a gradient "
+            "evaluation counting two.\n\n" % "; ".join(said) + markdown_table(header, table) + chart + "\n")
+    return [ctx.shown(args)], text, [path, loss_csv]
+
+
+def fit_material(ctx, part, d, plan_):
+    """design.md §7's fit against ARCSim's 32² xy_v2 and rot_h0 from a far start, by gradient and by compass:
+    the fitted material and the final e_CD line of each."""
+    start = os.path.join(d, "fit-start.txt")
+    write_atomic(start, FIT_START)
+    refs = [os.path.join(ctx.arcsim_dir, "arcsim_N32_%s.h5" % m) for m in ("xy_v2", "rot_h0")]
+    commands, rows = [], []
+    for method, extra in FIT_MATERIAL_METHODS:
+        args = (["fit-material", "--method", method, "--reference"] + refs +
+                ["--start", ctx.rel(start), "--fit", "stretch,shear,damping"] + plan_["fit_material"] +
+                extra + ["--threads", "1", "--out", ctx.rel(os.path.join(d, "fitted-%s.txt" % method))])
+        commands.append(ctx.shown(args).replace(ctx.arcsim_dir, "ARCSIM_DIR"))
+        out = ctx.run(part + " fit-material " + method, args).splitlines()
+        last = [l for l in out if "e_CD x 10^3" in l and ("fitted" in l or "against" in l)]
+        fitted = [l for l in out if l.startswith("fitted:")]
+        rows.append([method, fitted[-1][len("fitted:"):].strip() if fitted else "—",
+                     last[-1].strip() if last else "—"])
+    path = os.path.join(d, "fit-material.csv")
+    write_csv(path, FIT_MATERIAL_HEADER, rows)
+    text = ("\ndesign.md §7's fit (32² xy_v2 and rot_h0 against ARCSim, from stretch 300, shear 3, damping "
+            "1), by gradient and by compass:\n\n" + markdown_table(FIT_MATERIAL_HEADER, rows) + "\n")
+    return commands, text, [path]
+
+
+def part_adjoint(ctx, part, plan_):
+    """The adjoint's checks and costs, and the inverse problems fnopt answers by it: the section and its CSVs
+    (the material fit only with --arcsim-dir and a plan for it)."""
+    d = os.path.join(ctx.out, part)
+    os.makedirs(d, exist_ok=True)
+    steps = [gradchecks, backward_cost, fit_handles]
+    if plan_["fit_material"] and ctx.arcsim_dir:
+        steps.append(fit_material)
+    commands, body, files = [], "", []
+    for step in steps:
+        step_commands, text, step_files = step(ctx, part, d, plan_)
+        commands += step_commands
+        body += text
+        files += step_files
+    return section("Gradients through rollouts", commands, body), files

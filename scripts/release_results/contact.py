@@ -1,0 +1,86 @@
+"""Contact with obstacles: every method on the contact scenes of examples/scenes (fnopt compare --scene), e_CD
+against Newton per scene and grid and the smallest vertex-obstacle distance; then far obstacles' cost (fnopt
+bench contact)."""
+
+import os
+import re
+
+from . import REPOSITORY
+from .assemble import section
+from .compare import budget_flags, compare_rows
+from .files import write_csv
+from .runner import PartFailed
+from .tables import fmt, fnum, markdown_table
+
+SCENES = os.path.join(REPOSITORY, "examples", "scenes")
+# A row of fnopt bench contact's table: grid, method, ms/frame without and with far obstacles, ratio, same rollout.
+BENCH_CONTACT_ROW = re.compile(r"^\s*(\d+)\^2\s+(\S+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s+(\S+)\s*$")
+BENCH_HEADER = ["grid", "method", "ms/frame without obstacles", "with far obstacles", "ratio", "same rollout"]
+
+
+def contact_table(grids, scenes, results):
+    """A row per (method, N) over the scenes' compare.csv rows (results: {scene: rows}): e_CD per scene as
+    "32² / 64² / ..." ("diverged" where it did), the smallest obstacle distance in mm, runs diverged."""
+    cells, smallest, diverged = {}, {}, {}
+    for name, _ in scenes:
+        for r in results[name]:
+            key = (r["method"], r["N"])
+            done = r["diverged"] == "no"
+            cells.setdefault(key, {}).setdefault(name, {})[r["resolution"]] = (
+                fmt(fnum(r["e_cd_x1e3"])) if done else "diverged")
+            distance = fnum(r.get("min_obstacle_distance_m"))
+            if distance is not None:
+                smallest[key] = min(smallest.get(key, distance), distance)
+            diverged.setdefault(key, [0, 0])
+            diverged[key][0] += not done
+            diverged[key][1] += 1
+    table = []
+    for key in cells:
+        row = [key[0], key[1] or "converged"]
+        for name, _ in scenes:
+            row.append(" / ".join(cells[key].get(name, {}).get(g, "—") for g in grids))
+        row += [fmt(1e3 * smallest[key]) if key in smallest else "—", "%d/%d" % tuple(diverged[key])]
+        table.append(row)
+    return table
+
+
+def far_obstacles_cost(ctx, part, plan_):
+    """fnopt bench contact: (its command, its table's rows, the CSV written)."""
+    args = ["bench", "contact"] + plan_["bench"] + ["--threads", "1"]
+    text = ctx.run(part + " bench", args)
+    rows = [m.groups() for m in (BENCH_CONTACT_ROW.match(l) for l in text.splitlines()) if m]
+    if not rows:
+        raise PartFailed("%s: no table in bench contact's output" % part)
+    table = [[g + "²"] + list(rest) for g, *rest in rows]
+    path = os.path.join(ctx.out, part, "bench-contact.csv")
+    write_csv(path, BENCH_HEADER, table)
+    return args, table, path
+
+
+def part_contact(ctx, part, plan_):
+    """Every method on the example contact scenes at each grid: e_CD against Newton per scene and grid, and the
+    smallest vertex-obstacle distance of any run; then far obstacles' cost."""
+    grids = plan_["res"].split(",")
+    header = ["method", "N"] + ["%s e_CD × 10³ (%s)" % (name, " / ".join(g + "²" for g in grids))
+                                for name, _ in plan_["scenes"]] + ["smallest distance (mm)", "diverged"]
+    results, commands = {}, []
+    for name, frames in plan_["scenes"]:
+        d = os.path.join(ctx.out, part, name)
+        scene = os.path.join(SCENES, name + ".scene")
+        args = (["compare", "--scene", scene, "--res", plan_["res"], "--frames", str(frames), "--motions", "static"] +
+                budget_flags(plan_["budgets"]) + ["--threads", "1"] + ctx.plan["compare_extra"] + ctx.out_flags(d))
+        commands.append(ctx.shown(args).replace(SCENES + os.sep, "examples/scenes/"))
+        ctx.run(part + " " + name, args)
+        results[name] = compare_rows(d)
+    table = contact_table(grids, plan_["scenes"], results)
+    path = os.path.join(ctx.out, part, "contact.csv")
+    write_csv(path, header, table)
+    bench_args, bench_table, bench_path = far_obstacles_cost(ctx, part, plan_)
+    body = ("The scenes of `examples/scenes/` (a released cloth on a sphere above a floor, on a table top with an "
+            "overhang, on a plane tilted by 30° with friction 0.4; a sphere pushed through the hanging cloth), every "
+            "method against Newton converging on every step; the smallest distance of any vertex to any obstacle "
+            "over every frame, scene and grid (≥ the contact thickness, 1 mm: no penetration).\n\n" +
+            markdown_table(header, table) + "\n\nFar obstacles' cost: the benchmark scene with and without a floor "
+            "and a sphere far from the cloth, alternated runs, medians.\n\n```\n" +
+            ctx.shown(bench_args) + "\n```\n\n" + markdown_table(BENCH_HEADER, bench_table))
+    return section("Contact with obstacles", commands, body), [path, bench_path]
