@@ -374,13 +374,13 @@ const std::vector<SceneKey>& scene_keys() {
 }
 
 const SceneKey* find_scene_key(const std::string& name) {
-  for (const SceneKey& key : kKeys)
+  for (const SceneKey& key : scene_keys())
     if (name == key.name) return &key;
   return nullptr;
 }
 
 const SceneKey* find_scene_keyword(const std::string& keyword) {
-  for (const SceneKey& key : kKeys)
+  for (const SceneKey& key : scene_keys())
     if (keyword == key.python_keyword()) return &key;
   return nullptr;
 }
