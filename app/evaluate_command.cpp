@@ -1,6 +1,8 @@
 // fnopt evaluate: a rollout against a reference trajectory (an fnopt rollout or an ARCSim file),
 // at matching times: e_CD x 10^3, e_3D x 10^2, the rollout's max edge strain, and optionally the
-// per-step optimisation error of an inner optimizer on the reference's states (docs/design.md §8).
+// per-step optimisation error of an inner optimizer on the reference's states (docs/design.md §8);
+// with or without a reference, the rollout's exact self-intersection count and its closest
+// approach to its obstacles.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +10,7 @@
 #include <fnopt/io/csv_table.hpp>
 #include <fnopt/io/hdf5_file.hpp>
 #include <fnopt/simulation/rollout_file.hpp>
+#include <fnopt/metrics/mesh_intersections.hpp>
 #include <fnopt/metrics/obstacle_distance.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/studies/compare/step_error.hpp>
@@ -84,30 +87,13 @@ void write_per_step_table(const std::string& path, const StepErrorSummary& summa
   table.write(path);
 }
 
-void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
-  // Everything that can be refused is refused before the work.
-  if (!flags.per_frame.empty()) require_writable_file(flags.per_frame, "per-frame");
-  if (!flags.per_step.empty()) require_writable_file(flags.per_step, "per-step");
-  require(flags.step_samples >= 1, "step-samples", "must be at least 1, got " + std::to_string(flags.step_samples));
-  if (with_step_error) {
-    flags.optimizer.make();
-    read_rollout_scene(flags.reference);  // the reference must be an fnopt rollout
-  }
-  const int threads = set_thread_count(flags.threads);
-  const TrajectoryFrames reference = read_trajectory_frames(flags.reference);
-  const TrajectoryFrames rollout = read_trajectory_frames(flags.rollout);
+// e_CD, e_3D and strain against the reference, and the per-frame table.
+void report_errors(const EvaluateFlags& flags, const TrajectoryFrames& reference, const TrajectoryFrames& rollout) {
   TrajectoryComparisonOptions options;
   options.chamfer = flags.chamfer;
   options.chamfer_enabled = !flags.no_chamfer;
   const TrajectoryComparison c =
       compare_trajectories(reference, rollout, rest_spacing(flags.rollout, rollout), options);
-
-  std::printf("reference: %s\n", describe(flags.reference, reference).c_str());
-  std::printf("rollout:   %s\n", describe(flags.rollout, rollout).c_str());
-  const RolloutProvenance provenance = read_rollout_provenance(flags.rollout);
-  if (!provenance.divergence.empty())
-    std::printf("diverged:  %s; the errors and the strain below cover the frames before it\n",
-                provenance.divergence.c_str());
   std::printf("matched:   %s\n", c.describe_matching().c_str());
   if (c.matches.empty()) throw Error("evaluate", "the two trajectories have no frames at matching times");
   if (options.chamfer_enabled)
@@ -121,50 +107,90 @@ void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
     std::printf("e_3D x 10^2 = n/a      (no vertex correspondence: %dx%d against %dx%d)\n", rollout.rows, rollout.cols,
                 reference.rows, reference.cols);
   std::printf("max edge strain of the rollout's frames = %.2f %%\n", 100 * c.max_strain);
-  // An fnopt rollout stores its scene; where that has obstacles, how close the cloth came to them
-  // (docs/design.md §14: at least the contact thickness, never negative).
+  if (!flags.per_frame.empty()) {
+    write_per_frame_table(flags.per_frame, c);
+    std::printf("per-frame errors: %s\n", flags.per_frame.c_str());
+  }
+}
+
+// What the rollout's frames say of contact, measured on them as stored: how close the cloth came
+// to the obstacles an fnopt rollout's scene holds (docs/design.md §14: at least the contact
+// thickness, never negative), and the exact count of its self-intersections (independent of the
+// simulation's contact code, metrics/mesh_intersections.hpp).
+void report_contact(const EvaluateFlags& flags, const TrajectoryFrames& rollout, const RolloutProvenance& provenance) {
   if (!provenance.version.empty()) {
     const Scene scene = read_rollout_scene(flags.rollout);
     if (!scene.obstacles.empty())
       std::printf("min obstacle distance = %.6g m   (over %zu frames, every vertex and obstacle)\n",
                   min_obstacle_distance(scene, rollout.positions), rollout.positions.size());
   }
-  if (!flags.per_frame.empty()) {
-    write_per_frame_table(flags.per_frame, c);
-    std::printf("per-frame errors: %s\n", flags.per_frame.c_str());
-  }
+  const TrajectoryIntersections self = count_trajectory_self_intersections(rollout);
+  std::printf("self-intersections = %ld   (cloth edges through cloth triangles they do not touch, exact, summed over "
+              "%zu frames; %d frames with any)\n",
+              self.crossings, rollout.positions.size(), self.frames_with_any);
+}
 
+// The per-step error of the chosen optimizer on the reference's states.
+void report_step_error(const EvaluateFlags& flags, const TrajectoryFrames& reference, int threads) {
+  const Scene scene = read_rollout_scene(flags.reference);
+  StepErrorBench bench(scene, reference, flags.step_samples, /*count_negative_eigenvalues=*/!flags.per_step.empty());
+  const auto method = flags.optimizer.make();
+  const StepErrorSummary summary = bench.evaluate(*method, flags.optimizer.solve_options());
+  std::printf(
+      "per-step error of %s (%s), N = %d, on %zu reference states: mean %.4g, median %.4g"
+      "   ((L(a_N) - L*)/(L(a_0) - L*), L* by the Newton reference; %d thread%s)\n",
+      method->name().c_str(), method->settings().c_str(), flags.optimizer.solve_options().max_iterations,
+      summary.samples.size(), summary.mean, summary.median, threads, threads == 1 ? "" : "s");
+  if (flags.per_step.empty()) return;
+  // Below by more than round-off: where both end at the same minimum the error is +-1e-13.
+  const int below = static_cast<int>(std::count_if(summary.samples.begin(), summary.samples.end(),
+                                                   [](const StepErrorSample& s) { return s.error < -1e-6; }));
+  std::printf(
+      "Newton's step ends at a saddle of L (negative eigenvalues of the exact Hessian) on %d of the %zu states; "
+      "the method ends below it (error < -1e-6) on %d\n",
+      summary.newton_saddles(), summary.samples.size(), below);
+  write_per_step_table(flags.per_step, summary);
+  std::printf("per-step errors: %s\n", flags.per_step.c_str());
+}
+
+void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
+  // Everything that can be refused is refused before the work.
+  if (!flags.per_frame.empty()) require_writable_file(flags.per_frame, "per-frame");
+  if (!flags.per_step.empty()) require_writable_file(flags.per_step, "per-step");
+  require(flags.step_samples >= 1, "step-samples", "must be at least 1, got " + std::to_string(flags.step_samples));
   if (with_step_error) {
-    const Scene scene = read_rollout_scene(flags.reference);
-    StepErrorBench bench(scene, reference, flags.step_samples, /*count_negative_eigenvalues=*/!flags.per_step.empty());
-    const auto method = flags.optimizer.make();
-    const StepErrorSummary summary = bench.evaluate(*method, flags.optimizer.solve_options());
-    std::printf(
-        "per-step error of %s (%s), N = %d, on %zu reference states: mean %.4g, median %.4g"
-        "   ((L(a_N) - L*)/(L(a_0) - L*), L* by the Newton reference; %d thread%s)\n",
-        method->name().c_str(), method->settings().c_str(), flags.optimizer.solve_options().max_iterations,
-        summary.samples.size(), summary.mean, summary.median, threads, threads == 1 ? "" : "s");
-    if (!flags.per_step.empty()) {
-      // Below by more than round-off: where both end at the same minimum the error is +-1e-13.
-      const int below = static_cast<int>(std::count_if(summary.samples.begin(), summary.samples.end(),
-                                                       [](const StepErrorSample& s) { return s.error < -1e-6; }));
-      std::printf(
-          "Newton's step ends at a saddle of L (negative eigenvalues of the exact Hessian) on %d of the %zu states; "
-          "the method ends below it (error < -1e-6) on %d\n",
-          summary.newton_saddles(), summary.samples.size(), below);
-      write_per_step_table(flags.per_step, summary);
-      std::printf("per-step errors: %s\n", flags.per_step.c_str());
-    }
+    flags.optimizer.make();
+    read_rollout_scene(flags.reference);  // the reference must be an fnopt rollout
   }
+  const int threads = set_thread_count(flags.threads);
+  const bool with_reference = !flags.reference.empty();
+  const TrajectoryFrames reference = with_reference ? read_trajectory_frames(flags.reference) : TrajectoryFrames{};
+  const TrajectoryFrames rollout = read_trajectory_frames(flags.rollout);
+  if (with_reference) std::printf("reference: %s\n", describe(flags.reference, reference).c_str());
+  std::printf("rollout:   %s\n", describe(flags.rollout, rollout).c_str());
+  const RolloutProvenance provenance = read_rollout_provenance(flags.rollout);
+  if (!provenance.divergence.empty())
+    std::printf("diverged:  %s; the figures below cover the frames before it\n", provenance.divergence.c_str());
+  if (with_reference)
+    report_errors(flags, reference, rollout);
+  else
+    std::printf("max edge strain of the rollout's frames = %.2f %%\n",
+                100 * max_strain_over_frames(rollout, rest_spacing(flags.rollout, rollout)));
+  report_contact(flags, rollout, provenance);
+  if (with_step_error) report_step_error(flags, reference, threads);
 }
 
 const RegisterCommand kRegister([](CLI::App& app) {
   auto flags = std::make_shared<EvaluateFlags>();
   CLI::App* command = app.add_subcommand(
-      "evaluate", "compare a rollout with a reference (fnopt rollout or ARCSim file): e_CD x 10^3, e_3D x 10^2");
-  command->add_option("--reference", flags->reference, "reference trajectory (HDF5)")
-      ->required()
-      ->check(CLI::ExistingFile);
+      "evaluate", "a rollout's errors against a reference (fnopt rollout or ARCSim file): e_CD x 10^3, e_3D x 10^2; and, "
+      "with or without one, its strain, obstacle distance and self-intersections");
+  CLI::Option* reference =
+      command
+          ->add_option("--reference", flags->reference,
+                       "reference trajectory (HDF5); without it, only what the rollout's own frames say (strain, "
+                       "obstacle distance, self-intersections)")
+          ->check(CLI::ExistingFile);
   command->add_option("rollout", flags->rollout, "rollout to evaluate (HDF5)")->required()->check(CLI::ExistingFile);
   command->add_option("--cd-samples", flags->chamfer.samples, "points sampled per mesh for e_CD")
       ->capture_default_str();
@@ -173,13 +199,15 @@ const RegisterCommand kRegister([](CLI::App& app) {
   CLI::Option* optimizer = command->add_option(
       "--optimizer", flags->optimizer.name,
       "also report the per-step error of this optimizer on the reference's states (an fnopt rollout)");
+  optimizer->needs(reference);
   command->add_option("--iters", flags->optimizer.iterations, "its iteration budget");
   command->add_option("--lr", flags->optimizer.learning_rate, "its learning rate (gd, adam)");
   command->add_option("--model", flags->optimizer.model, "learned optimizer weights file");
   command->add_option("--step-samples", flags->step_samples, "reference states for the per-step error")
       ->capture_default_str();
   add_threads_flag(*command, flags->threads);
-  command->add_option("--per-frame", flags->per_frame, "also write the errors of every matched frame (CSV)");
+  command->add_option("--per-frame", flags->per_frame, "also write the errors of every matched frame (CSV)")
+      ->needs(reference);
   command
       ->add_option("--per-step", flags->per_step,
                    "also write the per-step error of every sampled state, with L at the start, at Newton's step "

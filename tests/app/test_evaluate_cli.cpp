@@ -5,6 +5,7 @@
 #include <sstream>
 #include <vector>
 
+#include <fnopt/io/hdf5_file.hpp>
 #include "run_fnopt.hpp"
 #include "tests/util/temp_dir.hpp"
 
@@ -80,6 +81,46 @@ TEST(EvaluateCli, SaysThatARolloutDivergedAndWhatItsNumbersCover) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("diverged:  diverged at step 1"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("max edge strain of the rollout's frames"), std::string::npos) << r.output;
+}
+
+// A two-frame 4 x 4 trajectory in the ARCSim layout: flat, then with the edge (3,2)-(3,3) stood
+// up through the first quad (a crossing no simulation made, for the count to find).
+std::string write_pierced_cloth(const fnopt::testing::TempDir& tmp) {
+  const std::string path = (tmp.path() / "pierced.h5").string();
+  std::vector<float> positions;
+  for (int frame = 0; frame < 2; ++frame)
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) {
+        float x = j, y = -i, z = 0.0f;
+        if (frame == 1 && i == 3 && j >= 2) x = 0.3f, y = -0.4f, z = j == 2 ? 1.0f : -1.0f;
+        positions.insert(positions.end(), {x, y, z});
+      }
+  const std::vector<double> times = {0.0, 0.1};
+  fnopt::Hdf5File file(path, fnopt::Hdf5File::Mode::Create);
+  file.write("positions", {2, 4, 4, 3}, positions.data());
+  file.write("times_s", {2}, times.data());
+  return path;
+}
+
+TEST(EvaluateCli, WithoutAReferenceItCountsTheRolloutsOwnSelfIntersections) {
+  const fnopt::testing::TempDir tmp;
+  const CommandResult pierced = run_fnopt("evaluate " + write_pierced_cloth(tmp));
+  ASSERT_EQ(pierced.status, 0) << pierced.output;
+  EXPECT_EQ(pierced.output.find("e_CD"), std::string::npos) << pierced.output;
+  EXPECT_NE(pierced.output.find("max edge strain"), std::string::npos) << pierced.output;
+  const auto at = pierced.output.find("self-intersections = ");
+  ASSERT_NE(at, std::string::npos) << pierced.output;
+  EXPECT_GT(std::stol(pierced.output.substr(at + 21)), 0) << pierced.output;
+  EXPECT_NE(pierced.output.find("; 1 frames with any"), std::string::npos) << pierced.output;
+
+  const auto rollout = (tmp.path() / "newton.h5").string();
+  ASSERT_EQ(run_fnopt("simulate --optimizer newton --res 8 --frames 4 --threads 1 --out " + rollout).status, 0);
+  const CommandResult hanging = run_fnopt("evaluate " + rollout);
+  ASSERT_EQ(hanging.status, 0) << hanging.output;
+  EXPECT_NE(hanging.output.find("self-intersections = 0 "), std::string::npos) << hanging.output;
+  // The per-frame errors and the per-step error need a reference.
+  EXPECT_EQ(run_fnopt("evaluate " + rollout + " --per-frame " + (tmp.path() / "f.csv").string()).status, 2);
+  EXPECT_EQ(run_fnopt("evaluate " + rollout + " --optimizer pqn").status, 2);
 }
 
 }  // namespace

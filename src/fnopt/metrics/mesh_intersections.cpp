@@ -364,4 +364,14 @@ long count_mesh_intersections(const Eigen::VectorXf& cloth_positions, int rows, 
          PairCounter({mesh_vertices, mesh_edges, cloth, cloth_triangles, false, side}).count();
 }
 
+TrajectoryIntersections count_trajectory_self_intersections(const TrajectoryFrames& frames) {
+  TrajectoryIntersections total;
+  for (const Eigen::VectorXf& frame : frames.positions) {
+    const long crossings = count_self_intersections(frame, frames.rows, frames.cols);
+    total.crossings += crossings;
+    total.frames_with_any += crossings > 0 ? 1 : 0;
+  }
+  return total;
+}
+
 }  // namespace fnopt

@@ -28,6 +28,7 @@
 
 #include <Eigen/Core>
 
+#include <fnopt/io/trajectory_frames.hpp>
 #include <fnopt/util/types.hpp>
 
 namespace fnopt {
@@ -52,5 +53,12 @@ long count_self_intersections(const Eigen::VectorXf& positions, int rows, int co
 long count_mesh_intersections(const Eigen::VectorXf& cloth_positions, int rows, int cols,
                               const std::vector<Vec3>& mesh_vertices,
                               const std::vector<Eigen::Vector3i>& mesh_triangles);
+
+// Self-intersections over every frame of a trajectory (fnopt evaluate's `self-intersections`).
+struct TrajectoryIntersections {
+  long crossings = 0;       // summed over the frames
+  int frames_with_any = 0;  // frames with at least one
+};
+TrajectoryIntersections count_trajectory_self_intersections(const TrajectoryFrames& frames);
 
 }  // namespace fnopt

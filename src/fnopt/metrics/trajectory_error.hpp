@@ -15,6 +15,10 @@
 
 namespace fnopt {
 
+// The largest edge strain over a trajectory's frames, its rest edge length `spacing` (+inf once a
+// frame is not finite).
+double max_strain_over_frames(const TrajectoryFrames& frames, double spacing);
+
 // ||X - X_ref||_F / ||X_ref||_F of one frame (NaN if the reference is all zero).
 double relative_frame_error(const Eigen::VectorXf& positions, const Eigen::VectorXf& reference);
 
