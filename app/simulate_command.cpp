@@ -51,6 +51,10 @@ void run_simulate(const SimulateFlags& flags) {
   std::fprintf(stderr, "self-repulsion: %s (repulsion = %s), lambda %.4g N/m, delta %.4g h\n",
                scene.material.repulsion ? "on" : "off", repulsion_mode_name(scene.repulsion).c_str(),
                scene.material.repulsion_stiffness, scene.material.repulsion_range);
+  std::fprintf(stderr, "self-contact: %s (self-contact = %s), kappa %.4g N/m, dhat %.4g m, thickness %.4g m\n",
+               self_contact_enabled(scene) ? "on" : "off", repulsion_mode_name(scene.self_contact).c_str(),
+               scene.self_contact_params.stiffness, scene.self_contact_params.range,
+               scene.self_contact_params.thickness);
   for (std::size_t k = 0; k < scene.obstacles.size(); ++k)
     std::fprintf(stderr, "obstacle %zu: %s\n", k + 1, scene.obstacles[k].to_text().c_str());
   ProgressBar bar("simulate", scene.frames);

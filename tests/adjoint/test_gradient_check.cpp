@@ -98,7 +98,8 @@ TEST(GradientCheck, SelfRepulsionActingOnAFoldingCloth) {
   Scene scene;
   scene.rows = scene.cols = 8;
   scene.frames = 41;
-  scene.handles = "corner-center";  // turns self-repulsion on (repulsion = auto)
+  scene.self_contact = AutoSwitch::Off;
+  scene.handles = "corner-center";  // turns self-repulsion on (repulsion = auto, without self-contact)
   resolve_repulsion(scene);
   ASSERT_TRUE(scene.material.repulsion);
   const ResolvedScene resolved = resolve(scene);

@@ -134,6 +134,10 @@ TEST(Simulate, PrintsTheResolvedRepulsion) {
   const auto out = (std::filesystem::temp_directory_path() / "fnopt_test_repulsion_sim.h5").string();
   CommandResult r = run_fnopt("simulate --optimizer newton --res 8 --frames 2 --handles corner-center --out " + out);
   EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("self-repulsion: off (repulsion = auto)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("self-contact: on (self-contact = auto)"), std::string::npos) << r.output;
+  r = run_fnopt("simulate --optimizer newton --res 8 --frames 2 --handles corner-center --no-self-contact --out " +
+                out);
   EXPECT_NE(r.output.find("self-repulsion: on (repulsion = auto)"), std::string::npos) << r.output;
   r = run_fnopt("simulate --optimizer newton --res 8 --frames 2 --handles corner-center --no-repulsion --out " + out);
   EXPECT_NE(r.output.find("self-repulsion: off (repulsion = false)"), std::string::npos) << r.output;

@@ -199,10 +199,13 @@ TEST(SceneFile, RepulsionModeRoundTripsForEveryPresetAndMode) {
 
 TEST(SceneFile, RepulsionIsResolvedAfterEverySettingInAnyOrder) {
   TempDir dir;
-  // auto, then a folding preset: on; then an explicit list: off again.
-  EXPECT_TRUE(load_scene_file(dir.write("a.txt", "handles = single-mid-edge\n")).material.repulsion);
-  EXPECT_FALSE(
-      load_scene_file(dir.write("b.txt", "handles = corner-center\nhandle-vertices = 0,0\n")).material.repulsion);
+  // auto, then a folding preset: on (without self-contact, which takes its place); then an explicit
+  // list: off again; a later self-contact line decides too.
+  EXPECT_TRUE(
+      load_scene_file(dir.write("a.txt", "handles = single-mid-edge\nself-contact = off\n")).material.repulsion);
+  EXPECT_FALSE(load_scene_file(dir.write("a2.txt", "handles = single-mid-edge\n")).material.repulsion);
+  EXPECT_FALSE(load_scene_file(dir.write("b.txt", "self-contact = off\nhandles = corner-center\nhandle-vertices = 0,0\n"))
+                   .material.repulsion);
   // A material line resets the material but not the decision.
   EXPECT_TRUE(load_scene_file(dir.write("c.txt", "repulsion = true\nmaterial = default\n")).material.repulsion);
   EXPECT_FALSE(load_scene_file(dir.write("d.txt", "handles = corner-center\nrepulsion = off\n")).material.repulsion);

@@ -132,12 +132,42 @@ TEST(SceneResolve, RejectsACsvForAnotherHandleCount) {
   EXPECT_TRUE(throws_error([&] { resolve(scene); }, "missing column 'h1_x'"));
 }
 
-TEST(SceneResolve, RepulsionAutoIsOnExactlyForTheFoldingPresets) {
+TEST(SceneResolve, SelfContactAutoIsOnWhereTheClothCanFold) {
+  const std::map<std::string, bool> folds = {{"corner", false},         {"diagonal", false},
+                                             {"mid-edge", false},       {"corner-center", true},
+                                             {"single-mid-edge", true}, {"single-center", false},
+                                             {"none", true}};
+  for (const auto& [preset, auto_on] : folds) {
+    Scene scene;
+    scene.handles = preset;
+    EXPECT_EQ(scene.self_contact, AutoSwitch::Auto);  // the default
+    EXPECT_EQ(self_contact_enabled(scene), auto_on) << preset;
+    EXPECT_EQ(self_contact_of(scene).has_value(), auto_on) << preset;
+    scene.let_go = 0.5;  // a released cloth
+    EXPECT_TRUE(self_contact_enabled(scene)) << preset;
+    scene.let_go = -1.0;
+    apply_scene_setting(scene, "obstacle", "plane point=0,0,-5 normal=0,0,1");
+    EXPECT_TRUE(self_contact_enabled(scene)) << preset;
+    scene.self_contact = AutoSwitch::Off;
+    EXPECT_FALSE(self_contact_enabled(scene)) << preset;
+  }
+  // The paper's benchmark: off, and its scene text as before self-contact.
+  EXPECT_FALSE(self_contact_enabled(Scene{}));
+  EXPECT_EQ(to_scene_text(Scene{}).find("self-contact"), std::string::npos);
+}
+
+// Self-contact takes self-repulsion's place: with self-contact off, repulsion's auto is on exactly
+// for the folding presets; with self-contact on (its auto there), off.
+TEST(SceneResolve, RepulsionAutoIsOnExactlyForTheFoldingPresetsWithoutSelfContact) {
   const std::map<std::string, bool> folds = {{"corner", false},         {"diagonal", false},
                                              {"mid-edge", false},       {"corner-center", true},
                                              {"single-mid-edge", true}, {"single-center", false}};
   for (const auto& [preset, auto_on] : folds) {
+    Scene with_self_contact;
+    with_self_contact.handles = preset;
+    EXPECT_FALSE(repulsion_enabled(with_self_contact)) << preset;
     Scene scene;
+    scene.self_contact = AutoSwitch::Off;
     scene.handles = preset;
     EXPECT_EQ(scene.repulsion, RepulsionMode::Auto);  // the default
     EXPECT_EQ(repulsion_enabled(scene), auto_on) << preset;
@@ -147,6 +177,7 @@ TEST(SceneResolve, RepulsionAutoIsOnExactlyForTheFoldingPresets) {
     EXPECT_FALSE(repulsion_enabled(scene)) << preset;
     // Settings resolve it into the material the objective reads.
     Scene set;
+    apply_scene_setting(set, "self-contact", "false");
     apply_scene_setting(set, "handles", preset);
     EXPECT_EQ(set.material.repulsion, auto_on) << preset;
     apply_scene_setting(set, "repulsion", "true");
@@ -158,10 +189,12 @@ TEST(SceneResolve, RepulsionAutoIsOnExactlyForTheFoldingPresets) {
   }
   // An explicit vertex list is not a preset: auto leaves repulsion off.
   Scene listed;
+  listed.self_contact = AutoSwitch::Off;
   listed.handles = "corner-center";
   listed.handle_vertices = "0,0;16,16";
   EXPECT_FALSE(repulsion_enabled(listed));
   Scene scene;
+  scene.self_contact = AutoSwitch::Off;
   scene.handles = "single-mid-edge";
   EXPECT_FALSE(scene.material.repulsion);  // set directly: not resolved until asked
   resolve_repulsion(scene);

@@ -39,7 +39,7 @@ const char* to_string(StepStationarity stationarity) {
 StepLinearization::StepLinearization(const ResolvedScene& scene)
     : material_(scene.scene.material),
       objective_(scene.grid, scene.scene.material, scene.scene.dt, scene.scene.gravity, scene.scene.obstacles,
-                 scene.scene.contact),
+                 scene.scene.contact, self_contact_of(scene.scene)),
       unit_terms_(unit_stiffness_terms(scene.grid)),
       scene_handles_(scene.handles.vertices),
       handle_vertices_(scene_handles_),

@@ -2,6 +2,7 @@
 
 #include <fnopt/cloth/repulsion_term.hpp>
 #include <fnopt/contact/contact_term.hpp>
+#include <fnopt/contact/self_contact_term.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
@@ -19,11 +20,12 @@ Eigen::SparseMatrix<double> PqnMatrix::expanded() const {
 PqnMatrix build_pqn_matrix(const BackwardEulerObjective& objective, const std::vector<int>& free_index, const VecX& x) {
   HessianAssembly assembly(free_index);
   std::vector<std::pair<const EnergyTerm*, int>> terms;
-  // The rest-state matrix holds the elastic terms only: the repulsion's and the obstacles' (docs/design.md
-  // §14) depend on where the cloth is.
+  // The rest-state matrix holds the elastic terms only: the repulsion's, the obstacles' and
+  // self-contact's (docs/design.md §14) depend on where the cloth is.
   for (const auto& term : objective.terms())
     if (term.get() != static_cast<const EnergyTerm*>(objective.repulsion()) &&
-        term.get() != static_cast<const EnergyTerm*>(objective.contact()))
+        term.get() != static_cast<const EnergyTerm*>(objective.contact()) &&
+        term.get() != static_cast<const EnergyTerm*>(objective.self_contact()))
       terms.emplace_back(term.get(), term->register_hessian(assembly));
   assembly.finalize();
   assembly.set_zero();

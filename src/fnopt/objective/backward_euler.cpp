@@ -8,6 +8,7 @@
 #include <fnopt/cloth/lumped_mass.hpp>
 #include <fnopt/cloth/repulsion_term.hpp>
 #include <fnopt/contact/contact_term.hpp>
+#include <fnopt/contact/self_contact_term.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
@@ -32,13 +33,20 @@ BackwardEulerObjective::BackwardEulerObjective(const Grid& grid, const Material&
 
 BackwardEulerObjective::BackwardEulerObjective(const Grid& grid, const Material& material, double dt,
                                                const Vec3& gravity, std::vector<Obstacle> obstacles,
-                                               const ContactParams& contact)
+                                               const ContactParams& contact,
+                                               const std::optional<SelfContactParams>& self_contact)
     : BackwardEulerObjective(grid, material, dt, gravity) {
-  if (obstacles.empty()) return;
-  auto term = std::make_unique<ContactTerm>(grid, std::move(obstacles), contact);
-  contact_ = term.get();
-  terms_.push_back(std::move(term));
-  begin_step(x_start_, v_start_);
+  if (!obstacles.empty()) {
+    auto term = std::make_unique<ContactTerm>(grid, std::move(obstacles), contact);
+    contact_ = term.get();
+    terms_.push_back(std::move(term));
+  }
+  if (self_contact) {
+    auto term = std::make_unique<SelfContactTerm>(grid, *self_contact);
+    self_contact_ = term.get();
+    terms_.push_back(std::move(term));
+  }
+  if (contact_ || self_contact_) begin_step(x_start_, v_start_);
 }
 
 void BackwardEulerObjective::begin_step(const VecX& x, const VecX& v, double time,
@@ -49,6 +57,7 @@ void BackwardEulerObjective::begin_step(const VecX& x, const VecX& v, double tim
   time_ = time;
   if (repulsion_) repulsion_->begin_step(x_start_, x_inertial_);
   if (contact_) contact_->begin_step(x_start_, time, dt_, obstacle_offsets);
+  if (self_contact_) self_contact_->begin_step(x_inertial_);
 }
 
 double BackwardEulerObjective::value(const VecX& a) const {
@@ -108,7 +117,10 @@ BackwardEulerObjective::HessianPair BackwardEulerObjective::hessian_pair(const V
 
 const HessianAssembly& BackwardEulerObjective::assemble_hessian(const VecX& a, const std::vector<int>& free_index,
                                                                 bool project, HessianAssembly::Target target) {
-  const long generation = repulsion_ ? repulsion_->pattern_generation() : 0;
+  trial_positions(a, x_trial_);
+  if (self_contact_) self_contact_->cover(x_trial_);  // may change its pattern
+  const std::pair<long, long> generation = {repulsion_ ? repulsion_->pattern_generation() : 0,
+                                            self_contact_ ? self_contact_->pattern_generation() : 0};
   if (!assembly_ || free_index != hessian_free_index_ || generation != assembled_generation_) {
     hessian_free_index_ = free_index;
     assembled_generation_ = generation;
@@ -118,7 +130,6 @@ const HessianAssembly& BackwardEulerObjective::assemble_hessian(const VecX& a, c
     for (const auto& term : terms_) term_handles_.push_back(term->register_hessian(*assembly_));
     assembly_->finalize();
   }
-  trial_positions(a, x_trial_);
   assembly_->set_zero(target);
   for (std::size_t t = 0; t < terms_.size(); ++t) {
     if (term_handles_[t] < 0) continue;

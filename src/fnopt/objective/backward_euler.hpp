@@ -13,9 +13,12 @@
 // hessian_pattern_id(), unique across all objectives of the process, so a cache keyed on it,
 // like NewtonOptimizer's symbolic analysis, sees every pattern change.
 // Obstacles (docs/design.md §14) add the contact term (contact/contact_term.hpp), built only when
-// there are obstacles: without them the objective is the same code and arithmetic as before.
+// there are obstacles, and self-contact its term, built only where the scene enables it: without
+// them the objective is the same code and arithmetic as before.
 // Not thread-safe: evaluation reuses internal buffers (no allocation per call).
 #include <memory>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include <fnopt/cloth/energy_term.hpp>
@@ -24,19 +27,23 @@
 #include <fnopt/cloth/material.hpp>
 #include <fnopt/contact/contact_params.hpp>
 #include <fnopt/contact/obstacle.hpp>
+#include <fnopt/contact/self_contact_params.hpp>
 
 namespace fnopt {
 
 class ContactTerm;
 struct ObstacleOffsets;
 class RepulsionTerm;
+class SelfContactTerm;
 
 class BackwardEulerObjective {
  public:
   BackwardEulerObjective(const Grid& grid, const Material& material, double dt, const Vec3& gravity);
-  // With obstacles: the contact term when `obstacles` is not empty (none otherwise).
+  // With obstacles: the contact term when `obstacles` is not empty (none otherwise); with
+  // `self_contact`, the self-contact term (contact/self_contact_term.hpp).
   BackwardEulerObjective(const Grid& grid, const Material& material, double dt, const Vec3& gravity,
-                         std::vector<Obstacle> obstacles, const ContactParams& contact = {});
+                         std::vector<Obstacle> obstacles, const ContactParams& contact = {},
+                         const std::optional<SelfContactParams>& self_contact = std::nullopt);
 
   const Grid& grid() const { return grid_; }
   // What the objective was built from (an optimizer may build the same step on another grid).
@@ -51,6 +58,8 @@ class BackwardEulerObjective {
   const RepulsionTerm* repulsion() const { return repulsion_; }
   // The contact term, or null without obstacles.
   const ContactTerm* contact() const { return contact_; }
+  // The self-contact term, or null where self-contact is off.
+  const SelfContactTerm* self_contact() const { return self_contact_; }
   // Changes whenever hessian() builds a new sparsity pattern; unique across objectives.
   long hessian_pattern_id() const { return pattern_id_; }
 
@@ -112,8 +121,10 @@ class BackwardEulerObjective {
   std::vector<int> term_handles_;
   RepulsionTerm* repulsion_ = nullptr;  // one of terms_
   ContactTerm* contact_ = nullptr;      // one of terms_
+  SelfContactTerm* self_contact_ = nullptr;  // one of terms_
   double time_ = 0.0;
-  long assembled_generation_ = -1;  // repulsion pattern generation of assembly_
+  // The pattern generations (repulsion's, self-contact's) assembly_ was built for.
+  std::pair<long, long> assembled_generation_{-1, -1};
   long pattern_id_ = 0;
 };
 

@@ -2,11 +2,24 @@
 
 #include <limits>
 
+#include <algorithm>
+
 #include <fnopt/contact/contact_term.hpp>
+#include <fnopt/contact/self_contact_term.hpp>
 
 namespace fnopt {
 
 double StepProblem::feasible_fraction(const VecX& a_from, const VecX& a_to) {
+  double fraction = obstacle_fraction(a_from, a_to);
+  if (const SelfContactTerm* self = objective_->self_contact()) {
+    objective_->trial_positions(a_from, x_from_);
+    objective_->trial_positions(a_to, x_to_);
+    fraction = std::min(fraction, self->safe_fraction(x_from_, x_to_));
+  }
+  return fraction;
+}
+
+double StepProblem::obstacle_fraction(const VecX& a_from, const VecX& a_to) {
   const ContactTerm* contact = objective_->contact();
   if (!contact) return 1.0;
   // The box of both ends straight from the accelerations, x = x^ + dt^2 a, in one pass that stores
@@ -35,15 +48,17 @@ double StepProblem::feasible_step(const VecX& a, const VecX& direction, double s
 
 double StepProblem::pullback() const {
   const ContactTerm* contact = objective_->contact();
-  return contact ? contact->params().pullback : 1.0;
+  return contact ? contact->params().pullback : ContactParams{}.pullback;
 }
 
 void StepProblem::make_start_feasible(VecX& a) {
-  const ContactTerm* contact = objective_->contact();
-  if (!contact) return;
+  if (!has_contact()) return;
   const double dt2 = objective_->dt() * objective_->dt();
   const VecX& x_start = objective_->start_positions();
-  contact->safe_start_positions(x_start, x_to_);
+  if (const ContactTerm* contact = objective_->contact())
+    contact->safe_start_positions(x_start, x_to_);
+  else
+    x_to_ = x_start;
   scratch_ = a;  // the handles keep their prescribed accelerations
   for (int v = 0; v < dirichlet_->vertex_count(); ++v)
     if (dirichlet_->free_index()[v] >= 0)

@@ -33,11 +33,12 @@ class StepProblem {
   // Objective evaluations since construction (a cost measure independent of wall time).
   long evaluations() const { return evaluations_; }
 
-  // Whether the objective has obstacles.
-  bool has_contact() const { return objective_->contact() != nullptr; }
+  // Whether the objective has obstacles or self-contact.
+  bool has_contact() const { return objective_->contact() != nullptr || objective_->self_contact() != nullptr; }
   // The largest s in [0, 1] such that no vertex enters the contact thickness of an obstacle (posed at
-  // the step's end) on the straight path from x(a_from) to x(a_to) before s (contact/ccd.hpp); 1
-  // without obstacles.
+  // the step's end, contact/ccd.hpp) and no two cloth primitives come within the self-contact
+  // thickness (contact/additive_ccd.hpp) on the straight path from x(a_from) to x(a_to) before s; 1
+  // without contact.
   double feasible_fraction(const VecX& a_from, const VecX& a_to);
   // The first trial of a line search from a along `direction`: `step`, or pullback s step where only
   // the fraction s of it is feasible.
@@ -51,6 +52,8 @@ class StepProblem {
   void make_start_feasible(VecX& a);
 
  private:
+  // feasible_fraction's obstacle part (1 without obstacles).
+  double obstacle_fraction(const VecX& a_from, const VecX& a_to);
   BackwardEulerObjective* objective_;
   const DirichletSet* dirichlet_;
   long evaluations_ = 0;

@@ -45,6 +45,7 @@ void Scene::validate() const {
   // two handles); a CSV is only opened by resolve().
   if (trajectory.empty()) make_motion(motion, std::vector<Vec3>(handle_set.vertices.size()), speed);
   require(std::isfinite(let_go), "let-go", "must be a time in seconds");
+  if (self_contact_enabled(*this)) self_contact_params.validate_for(grid);
   if (obstacles.empty()) return;
   try {
     contact.validate();
@@ -77,16 +78,42 @@ std::string placement_name(Placement placement) {
   return placement == Placement::Horizontal ? "horizontal" : "vertical";
 }
 
-bool repulsion_enabled(const Scene& scene) {
-  switch (scene.repulsion) {
-    case RepulsionMode::On:
+namespace {
+
+bool folding_preset(const Scene& scene) {
+  return scene.handle_vertices.empty() && (scene.handles == "corner-center" || scene.handles == "single-mid-edge");
+}
+
+}  // namespace
+
+bool self_contact_enabled(const Scene& scene) {
+  switch (scene.self_contact) {
+    case AutoSwitch::On:
       return true;
-    case RepulsionMode::Off:
+    case AutoSwitch::Off:
       return false;
-    case RepulsionMode::Auto:
+    case AutoSwitch::Auto:
       break;
   }
-  return scene.handle_vertices.empty() && (scene.handles == "corner-center" || scene.handles == "single-mid-edge");
+  const bool released = (scene.handle_vertices.empty() && scene.handles == "none") || scene.let_go >= 0.0;
+  return released || !scene.obstacles.empty() || folding_preset(scene);
+}
+
+std::optional<SelfContactParams> self_contact_of(const Scene& scene) {
+  if (!self_contact_enabled(scene)) return std::nullopt;
+  return scene.self_contact_params;
+}
+
+bool repulsion_enabled(const Scene& scene) {
+  switch (scene.repulsion) {
+    case AutoSwitch::On:
+      return true;
+    case AutoSwitch::Off:
+      return false;
+    case AutoSwitch::Auto:
+      break;
+  }
+  return folding_preset(scene) && !self_contact_enabled(scene);
 }
 
 std::string repulsion_mode_name(RepulsionMode mode) {

@@ -3,6 +3,7 @@
 // a preset, a scene file and command-line flags, in that order; validated once, then resolved
 // into the grid, handles and trajectory it names.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,12 +13,15 @@
 #include <fnopt/cloth/material.hpp>
 #include <fnopt/contact/contact_params.hpp>
 #include <fnopt/contact/obstacle.hpp>
+#include <fnopt/contact/self_contact_params.hpp>
 #include <fnopt/util/types.hpp>
 
 namespace fnopt {
 
-// Self-repulsion: on, off, or decided by the handles (see repulsion_enabled).
-enum class RepulsionMode { Auto, On, Off };
+// A setting that is on, off, or decided by the rest of the scene (repulsion_enabled,
+// self_contact_enabled).
+enum class AutoSwitch { Auto, On, Off };
+using RepulsionMode = AutoSwitch;
 
 // Where the cloth rests at t = 0: vertical, vertex (i, j) at (j h, 0, -i h) (docs/design.md §7), or
 // horizontal, in the x-y plane at z = 0 centred on the z axis: (j h - w/2, h_r/2 - i h, 0) with w and
@@ -51,6 +55,9 @@ struct Scene {
   // Obstacles the cloth cannot enter and their contact settings (docs/design.md §14).
   std::vector<Obstacle> obstacles;
   ContactParams contact;
+  // Self-contact (docs/design.md §14): on, off, or auto (see self_contact_enabled), and its barrier.
+  AutoSwitch self_contact = AutoSwitch::Auto;
+  SelfContactParams self_contact_params;
 
   // Checks every field; throws Error("<field>: <problem>") for the first bad one (rows < 3,
   // size, dt, frames <= 0, speed <= 0, non-finite gravity, material.*, unknown handle preset or
@@ -81,12 +88,19 @@ Scene load_scene_text(const std::string& text, const std::string& name, Scene ba
 // Applies one "key = value" setting (a key of scene_keys.hpp, with its checks; paths taken as
 // given). Throws Error("<key>: ...").
 void apply_scene_setting(Scene& scene, const std::string& key, const std::string& value);
-// The one rule for self-repulsion: On and Off as given; Auto is on exactly for the handle presets
-// whose cloth folds onto itself, `corner-center` and `single-mid-edge` (and off for an explicit
-// handle-vertices list).
+// The one rule for self-contact: On and Off as given; Auto is on where the cloth can fold onto
+// itself: a released cloth (handles `none`, or let-go), a scene with obstacles, and the handle
+// presets whose cloth folds, `corner-center` and `single-mid-edge`. Off for the paper's hanging
+// benchmark (corner handles, no obstacles).
+bool self_contact_enabled(const Scene& scene);
+// The self-contact settings where self_contact_enabled, else none (what the objective takes).
+std::optional<SelfContactParams> self_contact_of(const Scene& scene);
+// The one rule for self-repulsion: On and Off as given; Auto is on for the folding presets
+// `corner-center` and `single-mid-edge` (not for an explicit handle-vertices list) where
+// self-contact is off: self-contact takes its place.
 bool repulsion_enabled(const Scene& scene);
 // "auto", "true" or "false".
-std::string repulsion_mode_name(RepulsionMode mode);
+std::string repulsion_mode_name(AutoSwitch mode);
 // Writes repulsion_enabled(scene) into scene.material.repulsion, which is what the objective
 // reads. apply_scene_setting (so scene files and flags) does this after every setting; code
 // that changes scene.repulsion, handles or handle_vertices directly calls it before a rollout.

@@ -235,6 +235,27 @@ void apply_repulsion(Scene& s, const std::string& key, const std::string& value)
 }
 void write_repulsion(const Scene& s, Values& out) { out.push_back(repulsion_mode_name(s.repulsion)); }
 
+// ---- self-contact ----
+
+void apply_self_contact(Scene& s, const std::string& key, const std::string& value) {
+  s.self_contact = repulsion_mode_value(key, value);
+}
+// Written where it is on or set: the hanging benchmark's scene text is as it was before self-contact.
+void write_self_contact(const Scene& s, Values& out) {
+  if (s.self_contact != AutoSwitch::Auto || self_contact_enabled(s)) out.push_back(repulsion_mode_name(s.self_contact));
+}
+
+template <double SelfContactParams::*Field>
+void apply_self_contact_value(Scene& s, const std::string& key, const std::string& value) {
+  s.self_contact_params.*Field = number_value(key, value);
+  s.self_contact_params.validate();
+}
+// The barrier's settings are written only where self-contact is on, which they are for.
+template <double SelfContactParams::*Field>
+void write_self_contact_value(const Scene& s, Values& out) {
+  if (self_contact_enabled(s)) out.push_back(exact(s.self_contact_params.*Field));
+}
+
 // ---- placement and release ----
 
 void apply_placement(Scene& s, const std::string& key, const std::string& value) {
@@ -348,6 +369,18 @@ const SceneKey kKeys[] = {
    kAll, 0, {apply_contact_value<&ContactParams::range_fraction>, write_contact_value<&ContactParams::range_fraction>}},
   {"contact-thickness", T::Number, "D", "m", "0.001", "the gap the barrier keeps from every obstacle", "0.002", "",
    kAll, 0, {apply_contact_value<&ContactParams::thickness>, write_contact_value<&ContactParams::thickness>}},
+  {"self-contact", T::Switch, "auto|true|false", "",
+   "auto: on for a released cloth, with obstacles and for corner-center and single-mid-edge",
+   "self-contact: barriers between the cloth's own triangles, edges and vertices, and CCD (docs/design.md §14)",
+   "true", "", kAll, 0, {apply_self_contact, write_self_contact, nullptr, self_contact_enabled}},
+  {"self-contact-stiffness", T::Number, "KAPPA", "N/m", "10", "self-contact barrier stiffness kappa", "20", "",
+   kAll, 0, {apply_self_contact_value<&SelfContactParams::stiffness>,
+             write_self_contact_value<&SelfContactParams::stiffness>}},
+  {"self-contact-range", T::Number, "DHAT", "m", "0.0015", "self-contact barrier range dhat", "0.002", "",
+   kAll, 0, {apply_self_contact_value<&SelfContactParams::range>, write_self_contact_value<&SelfContactParams::range>}},
+  {"self-contact-thickness", T::Number, "D", "m", "0.001", "the gap self-contact keeps between cloth layers",
+   "0.0005", "", kAll, 0, {apply_self_contact_value<&SelfContactParams::thickness>,
+                           write_self_contact_value<&SelfContactParams::thickness>}},
 };
 // clang-format on
 

@@ -26,7 +26,7 @@ Simulator::Simulator(const ResolvedScene& scene, InnerOptimizer& optimizer, cons
       optimizer_(&optimizer),
       options_(options),
       objective_(scene_.grid, scene_.scene.material, scene_.scene.dt, scene_.scene.gravity, scene_.scene.obstacles,
-                 scene_.scene.contact),
+                 scene_.scene.contact, self_contact_of(scene_.scene)),
       dirichlet_(scene_.grid.vertex_count(), scene_.handles.vertices),
       problem_(objective_, dirichlet_),
       x_(scene_.start_positions()),

@@ -34,7 +34,8 @@ StepErrorBench::StepErrorBench(const Scene& scene, const TrajectoryFrames& refer
             "the reference must hold a frame every time step (an fnopt rollout of the same scene)");
 
   objective_ = std::make_unique<BackwardEulerObjective>(grid_, setup.scene.material, scene.dt, setup.scene.gravity,
-                                                        setup.scene.obstacles, setup.scene.contact);
+                                                        setup.scene.obstacles, setup.scene.contact,
+                                                        self_contact_of(setup.scene));
   dirichlet_ = DirichletSet(grid_.vertex_count(), setup.handles.vertices);
   problem_ = std::make_unique<StepProblem>(*objective_, dirichlet_);
   const int handle_count = static_cast<int>(setup.handles.vertices.size());

@@ -33,6 +33,9 @@ RunRows run_one(const Scene& base, const std::string& preset, bool repulsion, co
   Scene scene = base;
   apply_scene_setting(scene, "handles", preset);
   apply_scene_setting(scene, "repulsion", repulsion ? "true" : "false");
+  // The study measures self-repulsion alone: self-contact, which takes its place on these presets
+  // by default, stays off.
+  apply_scene_setting(scene, "self-contact", "false");
   const auto optimizer = choice.make();
   RolloutOptions options;
   options.solve = choice.solve_options();

@@ -1,0 +1,152 @@
+// The self-contact term: no candidate on a flat cloth, the energy on its candidates equal to the
+// energy summed over every pair (so no pair is missed, whatever the state), its gradient and
+// Hessian against finite differences, and CCD that stops a sheet before it passes through the other.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include <fnopt/cloth/hessian_assembly.hpp>
+#include <fnopt/contact/self_contact_kernel.hpp>
+#include <fnopt/contact/self_contact_term.hpp>
+#include <fnopt/metrics/mesh_intersections.hpp>
+#include "tests/util/error_message.hpp"
+
+namespace fnopt {
+namespace {
+
+// An 8 x 8 grid folded in two along the row between 3 and 4: rows 4..7 lie over rows 3..0, `gap`
+// metres off in y, with the fold's edges bridging the gap.
+VecX folded(const Grid& grid, double gap) {
+  VecX x(grid.dof_count());
+  for (int i = 0; i < grid.rows; ++i)
+    for (int j = 0; j < grid.cols; ++j) {
+      const int mirrored = i < grid.rows / 2 ? i : grid.rows - 1 - i;
+      x.segment<3>(3 * grid.index(i, j)) = Vec3(j * grid.spacing, i < grid.rows / 2 ? 0.0 : gap, -mirrored * grid.spacing);
+    }
+  return x;
+}
+
+// The barrier summed over every pair of primitives that share no vertex, by brute force.
+double every_pair_energy(const Grid& grid, const SelfContactParams& params, const VecX& x) {
+  const auto triangles = grid.triangles();
+  std::vector<std::array<int, 2>> edges;
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = triangles(t, k), b = triangles(t, (k + 1) % 3);
+      edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  const VecX rest = grid.rest_positions();
+  auto local = [](const VecX& y, int a, int b, int c, int d) {
+    Vec12 s;
+    s << y.segment<3>(3 * a), y.segment<3>(3 * b), y.segment<3>(3 * c), y.segment<3>(3 * d);
+    return s;
+  };
+  const PointTriangleBarrier pt{params.stiffness, params.range, params.thickness};
+  double total = 0.0;
+  for (int v = 0; v < grid.vertex_count(); ++v)
+    for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+      const int a = triangles(t, 0), b = triangles(t, 1), c = triangles(t, 2);
+      if (v != a && v != b && v != c) total += pt.energy(local(x, v, a, b, c));
+    }
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    for (std::size_t f = e + 1; f < edges.size(); ++f) {
+      const auto &p = edges[e], &q = edges[f];
+      if (p[0] == q[0] || p[0] == q[1] || p[1] == q[0] || p[1] == q[1]) continue;
+      const EdgeEdgeBarrier ee{params.stiffness, params.range, params.thickness,
+                               edge_edge_mollifier_threshold(local(rest, p[0], p[1], q[0], q[1]))};
+      total += ee.energy(local(x, p[0], p[1], q[0], q[1]));
+    }
+  return total;
+}
+
+TEST(SelfContactTerm, AFlatClothHasNoCandidateAtAnyResolution) {
+  for (int n : {8, 32, 100, 200}) {
+    const Grid grid = Grid::make(n, n, 1.0);
+    const SelfContactTerm term(grid, {});
+    EXPECT_TRUE(term.candidates().empty()) << n;
+    EXPECT_EQ(term.energy(grid.rest_positions()), 0.0) << n;
+  }
+}
+
+TEST(SelfContactTerm, RefusesABarrierThatWouldActOnAFlatCloth) {
+  const Grid grid = Grid::make(200, 200, 1.0);
+  SelfContactParams params;
+  params.range = 0.004;
+  EXPECT_TRUE(testing::throws_error([&] { SelfContactTerm(grid, params); }, "self-contact-range: "));
+}
+
+// Whatever the state, the candidates give the energy of every pair: states far from the step's
+// prediction (a rebuild), near it (the same candidates) and in between.
+TEST(SelfContactTerm, TheEnergyOnTheCandidatesIsTheEnergyOfEveryPair) {
+  const Grid grid = Grid::make(8, 8, 0.1);
+  const SelfContactParams params;
+  SelfContactTerm term(grid, params);
+  std::mt19937 random(4);
+  std::normal_distribution<double> noise(0.0, 5e-5);
+  const VecX prediction = folded(grid, params.thickness + 0.5 * params.range);
+  term.begin_step(prediction);
+  for (double gap : {0.0025, 0.0019, 0.0016, 0.0014, 0.004}) {
+    VecX x = folded(grid, gap);
+    for (Eigen::Index k = 0; k < x.size(); ++k) x[k] += noise(random);
+    const double expected = every_pair_energy(grid, params, x);
+    EXPECT_NEAR(term.energy(x), expected, 1e-12 * std::max(1.0, expected)) << gap;
+  }
+  EXPECT_GT(term.rebuilds(), 1);
+}
+
+TEST(SelfContactTerm, GradientAndHessianMatchFiniteDifferences) {
+  const Grid grid = Grid::make(8, 8, 0.1);
+  const SelfContactParams params;
+  SelfContactTerm term(grid, params);
+  std::mt19937 random(9);
+  std::normal_distribution<double> noise(0.0, 1e-4);
+  VecX x = folded(grid, params.thickness + 0.6 * params.range);
+  for (Eigen::Index k = 0; k < x.size(); ++k) x[k] += noise(random);
+  term.begin_step(x);
+  ASSERT_GT(term.energy(x), 0.0);
+  VecX gradient = VecX::Zero(x.size());
+  term.accumulate_gradient(x, gradient);
+  const VecX direction = VecX::NullaryExpr(x.size(), [&] { return noise(random); }).normalized();
+  const double h = 1e-8;
+  const double difference = (term.energy(x + h * direction) - term.energy(x - h * direction)) / (2 * h);
+  EXPECT_NEAR(gradient.dot(direction), difference, 1e-5 * std::abs(difference));
+
+  std::vector<int> free_index(grid.vertex_count());
+  for (int v = 0; v < grid.vertex_count(); ++v) free_index[v] = v;
+  term.cover(x);
+  HessianAssembly assembly(free_index);
+  const int handle = term.register_hessian(assembly);
+  assembly.finalize();
+  assembly.set_zero();
+  term.accumulate_hessian(x, false, assembly, handle);
+  VecX plus = VecX::Zero(x.size()), minus = VecX::Zero(x.size());
+  term.accumulate_gradient(x + h * direction, plus);
+  term.accumulate_gradient(x - h * direction, minus);
+  const VecX hessian_product = assembly.matrix() * direction;
+  const VecX difference_product = (plus - minus) / (2 * h);
+  EXPECT_LT((hessian_product - difference_product).norm(), 1e-4 * difference_product.norm());
+}
+
+// Moving the upper sheet straight through the lower one: CCD stops it before the thickness, and
+// the path up to that point has no crossing.
+TEST(SelfContactTerm, CcdStopsASheetBeforeItPassesThroughTheOther) {
+  const Grid grid = Grid::make(8, 8, 0.1);
+  const SelfContactParams params;
+  const SelfContactTerm term(grid, params);
+  const VecX from = folded(grid, 0.01), to = folded(grid, -0.01);
+  const double s = term.safe_fraction(from, to);
+  EXPECT_GT(s, 0.0);
+  EXPECT_LT(s, 0.5);  // the sheets meet at s = 0.5
+  const VecX stop = from + s * (to - from);
+  SelfContactTerm::Pair pair;
+  EXPECT_GE(term.closest_pair(stop, pair), params.thickness);
+  EXPECT_EQ(count_self_intersections(stop.cast<float>(), grid.rows, grid.cols), 0);
+  // A move that keeps the sheets apart is safe all the way.
+  EXPECT_EQ(term.safe_fraction(from, folded(grid, 0.02)), 1.0);
+}
+
+}  // namespace
+}  // namespace fnopt
