@@ -13,25 +13,28 @@
 namespace fnopt {
 namespace {
 
-// The ball of a primitive's vertices: the largest radius among them.
+// The box holding every vertex box of a primitive.
 template <std::size_t N>
-double largest_radius(const VecX& radius, const std::array<int, N>& vertices) {
+Box union_box(const std::vector<Box>& boxes, const std::array<int, N>& vertices) {
+  Box box;
+  for (int v : vertices) box.add(boxes[v]);
+  return box;
+}
+
+// The largest half-diagonal among a primitive's vertex boxes: how far a vertex inside its box can
+// be from the box's centre.
+template <std::size_t N>
+double largest_radius(const std::vector<Box>& boxes, const std::array<int, N>& vertices) {
   double r = 0.0;
-  for (int v : vertices) r = std::max(r, radius[v]);
+  for (int v : vertices) r = std::max(r, 0.5 * (boxes[v].upper - boxes[v].lower).norm());
   return r;
 }
 
-template <std::size_t N>
-Box ball_box(const VecX& centre, const VecX& radius, const std::array<int, N>& vertices, double grow) {
-  Box box;
-  for (int v : vertices) {
-    Box ball;
-    ball.add(Vec3(centre.segment<3>(3 * v)));
-    ball.grow(radius[v]);
-    box.add(ball);
-  }
-  box.grow(grow);
-  return box;
+// The boxes' centres, 3 per vertex.
+VecX box_centres(const std::vector<Box>& boxes) {
+  VecX c(3 * boxes.size());
+  for (std::size_t v = 0; v < boxes.size(); ++v) c.segment<3>(3 * v) = 0.5 * (boxes[v].lower + boxes[v].upper);
+  return c;
 }
 
 bool shares_vertex(const std::array<int, 2>& e, const std::array<int, 2>& f) {
@@ -76,11 +79,9 @@ SelfContactTerm::SelfContactTerm(const Grid& grid, const SelfContactParams& para
   begin_step(rest_);
 }
 
-bool SelfContactTerm::inside(const Regions& regions, const VecX& x) {
-  for (Eigen::Index v = 0; v < regions.radius.size(); ++v)
-    if (!((x.segment<3>(3 * v) - regions.centre.segment<3>(3 * v)).squaredNorm() <=
-          regions.radius[v] * regions.radius[v]))
-      return false;
+bool SelfContactTerm::inside(const std::vector<Box>& boxes, const VecX& x) {
+  for (std::size_t v = 0; v < boxes.size(); ++v)
+    if (!boxes[v].contains(x.segment<3>(3 * v))) return false;
   return true;
 }
 
@@ -89,43 +90,56 @@ Vec12 SelfContactTerm::gather(const VecX& x, const Pair& pair) const {
   return stencil(x, v[0], v[1], v[2], v[3]);
 }
 
-void SelfContactTerm::find_candidates(const Regions& regions, std::vector<Pair>& out) const {
+void SelfContactTerm::find_candidates(const std::vector<Box>& boxes, bool exact, std::vector<Pair>& out) const {
   const double reach = params_.thickness + params_.range;
-  const VecX& c = regions.centre;
-  const VecX& r = regions.radius;
-  const double cell = grid_.spacing;
+  const double grow = 0.5 * (exact ? reach : params_.thickness);
+  const VecX centre = exact ? box_centres(boxes) : VecX();
   out.clear();
-  // Point-triangle: a box hash of the triangles' balls, then the exact test at the centres.
+  // Point-triangle: a box hash of the triangles, each vertex's query sorted on its own (the vertex
+  // loop orders the rest), then the exact test at the centres.
   triangle_boxes_.resize(triangles_.size());
-  for (std::size_t t = 0; t < triangles_.size(); ++t) triangle_boxes_[t] = ball_box(c, r, triangles_[t], reach);
-  triangle_hash_.build(triangle_boxes_, cell);
+  for (std::size_t t = 0; t < triangles_.size(); ++t) {
+    triangle_boxes_[t] = union_box(boxes, triangles_[t]);
+    triangle_boxes_[t].grow(grow);
+  }
+  triangle_hash_.build(triangle_boxes_, grid_.spacing);
   for (int v = 0; v < grid_.vertex_count(); ++v) {
-    const std::array<int, 1> point = {v};
-    triangle_hash_.for_each_overlap(ball_box(c, r, point, 0.0), [&](int t) {
+    Box query = boxes[v];
+    query.grow(grow);
+    const std::size_t first = out.size();
+    triangle_hash_.for_each_overlap(query, [&](int t) {
       const auto& tri = triangles_[t];
       if (tri[0] == v || tri[1] == v || tri[2] == v) return;
-      const double d = point_triangle_distance(stencil(c, v, tri[0], tri[1], tri[2]));
-      if (d < reach + r[v] + largest_radius(r, tri)) out.push_back({Kind::PointTriangle, {v, tri[0], tri[1], tri[2]}});
+      if (exact && point_triangle_distance(stencil(centre, v, tri[0], tri[1], tri[2])) >=
+                       reach + largest_radius(boxes, std::array<int, 1>{v}) + largest_radius(boxes, tri))
+        return;
+      out.push_back({Kind::PointTriangle, {v, tri[0], tri[1], tri[2]}});
     });
+    std::sort(out.begin() + first, out.end());
   }
-  // Edge-edge likewise, each pair once (the second edge after the first).
+  // Edge-edge likewise, each pair once (the second edge after the first, edges_ being sorted).
   edge_boxes_.resize(edges_.size());
-  for (std::size_t e = 0; e < edges_.size(); ++e) edge_boxes_[e] = ball_box(c, r, edges_[e], reach);
-  edge_hash_.build(edge_boxes_, cell);
-  for (int e = 0; e < static_cast<int>(edges_.size()); ++e)
-    edge_hash_.for_each_overlap(ball_box(c, r, edges_[e], 0.0), [&](int f) {
+  for (std::size_t e = 0; e < edges_.size(); ++e) {
+    edge_boxes_[e] = union_box(boxes, edges_[e]);
+    edge_boxes_[e].grow(grow);
+  }
+  edge_hash_.build(edge_boxes_, grid_.spacing);
+  for (int e = 0; e < static_cast<int>(edges_.size()); ++e) {
+    const std::size_t first = out.size();
+    edge_hash_.for_each_overlap(edge_boxes_[e], [&](int f) {
       const auto &a = edges_[e], &b = edges_[f];
       if (f <= e || shares_vertex(a, b)) return;
-      const double d = edge_edge_distance(stencil(c, a[0], a[1], b[0], b[1]));
-      if (d < reach + largest_radius(r, a) + largest_radius(r, b)) out.push_back({Kind::EdgeEdge, {a[0], a[1], b[0], b[1]}});
+      if (exact && edge_edge_distance(stencil(centre, a[0], a[1], b[0], b[1])) >=
+                       reach + largest_radius(boxes, a) + largest_radius(boxes, b))
+        return;
+      out.push_back({Kind::EdgeEdge, {a[0], a[1], b[0], b[1]}});
     });
-  std::sort(out.begin(), out.end());
+    std::sort(out.begin() + first, out.end());
+  }
 }
 
-void SelfContactTerm::rebuild(const VecX& x) const {
-  regions_.centre = x;
-  regions_.radius.setConstant(grid_.vertex_count(), slack_);
-  find_candidates(regions_, candidates_);
+void SelfContactTerm::rebuild() const {
+  find_candidates(regions_, true, candidates_);
   ++rebuilds_;
   // Keep the pattern while it holds every candidate.
   candidate_slot_.resize(candidates_.size());
@@ -143,10 +157,28 @@ void SelfContactTerm::rebuild(const VecX& x) const {
   for (std::size_t c = 0; c < candidates_.size(); ++c) candidate_slot_[c] = static_cast<int>(c);
 }
 
-void SelfContactTerm::begin_step(const VecX& x_predicted) { rebuild(x_predicted); }
+void SelfContactTerm::begin_step(const VecX& x_predicted) {
+  regions_.resize(grid_.vertex_count());
+  for (int v = 0; v < grid_.vertex_count(); ++v) {
+    regions_[v] = Box{};
+    regions_[v].add(Vec3(x_predicted.segment<3>(3 * v)));
+    regions_[v].grow(slack_);
+  }
+  rebuild();
+}
 
 void SelfContactTerm::cover(const VecX& x) const {
-  if (!inside(regions_, x)) rebuild(x);
+  bool grew = false;
+  for (int v = 0; v < grid_.vertex_count(); ++v) {
+    const Vec3 p = x.segment<3>(3 * v);
+    if (regions_[v].contains(p)) continue;
+    Box held;
+    held.add(p);
+    held.grow(slack_);
+    regions_[v].add(held);
+    grew = true;
+  }
+  if (grew) rebuild();
 }
 
 double SelfContactTerm::pair_barrier(const Pair& pair, const Vec12& local, Vec12* gradient, Mat12* hessian,
@@ -210,12 +242,14 @@ double SelfContactTerm::pair_safe_fraction(const Pair& pair, const VecX& x_from,
 double SelfContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to) const {
   const std::vector<Pair>* pairs = &candidates_;
   if (!inside(regions_, x_from) || !inside(regions_, x_to)) {
-    // Balls around the move's midpoint that hold both ends.
-    move_regions_.centre = 0.5 * (x_from + x_to);
-    move_regions_.radius.resize(grid_.vertex_count());
-    for (int v = 0; v < grid_.vertex_count(); ++v)
-      move_regions_.radius[v] = 0.5 * (x_to.segment<3>(3 * v) - x_from.segment<3>(3 * v)).norm();
-    find_candidates(move_regions_, move_candidates_);
+    // The pairs whose swept boxes come within the thickness (box_hash.hpp).
+    move_boxes_.resize(grid_.vertex_count());
+    for (int v = 0; v < grid_.vertex_count(); ++v) {
+      move_boxes_[v] = Box{};
+      move_boxes_[v].add(Vec3(x_from.segment<3>(3 * v)));
+      move_boxes_[v].add(Vec3(x_to.segment<3>(3 * v)));
+    }
+    find_candidates(move_boxes_, false, move_candidates_);
     pairs = &move_candidates_;
   }
   double fraction = 1.0;
@@ -224,9 +258,10 @@ double SelfContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to) cons
 }
 
 double SelfContactTerm::closest_pair(const VecX& x, Pair& pair) const {
-  const Regions at_x{x, VecX::Zero(grid_.vertex_count())};
+  std::vector<Box> at_x(grid_.vertex_count());
+  for (int v = 0; v < grid_.vertex_count(); ++v) at_x[v].add(Vec3(x.segment<3>(3 * v)));
   std::vector<Pair> near;
-  find_candidates(at_x, near);
+  find_candidates(at_x, true, near);
   double closest = params_.thickness + params_.range;
   for (const Pair& p : near) {
     const Vec12 local = gather(x, p);

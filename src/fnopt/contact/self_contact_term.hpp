@@ -9,20 +9,23 @@
 // closest such primitives are a vertex and the far triangle of its own quad, h/sqrt(2) apart, so
 // thickness + dhat must stay below that (SelfContactParams::validate_for).
 //
-// Candidates (the Verlet-list idea). Each vertex has a region: a ball around its position at the
-// last rebuild, of radius s (the slack). Primitives move by at most the largest displacement of
-// their vertices, so two primitives whose distance at the rebuild is at least
-// thickness + dhat + (the largest radius of the first's vertices) + (the second's) stay farther
-// apart than thickness + dhat for as long as every vertex stays in its ball; the other pairs are the
-// candidates (a box hash of the balls first, box_hash.hpp, then that exact test). The energy on
-// the candidates is then the exact energy of every pair. A state with a vertex outside its ball
-// rebuilds the candidates around it (rebuilds() counts them), so the energy is one exact function
-// of x for the whole step and no pair is ever missed. CCD from x_from to x_to uses the candidates
-// when both ends lie in the balls (the straight path between them does too); otherwise a one-off
-// set around the move (balls holding both ends), which leaves the energy's candidates as they are.
-// begin_step rebuilds around the inertial prediction x^ = x_t + dt v_t. The slack is a quarter of
-// what separates the closest non-adjacent rest primitives from the barrier's reach,
-// s = (h/sqrt(2) - thickness - dhat)/4, so a flat cloth has no candidate.
+// Candidates (the Verlet-list idea). Each vertex has a region: the box of the positions the step
+// has evaluated it at, grown by a slack s. Primitives move by at most the largest displacement of
+// their vertices, so two primitives whose distance between their vertices' region centres is at least
+// thickness + dhat + (the largest half-diagonal of the first's regions) + (the second's) stay farther
+// apart than thickness + dhat for as long as every vertex stays in its region; the other pairs are
+// the candidates (a box hash of the regions first, box_hash.hpp, then that exact test). The energy
+// on the candidates is then the exact energy of every pair. A state with a vertex outside its
+// region grows that region to hold it and rebuilds the candidates (rebuilds() counts them); regions
+// only grow within a step, so line-search trials back and forth do not rebuild again. The energy is
+// one exact function of x for the whole step and no pair is ever missed. CCD from x_from to x_to
+// uses the candidates when both ends lie in the regions (the straight path between them does too);
+// otherwise a one-off set, the pairs whose swept boxes come within the thickness, which leaves the
+// energy's candidates as they are. begin_step starts the regions at the inertial prediction
+// x^ = x_t + dt v_t. The slack is a quarter of what separates the closest non-adjacent rest
+// primitives from the barrier's reach, s = (h/sqrt(2) - thickness - dhat)/4: a region's
+// half-diagonal is then sqrt(3) s, and two of them stay below that separation, so a flat cloth has
+// no candidate.
 // The Hessian pattern holds the candidates; it changes (pattern_generation()) only when a rebuild
 // finds a pair it lacks.
 #include <array>
@@ -77,19 +80,15 @@ class SelfContactTerm final : public EnergyTerm {
   double slack() const { return slack_; }
 
  private:
-  // Balls of the vertices: centres and radii.
-  struct Regions {
-    VecX centre;
-    VecX radius;
-  };
-
-  // Whether every vertex of x lies in its ball.
-  static bool inside(const Regions& regions, const VecX& x);
-  // The candidate pairs of `regions` into `out`, sorted.
-  void find_candidates(const Regions& regions, std::vector<Pair>& out) const;
-  // Rebuilds the energy's candidates around x, and their slots in the pattern (a new pattern where
-  // one is missing from it).
-  void rebuild(const VecX& x) const;
+  // Whether every vertex of x lies in its box.
+  static bool inside(const std::vector<Box>& boxes, const VecX& x);
+  // The pairs of primitives whose vertex boxes may bring them within reach: with `exact`, the
+  // energy's candidates (within thickness + dhat, tested at the boxes' centres); without, the
+  // pairs whose boxes come within the thickness (a move's CCD). Into `out`, sorted.
+  void find_candidates(const std::vector<Box>& boxes, bool exact, std::vector<Pair>& out) const;
+  // Rebuilds the energy's candidates for the regions, and their slots in the pattern (a new pattern
+  // where one is missing from it).
+  void rebuild() const;
   Vec12 gather(const VecX& x, const Pair& pair) const;
   // The barrier of one pair and, where asked, its gradient and Hessian (projected to PSD with
   // `project`); 0 (nothing written) outside the range, +inf within the thickness.
@@ -105,7 +104,7 @@ class SelfContactTerm final : public EnergyTerm {
   std::vector<std::array<int, 2>> edges_;
   VecX rest_;  // the rest pose, for the edge-edge mollifier's threshold
 
-  mutable Regions regions_;                  // the energy's
+  mutable std::vector<Box> regions_;         // per vertex, the energy's
   mutable std::vector<Pair> candidates_;     // sorted
   mutable std::vector<int> candidate_slot_;  // index of each candidate in pattern_
   mutable std::vector<Pair> pattern_;        // sorted
@@ -113,7 +112,7 @@ class SelfContactTerm final : public EnergyTerm {
   mutable long generation_ = 0;
   mutable long rebuilds_ = 0;
   // find_candidates' and CCD's scratch
-  mutable Regions move_regions_;
+  mutable std::vector<Box> move_boxes_;
   mutable std::vector<Pair> move_candidates_;
   mutable std::vector<Box> triangle_boxes_, edge_boxes_;
   mutable BoxHash triangle_hash_, edge_hash_;
