@@ -45,11 +45,16 @@ class BoxHash {
   // Calls visit(k) once for every built box k that overlaps `query`.
   template <class Visit>
   void for_each_overlap(const Box& query, Visit&& visit) const {
+    for_each_overlap(query, [](int) { return false; }, visit);
+  }
+  // The same, skipping the boxes k for which skip(k) (a test cheaper than the overlap's, made first).
+  template <class Skip, class Visit>
+  void for_each_overlap(const Box& query, Skip&& skip, Visit&& visit) const {
     ++query_;
     auto consider = [&](int k) {
       if (stamp_[k] == query_) return;
       stamp_[k] = query_;
-      if ((*boxes_)[k].overlaps(query)) visit(k);
+      if (!skip(k) && (*boxes_)[k].overlaps(query)) visit(k);
     };
     for (int k : oversized_) consider(k);
     CellRange range;

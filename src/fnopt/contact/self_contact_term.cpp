@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 #include <fnopt/contact/additive_ccd.hpp>
@@ -13,33 +14,14 @@
 namespace fnopt {
 namespace {
 
-// The box holding every vertex box of a primitive.
+// The box of a primitive's vertices at x.
 template <std::size_t N>
-Box union_box(const std::vector<Box>& boxes, const std::array<int, N>& vertices) {
+Box primitive_box(const VecX& x, const std::array<int, N>& vertices) {
   Box box;
-  for (int v : vertices) box.add(boxes[v]);
+  for (int v : vertices) box.add(Vec3(x.segment<3>(3 * v)));
   return box;
 }
 
-// The largest half-diagonal among a primitive's vertex boxes: how far a vertex inside its box can
-// be from the box's centre.
-template <std::size_t N>
-double largest_radius(const std::vector<Box>& boxes, const std::array<int, N>& vertices) {
-  double r = 0.0;
-  for (int v : vertices) r = std::max(r, 0.5 * (boxes[v].upper - boxes[v].lower).norm());
-  return r;
-}
-
-// The boxes' centres, 3 per vertex.
-VecX box_centres(const std::vector<Box>& boxes) {
-  VecX c(3 * boxes.size());
-  for (std::size_t v = 0; v < boxes.size(); ++v) c.segment<3>(3 * v) = 0.5 * (boxes[v].lower + boxes[v].upper);
-  return c;
-}
-
-bool shares_vertex(const std::array<int, 2>& e, const std::array<int, 2>& f) {
-  return e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1];
-}
 
 // The four vertices' coordinates of x as one stencil vector.
 Vec12 stencil(const VecX& x, int a, int b, int c, int d) {
@@ -62,8 +44,11 @@ SelfContactTerm::SelfContactTerm(const Grid& grid, const SelfContactParams& para
     : grid_(grid),
       params_(params),
       rest_(grid.rest_positions()),
-      slack_(0.25 * (grid.spacing / std::sqrt(2.0) - params.thickness - params.range)) {
+      row_(grid.vertex_count()),
+      col_(grid.vertex_count()),
+      slack_(0.3 * (2.0 * grid.spacing - params.thickness - params.range)) {
   params.validate_for(grid);
+  for (int v = 0; v < grid.vertex_count(); ++v) row_[v] = v / grid.cols, col_[v] = v % grid.cols;
   const auto triangles = grid.triangles();
   std::vector<std::array<int, 2>> edges;
   for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
@@ -79,67 +64,100 @@ SelfContactTerm::SelfContactTerm(const Grid& grid, const SelfContactParams& para
   begin_step(rest_);
 }
 
-bool SelfContactTerm::inside(const std::vector<Box>& boxes, const VecX& x) {
-  for (std::size_t v = 0; v < boxes.size(); ++v)
-    if (!boxes[v].contains(x.segment<3>(3 * v))) return false;
+bool SelfContactTerm::inside(const VecX& x) const {
+  const double r2 = slack_ * slack_;
+  for (int v = 0; v < grid_.vertex_count(); ++v)
+    if (!((x.segment<3>(3 * v) - centre_.segment<3>(3 * v)).squaredNorm() <= r2)) return false;
   return true;
 }
+
 
 Vec12 SelfContactTerm::gather(const VecX& x, const Pair& pair) const {
   const auto& v = pair.vertices;
   return stencil(x, v[0], v[1], v[2], v[3]);
 }
 
-void SelfContactTerm::find_candidates(const std::vector<Box>& boxes, bool exact, std::vector<Pair>& out) const {
-  const double reach = params_.thickness + params_.range;
-  const double grow = 0.5 * (exact ? reach : params_.thickness);
-  const VecX centre = exact ? box_centres(boxes) : VecX();
+template <class Accept>
+void SelfContactTerm::collect_pairs(const VecX& x, const VecX& y, double grow, Accept&& accept,
+                                    std::vector<Pair>& out) const {
+  // Point-triangle: a box hash of the triangles (each the box of its vertices in x and in y, grown),
+  // each vertex's query sorted on its own (the vertex loop orders the rest).
   out.clear();
-  // Point-triangle: a box hash of the triangles, each vertex's query sorted on its own (the vertex
-  // loop orders the rest), then the exact test at the centres.
   triangle_boxes_.resize(triangles_.size());
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
-    triangle_boxes_[t] = union_box(boxes, triangles_[t]);
+    triangle_boxes_[t] = primitive_box(x, triangles_[t]);
+    triangle_boxes_[t].add(primitive_box(y, triangles_[t]));
     triangle_boxes_[t].grow(grow);
   }
   triangle_hash_.build(triangle_boxes_, grid_.spacing);
   for (int v = 0; v < grid_.vertex_count(); ++v) {
-    Box query = boxes[v];
+    const std::array<int, 1> point = {v};
+    Box query = primitive_box(x, point);
+    query.add(primitive_box(y, point));
     query.grow(grow);
     const std::size_t first = out.size();
-    triangle_hash_.for_each_overlap(query, [&](int t) {
+    const auto skip = [&](int t) {
       const auto& tri = triangles_[t];
-      if (tri[0] == v || tri[1] == v || tri[2] == v) return;
-      if (exact && point_triangle_distance(stencil(centre, v, tri[0], tri[1], tri[2])) >=
-                       reach + largest_radius(boxes, std::array<int, 1>{v}) + largest_radius(boxes, tri))
-        return;
-      out.push_back({Kind::PointTriangle, {v, tri[0], tri[1], tri[2]}});
+      return neighbours(v, tri[0]) || neighbours(v, tri[1]) || neighbours(v, tri[2]);
+    };
+    triangle_hash_.for_each_overlap(query, skip, [&](int t) {
+      const auto& tri = triangles_[t];
+      const Pair pair{Kind::PointTriangle, {v, tri[0], tri[1], tri[2]}};
+      if (accept(pair)) out.push_back(pair);
     });
     std::sort(out.begin() + first, out.end());
   }
   // Edge-edge likewise, each pair once (the second edge after the first, edges_ being sorted).
   edge_boxes_.resize(edges_.size());
   for (std::size_t e = 0; e < edges_.size(); ++e) {
-    edge_boxes_[e] = union_box(boxes, edges_[e]);
+    edge_boxes_[e] = primitive_box(x, edges_[e]);
+    edge_boxes_[e].add(primitive_box(y, edges_[e]));
     edge_boxes_[e].grow(grow);
   }
   edge_hash_.build(edge_boxes_, grid_.spacing);
   for (int e = 0; e < static_cast<int>(edges_.size()); ++e) {
     const std::size_t first = out.size();
-    edge_hash_.for_each_overlap(edge_boxes_[e], [&](int f) {
+    const auto skip = [&](int f) {
       const auto &a = edges_[e], &b = edges_[f];
-      if (f <= e || shares_vertex(a, b)) return;
-      if (exact && edge_edge_distance(stencil(centre, a[0], a[1], b[0], b[1])) >=
-                       reach + largest_radius(boxes, a) + largest_radius(boxes, b))
-        return;
-      out.push_back({Kind::EdgeEdge, {a[0], a[1], b[0], b[1]}});
+      return f <= e || neighbours(a[0], b[0]) || neighbours(a[0], b[1]) || neighbours(a[1], b[0]) ||
+             neighbours(a[1], b[1]);
+    };
+    edge_hash_.for_each_overlap(edge_boxes_[e], skip, [&](int f) {
+      const auto &a = edges_[e], &b = edges_[f];
+      const Pair pair{Kind::EdgeEdge, {a[0], a[1], b[0], b[1]}};
+      if (accept(pair)) out.push_back(pair);
     });
     std::sort(out.begin() + first, out.end());
   }
 }
 
-void SelfContactTerm::rebuild() const {
-  find_candidates(regions_, true, candidates_);
+void SelfContactTerm::find_near_pairs(const VecX& centre, double radius, std::vector<Pair>& out) const {
+  const double within = params_.thickness + params_.range + 2.0 * radius;
+  collect_pairs(centre, centre, 0.5 * within, [&](const Pair& pair) { return pair_distance(centre, pair) < within; },
+                out);
+}
+
+void SelfContactTerm::find_swept_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const {
+  // Distances do not change under a common translation: in the frame that moves with the mean
+  // displacement, a cloth falling as a whole sweeps no volume, and only the pairs whose motion
+  // relative to it brings them within the thickness are tried.
+  const Eigen::Index n = grid_.vertex_count();
+  Vec3 mean = Vec3::Zero();
+  for (Eigen::Index v = 0; v < n; ++v) mean += x_to.segment<3>(3 * v) - x_from.segment<3>(3 * v);
+  mean /= static_cast<double>(n);
+  moved_ = x_to;
+  for (Eigen::Index v = 0; v < n; ++v) moved_.segment<3>(3 * v) -= mean;
+  collect_pairs(x_from, moved_, 0.5 * params_.thickness, [](const Pair&) { return true; }, out);
+}
+
+double SelfContactTerm::pair_distance(const VecX& x, const Pair& pair) const {
+  const Vec12 local = gather(x, pair);
+  return pair.kind == Kind::PointTriangle ? point_triangle_distance(local) : edge_edge_distance(local);
+}
+
+void SelfContactTerm::rebuild(const VecX& x) const {
+  centre_ = x;
+  find_near_pairs(centre_, slack_, candidates_);
   ++rebuilds_;
   // Keep the pattern while it holds every candidate.
   candidate_slot_.resize(candidates_.size());
@@ -152,33 +170,22 @@ void SelfContactTerm::rebuild() const {
   if (fits) return;
   pattern_ = candidates_;
   pattern_vertices_.clear();
-  for (const Pair& pair : pattern_) pattern_vertices_.insert(pattern_vertices_.end(), pair.vertices.begin(), pair.vertices.end());
+  for (const Pair& pair : pattern_)
+    pattern_vertices_.insert(pattern_vertices_.end(), pair.vertices.begin(), pair.vertices.end());
   ++generation_;
   for (std::size_t c = 0; c < candidates_.size(); ++c) candidate_slot_[c] = static_cast<int>(c);
 }
 
-void SelfContactTerm::begin_step(const VecX& x_predicted) {
-  regions_.resize(grid_.vertex_count());
-  for (int v = 0; v < grid_.vertex_count(); ++v) {
-    regions_[v] = Box{};
-    regions_[v].add(Vec3(x_predicted.segment<3>(3 * v)));
-    regions_[v].grow(slack_);
-  }
-  rebuild();
-}
+void SelfContactTerm::begin_step(const VecX& x_predicted) { rebuild(x_predicted); }
 
 void SelfContactTerm::cover(const VecX& x) const {
-  bool grew = false;
-  for (int v = 0; v < grid_.vertex_count(); ++v) {
-    const Vec3 p = x.segment<3>(3 * v);
-    if (regions_[v].contains(p)) continue;
-    Box held;
-    held.add(p);
-    held.grow(slack_);
-    regions_[v].add(held);
-    grew = true;
-  }
-  if (grew) rebuild();
+  if (!inside(x)) rebuild(x);
+}
+
+const std::vector<SelfContactTerm::Pair>& SelfContactTerm::pairs_at(const VecX& x) const {
+  if (inside(x)) return candidates_;
+  find_near_pairs(x, 0.0, evaluation_pairs_);
+  return evaluation_pairs_;
 }
 
 double SelfContactTerm::pair_barrier(const Pair& pair, const Vec12& local, Vec12* gradient, Mat12* hessian,
@@ -197,17 +204,15 @@ double SelfContactTerm::pair_barrier(const Pair& pair, const Vec12& local, Vec12
 }
 
 double SelfContactTerm::energy(const VecX& x) const {
-  cover(x);
   double total = 0.0;
-  for (const Pair& pair : candidates_) total += pair_barrier(pair, gather(x, pair), nullptr, nullptr, false);
+  for (const Pair& pair : pairs_at(x)) total += pair_barrier(pair, gather(x, pair), nullptr, nullptr, false);
   return total;
 }
 
 double SelfContactTerm::accumulate_gradient(const VecX& x, VecX& grad) const {
-  cover(x);
   double total = 0.0;
   Vec12 g;
-  for (const Pair& pair : candidates_) {
+  for (const Pair& pair : pairs_at(x)) {
     g.setZero();
     total += pair_barrier(pair, gather(x, pair), &g, nullptr, false);
     for (int k = 0; k < 4; ++k) grad.segment<3>(3 * pair.vertices[k]) += g.segment<3>(3 * k);
@@ -220,7 +225,7 @@ int SelfContactTerm::register_hessian(HessianAssembly& assembly) const {
 }
 
 void SelfContactTerm::accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly, int handle) const {
-  require(inside(regions_, x), "self-contact", "the Hessian's state was not covered first (cover)");
+  require(inside(x), "self-contact", "the Hessian's state was not covered first (cover)");
   Mat12 H;
   for (std::size_t c = 0; c < candidates_.size(); ++c) {
     H.setZero();
@@ -241,15 +246,8 @@ double SelfContactTerm::pair_safe_fraction(const Pair& pair, const VecX& x_from,
 
 double SelfContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to) const {
   const std::vector<Pair>* pairs = &candidates_;
-  if (!inside(regions_, x_from) || !inside(regions_, x_to)) {
-    // The pairs whose swept boxes come within the thickness (box_hash.hpp).
-    move_boxes_.resize(grid_.vertex_count());
-    for (int v = 0; v < grid_.vertex_count(); ++v) {
-      move_boxes_[v] = Box{};
-      move_boxes_[v].add(Vec3(x_from.segment<3>(3 * v)));
-      move_boxes_[v].add(Vec3(x_to.segment<3>(3 * v)));
-    }
-    find_candidates(move_boxes_, false, move_candidates_);
+  if (!inside(x_from) || !inside(x_to)) {
+    find_swept_pairs(x_from, x_to, move_candidates_);
     pairs = &move_candidates_;
   }
   double fraction = 1.0;
@@ -258,14 +256,11 @@ double SelfContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to) cons
 }
 
 double SelfContactTerm::closest_pair(const VecX& x, Pair& pair) const {
-  std::vector<Box> at_x(grid_.vertex_count());
-  for (int v = 0; v < grid_.vertex_count(); ++v) at_x[v].add(Vec3(x.segment<3>(3 * v)));
   std::vector<Pair> near;
-  find_candidates(at_x, true, near);
+  find_near_pairs(x, 0.0, near);
   double closest = params_.thickness + params_.range;
   for (const Pair& p : near) {
-    const Vec12 local = gather(x, p);
-    const double d = p.kind == Kind::PointTriangle ? point_triangle_distance(local) : edge_edge_distance(local);
+    const double d = pair_distance(x, p);
     if (d < closest) closest = d, pair = p;
   }
   return closest;

@@ -1,34 +1,35 @@
 #pragma once
-// Self-contact of the cloth (docs/design.md §14): C-IPC's barrier (Li et al. 2021) between every
-// pair of cloth primitives that share no vertex, on their distance minus a thickness:
-//   point-triangle pairs (a vertex and a triangle it is not a corner of) and
-//   edge-edge pairs (two edges with no common end), the latter mollified where nearly parallel,
-// with the barrier of the obstacles (contact_term.hpp) on the gap g = d - thickness:
+// Self-contact of the cloth (docs/design.md §14): C-IPC's barrier (Li et al. 2021) between pairs
+// of the cloth's primitives,
+//   point-triangle pairs (a vertex and a triangle) and edge-edge pairs (two edges),
+// the latter mollified where nearly parallel, with the barrier of the obstacles (contact_term.hpp)
+// on the gap g = d - thickness:
 //   b(g) = -kappa (g - dhat)^2 log(g / dhat)   (0 < g < dhat),   0 (g >= dhat),   +inf (g <= 0).
-// Neighbours are excluded by index: a pair is a pair unless a vertex index is shared. At rest the
-// closest such primitives are a vertex and the far triangle of its own quad, h/sqrt(2) apart, so
-// thickness + dhat must stay below that (SelfContactParams::validate_for).
+// Neighbours are excluded by index: a pair is a pair unless a vertex of one is within one grid step
+// of a vertex of the other, |i - k| <= 1 and |j - l| <= 1 (as self-repulsion's, repulsion_term.hpp).
+// That leaves out the pairs within one cell of each other, whose contact needs a crease sharper than
+// the grid resolves (bending keeps them apart), and with them the pairs a flat cloth holds at h/sqrt(2):
+// the closest pairs of a flat cloth are 2h apart, so the barrier never acts on it and the candidates'
+// slack can be large. thickness + dhat must stay below h/2 (SelfContactParams::validate_for).
 //
-// Candidates (the Verlet-list idea). Each vertex has a region: the box of the positions the step
-// has evaluated it at, grown by a slack s. Primitives move by at most the largest displacement of
-// their vertices, so two primitives whose distance between their vertices' region centres is at least
-// thickness + dhat + (the largest half-diagonal of the first's regions) + (the second's) stay farther
-// apart than thickness + dhat for as long as every vertex stays in its region; the other pairs are
-// the candidates (a box hash of the regions first, box_hash.hpp, then that exact test). The energy
-// on the candidates is then the exact energy of every pair. A state with a vertex outside its
-// region grows that region to hold it and rebuilds the candidates (rebuilds() counts them); regions
-// only grow within a step, so line-search trials back and forth do not rebuild again. The energy is
-// one exact function of x for the whole step and no pair is ever missed. CCD from x_from to x_to
-// uses the candidates when both ends lie in the regions (the straight path between them does too);
-// otherwise a one-off set, the pairs whose swept boxes come within the thickness, which leaves the
-// energy's candidates as they are. begin_step starts the regions at the inertial prediction
-// x^ = x_t + dt v_t. The slack is a quarter of what separates the closest non-adjacent rest
-// primitives from the barrier's reach, s = (h/sqrt(2) - thickness - dhat)/4: a region's
-// half-diagonal is then sqrt(3) s, and two of them stay below that separation, so a flat cloth has
-// no candidate.
+// Candidates (the Verlet-list idea). The step keeps a centre x_c, at first the inertial prediction
+// x^ = x_t + dt v_t, and a slack s. Primitives move by at most the largest displacement of their
+// vertices, so the pairs within thickness + dhat + 2s at x_c (a box hash, box_hash.hpp, then the
+// exact distance) hold every pair within thickness + dhat at any x whose every vertex lies within s
+// of x_c: on those states the energy over the candidates is the exact energy of every pair. At a
+// state outside, the energy takes the pairs within thickness + dhat at that state, found afresh (a
+// line search's far trial costs one search and changes nothing); the Hessian's state becomes the
+// new centre (cover(), rebuilds() counts them), since its pattern must hold the pairs. The energy is
+// one exact function of x for the whole step and no pair is ever missed. s = 0.3 (2h - thickness -
+// dhat), so a flat cloth has no candidate.
+// CCD from x_from to x_to uses the candidates where both ends lie within s of the centre (the
+// straight path between them does too); otherwise the pairs whose boxes, swept in the frame that
+// moves with the mean displacement, come within the thickness: distances do not change under a
+// common translation, so a cloth falling as a whole sweeps nothing there.
 // The Hessian pattern holds the candidates; it changes (pattern_generation()) only when a rebuild
 // finds a pair it lacks.
 #include <array>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -80,15 +81,26 @@ class SelfContactTerm final : public EnergyTerm {
   double slack() const { return slack_; }
 
  private:
-  // Whether every vertex of x lies in its box.
-  static bool inside(const std::vector<Box>& boxes, const VecX& x);
-  // The pairs of primitives whose vertex boxes may bring them within reach: with `exact`, the
-  // energy's candidates (within thickness + dhat, tested at the boxes' centres); without, the
-  // pairs whose boxes come within the thickness (a move's CCD). Into `out`, sorted.
-  void find_candidates(const std::vector<Box>& boxes, bool exact, std::vector<Pair>& out) const;
-  // Rebuilds the energy's candidates for the regions, and their slots in the pattern (a new pattern
-  // where one is missing from it).
-  void rebuild() const;
+  // Whether vertices a and b are within one grid step of each other (the pairs they make are not).
+  bool neighbours(int a, int b) const {
+    return std::abs(row_[a] - row_[b]) <= 1 && std::abs(col_[a] - col_[b]) <= 1;
+  }
+  // Whether every vertex of x lies within the slack of the centre.
+  bool inside(const VecX& x) const;
+  // The pairs of primitives (sharing no vertex) whose boxes over x and y, grown by `grow`, overlap
+  // and that `accept` takes, into `out`, sorted.
+  template <class Accept>
+  void collect_pairs(const VecX& x, const VecX& y, double grow, Accept&& accept, std::vector<Pair>& out) const;
+  // The pairs within thickness + dhat + 2 radius at x.
+  void find_near_pairs(const VecX& x, double radius, std::vector<Pair>& out) const;
+  // The pairs that may come within the thickness on the move from x_from to x_to (see above).
+  void find_swept_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const;
+  double pair_distance(const VecX& x, const Pair& pair) const;
+  // The candidates around x as the new centre, and their slots in the pattern (a new pattern where
+  // one is missing from it).
+  void rebuild(const VecX& x) const;
+  // The pairs the energy at x sums: the candidates inside, else those found at x.
+  const std::vector<Pair>& pairs_at(const VecX& x) const;
   Vec12 gather(const VecX& x, const Pair& pair) const;
   // The barrier of one pair and, where asked, its gradient and Hessian (projected to PSD with
   // `project`); 0 (nothing written) outside the range, +inf within the thickness.
@@ -103,16 +115,18 @@ class SelfContactTerm final : public EnergyTerm {
   std::vector<std::array<int, 3>> triangles_;
   std::vector<std::array<int, 2>> edges_;
   VecX rest_;  // the rest pose, for the edge-edge mollifier's threshold
+  std::vector<int> row_, col_;  // per vertex, its (i, j)
 
-  mutable std::vector<Box> regions_;         // per vertex, the energy's
+  mutable VecX centre_;
   mutable std::vector<Pair> candidates_;     // sorted
   mutable std::vector<int> candidate_slot_;  // index of each candidate in pattern_
   mutable std::vector<Pair> pattern_;        // sorted
   mutable std::vector<int> pattern_vertices_;  // its stencils' vertices, 4 each (the assembly reads them)
   mutable long generation_ = 0;
   mutable long rebuilds_ = 0;
-  // find_candidates' and CCD's scratch
-  mutable std::vector<Box> move_boxes_;
+  // the searches' scratch
+  mutable VecX moved_;
+  mutable std::vector<Pair> evaluation_pairs_;
   mutable std::vector<Pair> move_candidates_;
   mutable std::vector<Box> triangle_boxes_, edge_boxes_;
   mutable BoxHash triangle_hash_, edge_hash_;
