@@ -14,6 +14,8 @@ packages=(
   cmake g++ make ninja-build pkg-config ccache
   libeigen3-dev libfftw3-dev libhdf5-dev libcli11-dev libgtest-dev libsuitesparse-dev
   libtorch-dev
+  # Triangle-mesh obstacles: reading OBJ files (io/obj_mesh, docs/design.md §14).
+  libtinyobjloader-dev
   # Work beyond one machine: mpirun fnopt train / compare / stability (docs/design.md §12).
   libopenmpi-dev openmpi-bin
   # fnopt view: the web server and three.js.
