@@ -156,5 +156,30 @@ TEST(Simulator, ASteeredObstacleGoesWhereItIsToldAndPushesTheCloth) {
   EXPECT_EQ(simulator.obstacle_offsets(), std::vector<Vec3>{Vec3::Zero()});
 }
 
+// With self-contact, a state where the cloth is within its thickness of itself is refused with the
+// pair named: here row 7 folded back onto row 3, 0.5 mm off.
+TEST(Simulator, AStartWithinTheSelfContactThicknessIsRefusedNamingThePair) {
+  Scene scene;
+  scene.rows = scene.cols = 8;
+  scene.frames = 3;
+  scene.self_contact = AutoSwitch::On;
+  const ResolvedScene resolved = resolve(scene);
+  PqnOptimizer pqn;
+  Simulator simulator(resolved, pqn, {});
+  VecX x = resolved.start_positions();
+  const VecX v = VecX::Zero(x.size());
+  simulator.set_state(x, v);  // flat: fine
+  for (int j = 0; j < 8; ++j)
+    x.segment<3>(3 * resolved.grid.index(7, j)) = x.segment<3>(3 * resolved.grid.index(3, j)) + Vec3(0, 5e-4, 0);
+  try {
+    simulator.set_state(x, v);
+    FAIL() << "not refused";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "state");
+    EXPECT_NE(std::string(e.what()).find("within its self-contact thickness of itself"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("(7,"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace fnopt

@@ -46,7 +46,8 @@ SelfContactTerm::SelfContactTerm(const Grid& grid, const SelfContactParams& para
       rest_(grid.rest_positions()),
       row_(grid.vertex_count()),
       col_(grid.vertex_count()),
-      slack_(0.3 * (2.0 * grid.spacing - params.thickness - params.range)) {
+      slack_(std::min(0.3 * (2.0 * grid.spacing - params.thickness - params.range),
+                      4.0 * (params.thickness + params.range))) {
   params.validate_for(grid);
   for (int v = 0; v < grid.vertex_count(); ++v) row_[v] = v / grid.cols, col_[v] = v % grid.cols;
   const auto triangles = grid.triangles();

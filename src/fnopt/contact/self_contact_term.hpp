@@ -21,7 +21,8 @@
 // line search's far trial costs one search and changes nothing); the Hessian's state becomes the
 // new centre (cover(), rebuilds() counts them), since its pattern must hold the pairs. The energy is
 // one exact function of x for the whole step and no pair is ever missed. s = 0.3 (2h - thickness -
-// dhat), so a flat cloth has no candidate.
+// dhat), so a flat cloth has no candidate, and at most 4 (thickness + dhat), so that a coarse grid's
+// folds do not hold pairs far out of range.
 // CCD from x_from to x_to uses the candidates where both ends lie within s of the centre (the
 // straight path between them does too); otherwise the pairs whose boxes, swept in the frame that
 // moves with the mean displacement, come within the thickness: distances do not change under a

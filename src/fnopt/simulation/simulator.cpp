@@ -7,7 +7,9 @@
 
 #include <fnopt/cloth/strain.hpp>
 #include <fnopt/contact/contact_term.hpp>
+#include <fnopt/contact/self_contact_term.hpp>
 #include <fnopt/util/error.hpp>
+#include <fnopt/util/parse_text.hpp>
 
 namespace fnopt {
 namespace {
@@ -162,11 +164,37 @@ std::vector<Vec3> Simulator::obstacle_offsets() const {
   return offsets;
 }
 
+namespace {
+
+// "(i,j)" of vertex v.
+std::string vertex_name(const Grid& grid, int v) {
+  return "(" + std::to_string(v / grid.cols) + "," + std::to_string(v % grid.cols) + ")";
+}
+
+}  // namespace
+
+void Simulator::refuse_self_contact(const SelfContactTerm& self, const VecX& positions) const {
+  SelfContactTerm::Pair pair{};
+  const double distance = self.closest_pair(positions, pair);
+  if (distance >= self.params().thickness) return;
+  const Grid& g = scene_.grid;
+  const auto& v = pair.vertices;
+  const std::string what = pair.kind == SelfContactTerm::Kind::PointTriangle
+                               ? "vertex " + vertex_name(g, v[0]) + " and triangle " + vertex_name(g, v[1]) + "-" +
+                                     vertex_name(g, v[2]) + "-" + vertex_name(g, v[3])
+                               : "edges " + vertex_name(g, v[0]) + "-" + vertex_name(g, v[1]) + " and " +
+                                     vertex_name(g, v[2]) + "-" + vertex_name(g, v[3]);
+  throw Error("state", "the cloth starts within its self-contact thickness of itself: " + what + " are " +
+                           number_text(distance) + " m apart (thickness " + number_text(self.params().thickness) +
+                           " m)");
+}
+
 void Simulator::set_state(const VecX& positions, const VecX& velocities, std::optional<int> steps) {
   require(positions.size() == x_.size() && velocities.size() == v_.size(), "state",
           "expected " + std::to_string(x_.size()) + " positions and velocities (3 per vertex)");
   require(positions.allFinite() && velocities.allFinite(), "state", "positions and velocities must be finite");
   require(!steps || *steps >= 0, "state", "steps done must be zero or more");
+  if (const SelfContactTerm* self = objective_.self_contact()) refuse_self_contact(*self, positions);
   x_ = positions;
   v_ = velocities;
   if (steps) {

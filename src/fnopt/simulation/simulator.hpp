@@ -17,6 +17,8 @@
 
 namespace fnopt {
 
+class SelfContactTerm;
+
 class Simulator {
  public:
   // Starts at rest (x = the grid's rest positions, v = 0, t = 0). `optimizer` is used by step()
@@ -61,7 +63,8 @@ class Simulator {
   const VecX& velocities() const { return v_; }
   // Positions and velocities, and optionally the steps done (time = steps dt, where the
   // trajectory's handles are read next; the obstacles go back on their motions); throws
-  // Error("state", ...) for wrong sizes, non-finite values or negative steps.
+  // Error("state", ...) for wrong sizes, non-finite values, negative steps, or, with self-contact, a
+  // cloth within its thickness of itself (naming the pair).
   void set_state(const VecX& positions, const VecX& velocities, std::optional<int> steps = std::nullopt);
   double time() const { return time_; }
   int steps_done() const { return steps_; }
@@ -73,6 +76,7 @@ class Simulator {
   const std::vector<int>& handle_vertices() const { return scene_.handles.vertices; }
 
  private:
+  void refuse_self_contact(const SelfContactTerm& self, const VecX& positions) const;
   StepRecord finish(const VecX& a, const InnerSolveResult& solve, double wall_ms);
   // Frees the handle vertices for a step ending at `step_end` after the scene's let-go time.
   void let_go_if_due(double step_end);
