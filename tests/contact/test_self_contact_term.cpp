@@ -28,8 +28,7 @@ VecX folded(const Grid& grid, double gap) {
   return x;
 }
 
-// The barrier summed over every pair of primitives no vertex of which is within one grid step of a
-// vertex of the other (self_contact_term.hpp), by brute force.
+// The barrier summed over every pair of primitives that share no vertex, by brute force.
 double every_pair_energy(const Grid& grid, const SelfContactParams& params, const VecX& x) {
   const auto triangles = grid.triangles();
   std::vector<std::array<int, 2>> edges;
@@ -47,19 +46,17 @@ double every_pair_energy(const Grid& grid, const SelfContactParams& params, cons
     return s;
   };
   const PointTriangleBarrier pt{params.stiffness, params.range, params.thickness};
-  auto near = [&](int a, int b) {
-    return std::abs(a / grid.cols - b / grid.cols) <= 1 && std::abs(a % grid.cols - b % grid.cols) <= 1;
-  };
+
   double total = 0.0;
   for (int v = 0; v < grid.vertex_count(); ++v)
     for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
       const int a = triangles(t, 0), b = triangles(t, 1), c = triangles(t, 2);
-      if (!near(v, a) && !near(v, b) && !near(v, c)) total += pt.energy(local(x, v, a, b, c));
+      if (v != a && v != b && v != c) total += pt.energy(local(x, v, a, b, c));
     }
   for (std::size_t e = 0; e < edges.size(); ++e)
     for (std::size_t f = e + 1; f < edges.size(); ++f) {
       const auto &p = edges[e], &q = edges[f];
-      if (near(p[0], q[0]) || near(p[0], q[1]) || near(p[1], q[0]) || near(p[1], q[1])) continue;
+      if (p[0] == q[0] || p[0] == q[1] || p[1] == q[0] || p[1] == q[1]) continue;
       const EdgeEdgeBarrier ee{params.stiffness, params.range, params.thickness,
                                edge_edge_mollifier_threshold(local(rest, p[0], p[1], q[0], q[1]))};
       total += ee.energy(local(x, p[0], p[1], q[0], q[1]));

@@ -46,7 +46,7 @@ SelfContactTerm::SelfContactTerm(const Grid& grid, const SelfContactParams& para
       rest_(grid.rest_positions()),
       row_(grid.vertex_count()),
       col_(grid.vertex_count()),
-      slack_(std::min(0.3 * (2.0 * grid.spacing - params.thickness - params.range),
+      slack_(std::min(0.4 * (grid.spacing / std::sqrt(2.0) - params.thickness - params.range),
                       4.0 * (params.thickness + params.range))) {
   params.validate_for(grid);
   for (int v = 0; v < grid.vertex_count(); ++v) row_[v] = v / grid.cols, col_[v] = v % grid.cols;
@@ -62,6 +62,7 @@ SelfContactTerm::SelfContactTerm(const Grid& grid, const SelfContactParams& para
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   edges_ = std::move(edges);
+  neighbours_ = neighbour_pairs(grid, triangles_, edges_);
   begin_step(rest_);
 }
 
@@ -136,6 +137,44 @@ void SelfContactTerm::find_near_pairs(const VecX& centre, double radius, std::ve
   const double within = params_.thickness + params_.range + 2.0 * radius;
   collect_pairs(centre, centre, 0.5 * within, [&](const Pair& pair) { return pair_distance(centre, pair) < within; },
                 out);
+  const std::size_t searched = out.size();
+  plane_normals_.compute(centre, triangles_, edges_);
+  for (const NeighbourPair& neighbour : neighbours_)
+    if (neighbour.plane.separation(centre, plane_normals_) < within && pair_distance(centre, neighbour.pair) < within)
+      out.push_back(neighbour.pair);
+  if (out.size() > searched) std::sort(out.begin(), out.end());
+}
+
+void SelfContactTerm::block_motion(const VecX& x_from, const VecX& x_to) const {
+  // Per component, the range of the displacements over each vertex's 7 x 7 block (radius 3: it holds
+  // every vertex of a neighbour pair whose first vertex it is), by separable sliding minima and maxima.
+  const int rows = grid_.rows, cols = grid_.cols;
+  const Eigen::Index n = grid_.vertex_count();
+  low_.resize(3 * n);
+  high_.resize(3 * n);
+  scratch_low_.resize(3 * n);
+  scratch_high_.resize(3 * n);
+  const VecX displacement = x_to - x_from;
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < cols; ++j)
+      for (int c = 0; c < 3; ++c) {
+        double lo = displacement[3 * (i * cols + j) + c], hi = lo;
+        for (int k = std::max(0, j - 3); k <= std::min(cols - 1, j + 3); ++k)
+          lo = std::min(lo, displacement[3 * (i * cols + k) + c]), hi = std::max(hi, displacement[3 * (i * cols + k) + c]);
+        scratch_low_[3 * (i * cols + j) + c] = lo, scratch_high_[3 * (i * cols + j) + c] = hi;
+      }
+  motion_.resize(n);
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < cols; ++j) {
+      Vec3 range;
+      for (int c = 0; c < 3; ++c) {
+        double lo = scratch_low_[3 * (i * cols + j) + c], hi = scratch_high_[3 * (i * cols + j) + c];
+        for (int k = std::max(0, i - 3); k <= std::min(rows - 1, i + 3); ++k)
+          lo = std::min(lo, scratch_low_[3 * (k * cols + j) + c]), hi = std::max(hi, scratch_high_[3 * (k * cols + j) + c]);
+        range[c] = hi - lo;
+      }
+      motion_[i * cols + j] = range.norm();
+    }
 }
 
 void SelfContactTerm::find_swept_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const {
@@ -149,6 +188,15 @@ void SelfContactTerm::find_swept_pairs(const VecX& x_from, const VecX& x_to, std
   moved_ = x_to;
   for (Eigen::Index v = 0; v < n; ++v) moved_.segment<3>(3 * v) -= mean;
   collect_pairs(x_from, moved_, 0.5 * params_.thickness, [](const Pair&) { return true; }, out);
+  // A neighbour comes no nearer than its plane's clearance at x_from less the largest difference of
+  // two of its vertices' displacements, which its first vertex's block bounds.
+  const std::size_t searched = out.size();
+  plane_normals_.compute(x_from, triangles_, edges_);
+  block_motion(x_from, x_to);
+  for (const NeighbourPair& neighbour : neighbours_)
+    if (neighbour.plane.separation(x_from, plane_normals_) - motion_[neighbour.pair.vertices[0]] < params_.thickness)
+      out.push_back(neighbour.pair);
+  if (out.size() > searched) std::sort(out.begin(), out.end());
 }
 
 double SelfContactTerm::pair_distance(const VecX& x, const Pair& pair) const {
@@ -211,9 +259,12 @@ double SelfContactTerm::energy(const VecX& x) const {
 }
 
 double SelfContactTerm::accumulate_gradient(const VecX& x, VecX& grad) const {
+  // A gradient is asked where an optimizer stands (or is about to): its state becomes the centre,
+  // so that the next steps, near it, find their pairs among the candidates.
+  cover(x);
   double total = 0.0;
   Vec12 g;
-  for (const Pair& pair : pairs_at(x)) {
+  for (const Pair& pair : candidates_) {
     g.setZero();
     total += pair_barrier(pair, gather(x, pair), &g, nullptr, false);
     for (int k = 0; k < 4; ++k) grad.segment<3>(3 * pair.vertices[k]) += g.segment<3>(3 * k);

@@ -1,32 +1,34 @@
 #pragma once
-// Self-contact of the cloth (docs/design.md §14): C-IPC's barrier (Li et al. 2021) between pairs
-// of the cloth's primitives,
-//   point-triangle pairs (a vertex and a triangle) and edge-edge pairs (two edges),
-// the latter mollified where nearly parallel, with the barrier of the obstacles (contact_term.hpp)
-// on the gap g = d - thickness:
+// Self-contact of the cloth (docs/design.md §14): C-IPC's barrier (Li et al. 2021) between every
+// pair of the cloth's primitives that share no vertex,
+//   point-triangle pairs (a vertex and a triangle it is not a corner of) and
+//   edge-edge pairs (two edges with no common end), the latter mollified where nearly parallel,
+// with the barrier of the obstacles (contact_term.hpp) on the gap g = d - thickness:
 //   b(g) = -kappa (g - dhat)^2 log(g / dhat)   (0 < g < dhat),   0 (g >= dhat),   +inf (g <= 0).
-// Neighbours are excluded by index: a pair is a pair unless a vertex of one is within one grid step
-// of a vertex of the other, |i - k| <= 1 and |j - l| <= 1 (as self-repulsion's, repulsion_term.hpp).
-// That leaves out the pairs within one cell of each other, whose contact needs a crease sharper than
-// the grid resolves (bending keeps them apart), and with them the pairs a flat cloth holds at h/sqrt(2):
-// the closest pairs of a flat cloth are 2h apart, so the barrier never acts on it and the candidates'
-// slack can be large. thickness + dhat must stay below h/2 (SelfContactParams::validate_for).
+// A flat cloth holds its closest such pairs h/sqrt(2) apart (a vertex and the far triangle of its own
+// quad), so thickness + dhat must stay below that with room to spare (SelfContactParams::validate_for).
+// The pairs a vertex of which is within one grid step of a vertex of the other (neighbours, about 26
+// point-triangle pairs per vertex) are not searched for: they are a fixed list, each cleared by a
+// separating plane it had at rest (neighbour_pairs.hpp) unless the cloth creases within a cell.
 //
 // Candidates (the Verlet-list idea). The step keeps a centre x_c, at first the inertial prediction
 // x^ = x_t + dt v_t, and a slack s. Primitives move by at most the largest displacement of their
-// vertices, so the pairs within thickness + dhat + 2s at x_c (a box hash, box_hash.hpp, then the
-// exact distance) hold every pair within thickness + dhat at any x whose every vertex lies within s
+// vertices, so the pairs within thickness + dhat + 2s at x_c (a box hash, box_hash.hpp, and the
+// neighbours' planes, then the exact distance) hold every pair within thickness + dhat at any x whose every vertex lies within s
 // of x_c: on those states the energy over the candidates is the exact energy of every pair. At a
 // state outside, the energy takes the pairs within thickness + dhat at that state, found afresh (a
-// line search's far trial costs one search and changes nothing); the Hessian's state becomes the
-// new centre (cover(), rebuilds() counts them), since its pattern must hold the pairs. The energy is
-// one exact function of x for the whole step and no pair is ever missed. s = 0.3 (2h - thickness -
-// dhat), so a flat cloth has no candidate, and at most 4 (thickness + dhat), so that a coarse grid's
-// folds do not hold pairs far out of range.
+// line search's far trial costs one search and changes nothing); the gradient's and the Hessian's
+// states become the new centre (cover(), rebuilds() counts them): an optimizer stands there, and
+// the Hessian's pattern must hold the pairs. The energy is
+// one exact function of x for the whole step and no pair is ever missed. s = 0.4 (h/sqrt(2) -
+// thickness - dhat), so a flat cloth has no candidate, and at most 4 (thickness + dhat), so that a
+// coarse grid's folds do not hold pairs far out of range.
 // CCD from x_from to x_to uses the candidates where both ends lie within s of the centre (the
 // straight path between them does too); otherwise the pairs whose boxes, swept in the frame that
-// moves with the mean displacement, come within the thickness: distances do not change under a
-// common translation, so a cloth falling as a whole sweeps nothing there.
+// moves with the mean displacement, come within the thickness (distances do not change under a
+// common translation, so a cloth falling as a whole sweeps nothing there), and the neighbours whose
+// plane's clearance at x_from is less than the thickness plus their vertices' relative motion (the
+// range of the displacements over a 7 x 7 block).
 // The Hessian pattern holds the candidates; it changes (pattern_generation()) only when a rebuild
 // finds a pair it lacks.
 #include <array>
@@ -37,22 +39,17 @@
 #include <fnopt/cloth/energy_term.hpp>
 #include <fnopt/cloth/grid.hpp>
 #include <fnopt/contact/box_hash.hpp>
+#include <fnopt/contact/neighbour_pairs.hpp>
 #include <fnopt/contact/primitive_distance.hpp>
+#include <fnopt/contact/self_contact_pair.hpp>
 #include <fnopt/contact/self_contact_params.hpp>
 
 namespace fnopt {
 
 class SelfContactTerm final : public EnergyTerm {
  public:
-  // A pair of primitives as the four vertices of its stencil: point-triangle (p, t0, t1, t2) or
-  // edge-edge (a0, a1, b0, b1).
-  enum class Kind : int { PointTriangle, EdgeEdge };
-  struct Pair {
-    Kind kind;
-    std::array<int, 4> vertices;
-    bool operator<(const Pair& o) const { return kind != o.kind ? kind < o.kind : vertices < o.vertices; }
-    bool operator==(const Pair& o) const { return kind == o.kind && vertices == o.vertices; }
-  };
+  using Pair = SelfContactPair;
+  using Kind = SelfContactPair::Kind;
 
   SelfContactTerm(const Grid& grid, const SelfContactParams& params);
 
@@ -82,7 +79,7 @@ class SelfContactTerm final : public EnergyTerm {
   double slack() const { return slack_; }
 
  private:
-  // Whether vertices a and b are within one grid step of each other (the pairs they make are not).
+  // Whether vertices a and b are within one grid step of each other (their pairs are neighbours).
   bool neighbours(int a, int b) const {
     return std::abs(row_[a] - row_[b]) <= 1 && std::abs(col_[a] - col_[b]) <= 1;
   }
@@ -97,6 +94,9 @@ class SelfContactTerm final : public EnergyTerm {
   // The pairs that may come within the thickness on the move from x_from to x_to (see above).
   void find_swept_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const;
   double pair_distance(const VecX& x, const Pair& pair) const;
+  // motion_[v]: the largest difference of two displacements x_to - x_from within vertex v's 7 x 7
+  // block, a bound on how much nearer the move can bring a neighbour pair whose first vertex is v.
+  void block_motion(const VecX& x_from, const VecX& x_to) const;
   // The candidates around x as the new centre, and their slots in the pattern (a new pattern where
   // one is missing from it).
   void rebuild(const VecX& x) const;
@@ -116,6 +116,7 @@ class SelfContactTerm final : public EnergyTerm {
   std::vector<std::array<int, 3>> triangles_;
   std::vector<std::array<int, 2>> edges_;
   VecX rest_;  // the rest pose, for the edge-edge mollifier's threshold
+  std::vector<NeighbourPair> neighbours_;
   std::vector<int> row_, col_;  // per vertex, its (i, j)
 
   mutable VecX centre_;
@@ -127,6 +128,8 @@ class SelfContactTerm final : public EnergyTerm {
   mutable long rebuilds_ = 0;
   // the searches' scratch
   mutable VecX moved_;
+  mutable PlaneNormals plane_normals_;
+  mutable VecX low_, high_, scratch_low_, scratch_high_, motion_;
   mutable std::vector<Pair> evaluation_pairs_;
   mutable std::vector<Pair> move_candidates_;
   mutable std::vector<Box> triangle_boxes_, edge_boxes_;
