@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include <fnopt/cloth/pattern_slots.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
@@ -61,20 +62,11 @@ void RepulsionTerm::begin_step(const VecX& x_start, const VecX& x_predicted) {
     if (p.distance < candidate_radius) candidates_.push_back({p.i, p.j});
 
   // Keep the pattern while it holds every candidate.
-  candidate_slot_.resize(candidates_.size());
-  bool fits = true;
-  for (std::size_t c = 0; c < candidates_.size() && fits; ++c) {
-    const auto it = std::lower_bound(pattern_.begin(), pattern_.end(), candidates_[c]);
-    fits = it != pattern_.end() && *it == candidates_[c];
-    if (fits) candidate_slot_[c] = static_cast<int>(it - pattern_.begin());
-  }
-  if (!fits) {
+  if (!pattern_slots(candidates_, pattern_, candidate_slot_)) {
     pattern_.clear();
     for (const auto& p : found_) pattern_.push_back({p.i, p.j});
     ++generation_;
-    for (std::size_t c = 0; c < candidates_.size(); ++c)
-      candidate_slot_[c] =
-          static_cast<int>(std::lower_bound(pattern_.begin(), pattern_.end(), candidates_[c]) - pattern_.begin());
+    pattern_slots(candidates_, pattern_, candidate_slot_);
   }
 
   if (static_cast<long>(candidates_.size()) >= kParallelThreshold) {

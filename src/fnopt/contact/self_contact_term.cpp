@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <limits>
 
+#include <fnopt/cloth/pattern_slots.hpp>
 #include <fnopt/contact/additive_ccd.hpp>
 #include <fnopt/contact/primitive_distance.hpp>
 #include <fnopt/contact/self_contact_kernel.hpp>
@@ -209,14 +210,7 @@ void SelfContactTerm::rebuild(const VecX& x) const {
   find_near_pairs(centre_, slack_, candidates_);
   ++rebuilds_;
   // Keep the pattern while it holds every candidate.
-  candidate_slot_.resize(candidates_.size());
-  bool fits = true;
-  for (std::size_t c = 0; c < candidates_.size() && fits; ++c) {
-    const auto it = std::lower_bound(pattern_.begin(), pattern_.end(), candidates_[c]);
-    fits = it != pattern_.end() && *it == candidates_[c];
-    if (fits) candidate_slot_[c] = static_cast<int>(it - pattern_.begin());
-  }
-  if (fits) return;
+  if (pattern_slots(candidates_, pattern_, candidate_slot_)) return;
   pattern_ = candidates_;
   pattern_vertices_.clear();
   for (const Pair& pair : pattern_)

@@ -84,19 +84,16 @@ bool folding_preset(const Scene& scene) {
   return scene.handle_vertices.empty() && (scene.handles == "corner-center" || scene.handles == "single-mid-edge");
 }
 
+// On or Off as given; Auto as `automatic` decides.
+bool decided(AutoSwitch setting, bool automatic) {
+  return setting == AutoSwitch::Auto ? automatic : setting == AutoSwitch::On;
+}
+
 }  // namespace
 
 bool self_contact_enabled(const Scene& scene) {
-  switch (scene.self_contact) {
-    case AutoSwitch::On:
-      return true;
-    case AutoSwitch::Off:
-      return false;
-    case AutoSwitch::Auto:
-      break;
-  }
   const bool released = (scene.handle_vertices.empty() && scene.handles == "none") || scene.let_go >= 0.0;
-  return released || !scene.obstacles.empty() || folding_preset(scene);
+  return decided(scene.self_contact, released || !scene.obstacles.empty() || folding_preset(scene));
 }
 
 std::optional<SelfContactParams> self_contact_of(const Scene& scene) {
@@ -105,15 +102,7 @@ std::optional<SelfContactParams> self_contact_of(const Scene& scene) {
 }
 
 bool repulsion_enabled(const Scene& scene) {
-  switch (scene.repulsion) {
-    case AutoSwitch::On:
-      return true;
-    case AutoSwitch::Off:
-      return false;
-    case AutoSwitch::Auto:
-      break;
-  }
-  return folding_preset(scene) && !self_contact_enabled(scene);
+  return decided(scene.repulsion, folding_preset(scene) && !self_contact_enabled(scene));
 }
 
 std::string repulsion_mode_name(RepulsionMode mode) {
