@@ -2,6 +2,7 @@
 
 #include <fnopt/cloth/repulsion_term.hpp>
 #include <fnopt/contact/contact_term.hpp>
+#include <fnopt/contact/mesh_contact_term.hpp>
 #include <fnopt/contact/self_contact_term.hpp>
 #include <fnopt/util/error.hpp>
 
@@ -25,6 +26,7 @@ PqnMatrix build_pqn_matrix(const BackwardEulerObjective& objective, const std::v
   for (const auto& term : objective.terms())
     if (term.get() != static_cast<const EnergyTerm*>(objective.repulsion()) &&
         term.get() != static_cast<const EnergyTerm*>(objective.contact()) &&
+        term.get() != static_cast<const EnergyTerm*>(objective.mesh_contact()) &&
         term.get() != static_cast<const EnergyTerm*>(objective.self_contact()))
       terms.emplace_back(term.get(), term->register_hessian(assembly));
   assembly.finalize();

@@ -64,6 +64,7 @@ double safe_fraction(const Obstacle& obstacle, const Vec3& p0, const Vec3& p1, c
     case ObstacleShape::Capsule:
       return capsule_entry(obstacle, r0, v, obstacle.radius() + separation);
     case ObstacleShape::Box:
+    case ObstacleShape::Mesh:  // distance() has thrown: a mesh's CCD is per pair (mesh_contact_term.hpp)
       break;
   }
   return box_advancement(obstacle, r0, v, separation);

@@ -59,6 +59,7 @@ MeshShape MeshShape::posed_frames(const std::vector<TriangleMesh>& frames, doubl
   shape.offset_ = offset;
   shape.triangles_ = frames.front().triangles;
   shape.edges_ = unique_edges(shape.triangles_);
+  shape.given_ = frames;
   for (std::size_t k = 0; k < frames.size(); ++k) {
     const TriangleMesh& frame = frames[k];
     require(frame.vertices.size() == frames.front().vertices.size() && frame.triangles == shape.triangles_, "sequence",

@@ -43,6 +43,8 @@ class MeshShape {
   const Vec3& offset() const { return offset_; }
   // Frame k's vertices, posed (k < frame_count()); frame(0) is the mesh at rest.
   const std::vector<Vec3>& frame(int k) const { return frames_[k]; }
+  // The frames as given, before scale and offset (what a rollout file stores, mesh_source.hpp).
+  const std::vector<TriangleMesh>& frames_as_given() const { return given_; }
 
   // The vertices at time t into `vertices`, resized to vertex_count() (no allocation once it has
   // that size).
@@ -64,6 +66,7 @@ class MeshShape {
   // frame k + 1 (0 outside the frames' times).
   void frame_at(double t, int& k, double& weight) const;
 
+  std::vector<TriangleMesh> given_;
   std::vector<std::vector<Vec3>> frames_;  // posed
   std::vector<std::array<int, 3>> triangles_;
   std::vector<std::array<int, 2>> edges_;

@@ -156,6 +156,22 @@ Obstacle Obstacle::capsule(const Vec3& a, const Vec3& b, double radius) {
   return o;
 }
 
+Obstacle Obstacle::mesh(std::shared_ptr<const MeshShape> shape, const std::string& source) {
+  require(shape != nullptr, "mesh", "no mesh given");
+  Obstacle o;
+  o.shape_ = ObstacleShape::Mesh;
+  o.point_ = shape->offset();
+  o.mesh_ = std::move(shape);
+  o.mesh_source_ = source;
+  return o;
+}
+
+void Obstacle::mesh_vertices(double t, const Vec3& offset, std::vector<Vec3>& vertices) const {
+  require(mesh_ != nullptr, "obstacle", std::string("a ") + shape_name(shape_) + " has no mesh");
+  mesh_->vertices_at(t, vertices);
+  for (Vec3& v : vertices) v += offset;
+}
+
 Obstacle& Obstacle::with_friction(double mu) {
   require(std::isfinite(mu) && mu >= 0.0, "friction", "must be a finite number >= 0, got " + number_text(mu));
   friction_ = mu;
@@ -170,6 +186,8 @@ Obstacle& Obstacle::with_motion(ObstacleMotion motion) {
 SignedDistance Obstacle::evaluate(const Vec3& world, const Vec3& offset) const {
   const Vec3 p = world - offset;
   switch (shape_) {
+    case ObstacleShape::Mesh:
+      throw Error("obstacle", "a mesh has no closed-form distance (mesh_contact_term.hpp)");
     case ObstacleShape::Plane: {  // d = n.(p - q): grad n, Hessian 0
       SignedDistance s;
       s.distance = normal_.dot(p - point_);
@@ -226,6 +244,8 @@ SignedDistance Obstacle::evaluate(const Vec3& world, const Vec3& offset) const {
 double Obstacle::distance(const Vec3& world, const Vec3& offset) const {
   const Vec3 p = world - offset;
   switch (shape_) {
+    case ObstacleShape::Mesh:
+      throw Error("obstacle", "a mesh has no closed-form distance (mesh_contact_term.hpp)");
     case ObstacleShape::Plane:
       return normal_.dot(p - point_);
     case ObstacleShape::Sphere:
@@ -261,6 +281,9 @@ void Obstacle::bounds(Vec3& lower, Vec3& upper) const {
       lower = point_.cwiseMin(axis_) - Vec3::Constant(radius_);
       upper = point_.cwiseMax(axis_) + Vec3::Constant(radius_);
       return;
+    case ObstacleShape::Mesh:
+      mesh_->swept_bounds(0.0, std::numeric_limits<double>::max(), lower, upper);
+      return;
   }
 }
 
@@ -279,6 +302,13 @@ std::string Obstacle::to_text() const {
     case ObstacleShape::Capsule:
       text += " a=" + exact_text(point_) + " b=" + exact_text(axis_) + " radius=" + exact_text(radius_);
       break;
+    case ObstacleShape::Mesh:
+      text += mesh_->animated() || mesh_->fps() > 0.0
+                  ? " sequence=" + mesh_source_ + " fps=" + exact_text(mesh_->fps())
+                  : " file=" + mesh_source_;
+      if (mesh_->scale() != 1.0) text += " scale=" + exact_text(mesh_->scale());
+      if (mesh_->offset() != Vec3::Zero()) text += " offset=" + exact_text(mesh_->offset());
+      break;
   }
   if (friction_ != 0.0) text += " friction=" + exact_text(friction_);
   if (motion_.kind() == ObstacleMotion::Kind::Named) text += " motion=" + motion_.name();
@@ -296,6 +326,8 @@ const char* shape_name(ObstacleShape shape) {
       return "box";
     case ObstacleShape::Capsule:
       return "capsule";
+    case ObstacleShape::Mesh:
+      return "mesh";
   }
   return "";
 }

@@ -1,13 +1,16 @@
 #pragma once
-// Analytic obstacles the cloth cannot enter (docs/design.md §14): a plane, a sphere, a rounded box
-// and a capsule, each with a friction coefficient and a motion that translates it (no rotation).
-// Each gives its signed distance d(p) (negative inside), the unit normal grad d(p) and the 3x3
-// Hessian of d, in closed form, at a time t. Every shape here is convex, so its distance is a
-// convex function outside it: the Hessian of d is positive semi-definite wherever d > 0, which
-// contact_term.hpp uses to project the barrier's Hessian in closed form.
+// Obstacles the cloth cannot enter (docs/design.md §14), each with a friction coefficient and a
+// motion that translates it (no rotation). Four are analytic: a plane, a sphere, a rounded box and
+// a capsule. Each gives its signed distance d(p) (negative inside), the unit normal grad d(p) and
+// the 3x3 Hessian of d, in closed form, at a time t. Every analytic shape is convex, so its
+// distance is a convex function outside it: the Hessian of d is positive semi-definite wherever
+// d > 0, which contact_term.hpp uses to project the barrier's Hessian in closed form.
+// The fifth is a triangle mesh (mesh_shape.hpp), one OBJ or an animated sequence, whose contact is
+// per pair of primitives (mesh_contact_term.hpp): it has no closed-form distance, and evaluate(),
+// distance() are for the analytic shapes only.
 //
 // Motions move the obstacle's reference point (the plane's point, the sphere's and box's centre,
-// the capsule's end a; b follows a):
+// the capsule's end a; b follows a; a mesh's origin, the point its OBJ coordinates' 0 is posed to):
 //  * static;
 //  * a named handle motion (boundary/trajectory.hpp): the reference point follows the
 //    displacement that motion gives a handle starting at it (translations only; rot_h0 keeps its
@@ -18,13 +21,14 @@
 #include <string>
 #include <vector>
 
+#include <fnopt/contact/mesh_shape.hpp>
 #include <fnopt/util/types.hpp>
 
 namespace fnopt {
 
 class HandleTrajectory;
 
-enum class ObstacleShape { Plane, Sphere, Box, Capsule };
+enum class ObstacleShape { Plane, Sphere, Box, Capsule, Mesh };
 
 // The reference point's position over time.
 class ObstacleMotion {
@@ -67,6 +71,9 @@ class Obstacle {
   static Obstacle sphere(const Vec3& center, double radius);
   static Obstacle box(const Vec3& center, const Vec3& size, double rounding);
   static Obstacle capsule(const Vec3& a, const Vec3& b, double radius);
+  // A triangle mesh, read from `source`: the OBJ file, or a sequence's prefix (absolute, as
+  // to_text() writes it). Its reference point is shape->offset().
+  static Obstacle mesh(std::shared_ptr<const MeshShape> shape, const std::string& source);
 
   // mu >= 0; throws Error("friction", ...) otherwise.
   Obstacle& with_friction(double mu);
@@ -75,18 +82,29 @@ class Obstacle {
   ObstacleShape shape() const { return shape_; }
   double friction() const { return friction_; }
   const ObstacleMotion& motion() const { return motion_; }
-  bool moves() const { return motion_.kind() != ObstacleMotion::Kind::Static; }
+  // Whether it moves: a motion, or an animated mesh.
+  bool moves() const { return motion_.kind() != ObstacleMotion::Kind::Static || (mesh_ && mesh_->animated()); }
+  bool is_mesh() const { return shape_ == ObstacleShape::Mesh; }
+  // The mesh of a mesh obstacle (null for an analytic one), and the file or prefix it was read from.
+  const MeshShape* mesh() const { return mesh_.get(); }
+  const std::string& mesh_source() const { return mesh_source_; }
   // The shape's parameters at rest (t = 0 for a static or named motion).
-  const Vec3& point() const { return point_; }  // plane point, sphere/box centre, capsule a
+  const Vec3& point() const { return point_; }  // plane point, sphere/box centre, capsule a, mesh origin
   const Vec3& axis() const { return axis_; }    // plane normal (as given), box size, capsule b
   double radius() const { return radius_; }     // sphere/capsule radius, box rounding
 
   // The translation of the obstacle at time t from its rest pose.
   Vec3 offset(double t) const { return motion_.position(point_, t) - point_; }
-  // d(p) of the obstacle translated by `offset`, with its normal and Hessian.
+  // A mesh's vertices at time t: its frames at t (mesh_shape.hpp) translated by `offset` (by
+  // offset(t) where none is given). Throws Error for an analytic obstacle.
+  void mesh_vertices(double t, std::vector<Vec3>& vertices) const { mesh_vertices(t, offset(t), vertices); }
+  void mesh_vertices(double t, const Vec3& offset, std::vector<Vec3>& vertices) const;
+  // d(p) of the analytic obstacle translated by `offset`, with its normal and Hessian (a mesh
+  // throws Error).
   SignedDistance evaluate(const Vec3& p, const Vec3& offset) const;
   double distance(const Vec3& p, const Vec3& offset) const;
-  // An axis-aligned box around the obstacle at rest (infinite for a plane).
+  // An axis-aligned box around the obstacle at rest (infinite for a plane; a mesh's around every
+  // frame of its sequence).
   void bounds(Vec3& lower, Vec3& upper) const;
 
   // The spec this obstacle parses from (obstacle_spec.hpp), numbers in shortest round-trip form.
@@ -102,9 +120,11 @@ class Obstacle {
   double radius_ = 0.0;
   double friction_ = 0.0;
   ObstacleMotion motion_;
+  std::shared_ptr<const MeshShape> mesh_;
+  std::string mesh_source_;
 };
 
-// "plane", "sphere", "box", "capsule".
+// "plane", "sphere", "box", "capsule", "mesh".
 const char* shape_name(ObstacleShape shape);
 
 }  // namespace fnopt

@@ -1,8 +1,11 @@
 #include <fnopt/contact/obstacle_spec.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <sstream>
+
+#include <fnopt/contact/mesh_source.hpp>
 
 #include <fnopt/util/error.hpp>
 #include <fnopt/util/parse_text.hpp>
@@ -72,13 +75,28 @@ Obstacle built(Build build) {
   }
 }
 
+// A mesh: file=PATH.obj or sequence=PREFIX fps=F, with scale=S and offset=X,Y,Z (mesh_shape.hpp).
+Obstacle mesh_obstacle(const SpecKeys& keys) {
+  const bool sequence = keys.has("sequence");
+  SpecKeys::fail_unless(sequence != keys.has("file"), "a mesh needs file=PATH.obj or sequence=PREFIX, not both");
+  SpecKeys::fail_unless(sequence || !keys.has("fps"), "fps= is for a sequence");
+  std::error_code ignored;
+  const std::string source = std::filesystem::absolute(keys.text(sequence ? "sequence" : "file"), ignored).string();
+  const double scale = keys.has("scale") ? keys.number("scale") : 1.0;
+  const Vec3 offset = keys.has("offset") ? keys.point("offset") : Vec3::Zero();
+  auto frames = load_mesh_frames(source, sequence);
+  auto shape = std::make_shared<const MeshShape>(sequence ? MeshShape::sequence(frames, keys.number("fps"), scale, offset)
+                                                          : MeshShape::single(frames.front(), scale, offset));
+  return Obstacle::mesh(std::move(shape), source);
+}
+
 }  // namespace
 
 Obstacle parse_obstacle(const std::string& spec) {
   std::istringstream words(spec);
   std::string shape;
   words >> shape;
-  SpecKeys::fail_unless(!shape.empty(), "empty spec (sphere, plane, box or capsule and its keys)");
+  SpecKeys::fail_unless(!shape.empty(), "empty spec (sphere, plane, box, capsule or mesh and its keys)");
   const std::vector<std::string> common = {"friction", "motion", "path"};
   auto with_common = [&](std::vector<std::string> keys) {
     keys.insert(keys.end(), common.begin(), common.end());
@@ -102,7 +120,11 @@ Obstacle parse_obstacle(const std::string& spec) {
       keys.only(with_common({"a", "b", "radius"}));
       return Obstacle::capsule(keys.point("a"), keys.point("b"), keys.number("radius"));
     }
-    throw Error("obstacle", "unknown shape '" + shape + "' (sphere, plane, box, capsule)");
+    if (shape == "mesh") {
+      keys.only(with_common({"file", "sequence", "fps", "scale", "offset"}));
+      return mesh_obstacle(keys);
+    }
+    throw Error("obstacle", "unknown shape '" + shape + "' (sphere, plane, box, capsule, mesh)");
   });
   SpecKeys::fail_unless(!(keys.has("motion") && keys.has("path")), "give motion= or path=, not both");
   built([&] {

@@ -8,6 +8,7 @@
 #include <fnopt/cloth/lumped_mass.hpp>
 #include <fnopt/cloth/repulsion_term.hpp>
 #include <fnopt/contact/contact_term.hpp>
+#include <fnopt/contact/mesh_contact_term.hpp>
 #include <fnopt/contact/self_contact_term.hpp>
 #include <fnopt/util/error.hpp>
 
@@ -36,9 +37,19 @@ BackwardEulerObjective::BackwardEulerObjective(const Grid& grid, const Material&
                                                const ContactParams& contact,
                                                const std::optional<SelfContactParams>& self_contact)
     : BackwardEulerObjective(grid, material, dt, gravity) {
-  if (!obstacles.empty()) {
-    auto term = std::make_unique<ContactTerm>(grid, std::move(obstacles), contact);
+  std::vector<Obstacle> analytic, meshes;
+  for (std::size_t k = 0; k < obstacles.size(); ++k) {
+    (obstacles[k].is_mesh() ? mesh_index_ : analytic_index_).push_back(static_cast<int>(k));
+    (obstacles[k].is_mesh() ? meshes : analytic).push_back(std::move(obstacles[k]));
+  }
+  if (!analytic.empty()) {
+    auto term = std::make_unique<ContactTerm>(grid, std::move(analytic), contact);
     contact_ = term.get();
+    terms_.push_back(std::move(term));
+  }
+  if (!meshes.empty()) {
+    auto term = std::make_unique<MeshContactTerm>(grid, std::move(meshes), contact);
+    mesh_contact_ = term.get();
     terms_.push_back(std::move(term));
   }
   if (self_contact) {
@@ -46,7 +57,7 @@ BackwardEulerObjective::BackwardEulerObjective(const Grid& grid, const Material&
     self_contact_ = term.get();
     terms_.push_back(std::move(term));
   }
-  if (contact_ || self_contact_) begin_step(x_start_, v_start_);
+  if (contact_ || mesh_contact_ || self_contact_) begin_step(x_start_, v_start_);
 }
 
 void BackwardEulerObjective::begin_step(const VecX& x, const VecX& v, double time,
@@ -56,7 +67,28 @@ void BackwardEulerObjective::begin_step(const VecX& x, const VecX& v, double tim
   x_inertial_ = x + dt_ * v;
   time_ = time;
   if (repulsion_) repulsion_->begin_step(x_start_, x_inertial_);
-  if (contact_) contact_->begin_step(x_start_, time, dt_, obstacle_offsets);
+  // The offsets of each term's obstacles, picked from the scene's list.
+  auto picked = [&](const std::vector<int>& index) {
+    ObstacleOffsets offsets;
+    for (int k : index) {
+      offsets.start.push_back(obstacle_offsets->start.at(k));
+      offsets.end.push_back(obstacle_offsets->end.at(k));
+    }
+    return offsets;
+  };
+  if (obstacle_offsets)
+    require(obstacle_offsets->start.size() == analytic_index_.size() + mesh_index_.size() &&
+                obstacle_offsets->end.size() == obstacle_offsets->start.size(),
+            "obstacles", "expected " + std::to_string(analytic_index_.size() + mesh_index_.size()) +
+                             " offsets (one per obstacle)");
+  if (contact_) {
+    const ObstacleOffsets offsets = obstacle_offsets ? picked(analytic_index_) : ObstacleOffsets{};
+    contact_->begin_step(x_start_, time, dt_, obstacle_offsets ? &offsets : nullptr);
+  }
+  if (mesh_contact_) {
+    const ObstacleOffsets offsets = obstacle_offsets ? picked(mesh_index_) : ObstacleOffsets{};
+    mesh_contact_->begin_step(x_start_, x_inertial_, time, dt_, obstacle_offsets ? &offsets : nullptr);
+  }
   if (self_contact_) self_contact_->begin_step(x_inertial_);
 }
 
@@ -119,6 +151,7 @@ const HessianAssembly& BackwardEulerObjective::assemble_hessian(const VecX& a, c
                                                                 bool project, HessianAssembly::Target target) {
   trial_positions(a, x_trial_);
   if (self_contact_) self_contact_->cover(x_trial_);  // may change its pattern
+  if (mesh_contact_) mesh_contact_->cover(x_trial_);
   const std::pair<long, long> generation = {repulsion_ ? repulsion_->pattern_generation() : 0,
                                             self_contact_ ? self_contact_->pattern_generation() : 0};
   if (!assembly_ || free_index != hessian_free_index_ || generation != assembled_generation_) {
@@ -155,7 +188,9 @@ double BackwardEulerObjective::residual_acceleration(const VecX& gradient) const
 double BackwardEulerObjective::potential(const VecX& x) const {
   double total = 0.0;
   for (const auto& term : terms_)
-    total += term.get() == static_cast<const EnergyTerm*>(contact_) ? contact_->barrier_energy(x) : term->energy(x);
+    total += term.get() == static_cast<const EnergyTerm*>(contact_)        ? contact_->barrier_energy(x)
+             : term.get() == static_cast<const EnergyTerm*>(mesh_contact_) ? mesh_contact_->barrier_energy(x)
+                                                                           : term->energy(x);
   for (Eigen::Index k = 0; k < masses_.size(); ++k) total -= masses_[k] * gravity_.dot(x.segment<3>(3 * k));
   return total;
 }

@@ -12,9 +12,10 @@
 // that changes its Hessian pattern, the next hessian() builds a new sparse matrix with a new
 // hessian_pattern_id(), unique across all objectives of the process, so a cache keyed on it,
 // like NewtonOptimizer's symbolic analysis, sees every pattern change.
-// Obstacles (docs/design.md §14) add the contact term (contact/contact_term.hpp), built only when
-// there are obstacles, and self-contact its term, built only where the scene enables it: without
-// them the objective is the same code and arithmetic as before.
+// Obstacles (docs/design.md §14) add the contact term (contact/contact_term.hpp) for the analytic
+// ones and the mesh contact term (contact/mesh_contact_term.hpp) for the meshes, each built only
+// when there are such obstacles, and self-contact its term, built only where the scene enables it:
+// without them the objective is the same code and arithmetic as before.
 // Not thread-safe: evaluation reuses internal buffers (no allocation per call).
 #include <memory>
 #include <optional>
@@ -32,6 +33,7 @@
 namespace fnopt {
 
 class ContactTerm;
+class MeshContactTerm;
 struct ObstacleOffsets;
 class RepulsionTerm;
 class SelfContactTerm;
@@ -39,8 +41,9 @@ class SelfContactTerm;
 class BackwardEulerObjective {
  public:
   BackwardEulerObjective(const Grid& grid, const Material& material, double dt, const Vec3& gravity);
-  // With obstacles: the contact term when `obstacles` is not empty (none otherwise); with
-  // `self_contact`, the self-contact term (contact/self_contact_term.hpp).
+  // With obstacles: the contact term for the analytic ones and the mesh contact term for the meshes,
+  // each where there is one; with `self_contact`, the self-contact term
+  // (contact/self_contact_term.hpp).
   BackwardEulerObjective(const Grid& grid, const Material& material, double dt, const Vec3& gravity,
                          std::vector<Obstacle> obstacles, const ContactParams& contact = {},
                          const std::optional<SelfContactParams>& self_contact = std::nullopt);
@@ -56,8 +59,10 @@ class BackwardEulerObjective {
   const std::vector<std::unique_ptr<EnergyTerm>>& terms() const { return terms_; }
   // The self-repulsion term, or null when the material does not enable it.
   const RepulsionTerm* repulsion() const { return repulsion_; }
-  // The contact term, or null without obstacles.
+  // The contact term, or null without analytic obstacles.
   const ContactTerm* contact() const { return contact_; }
+  // The mesh contact term, or null without mesh obstacles.
+  const MeshContactTerm* mesh_contact() const { return mesh_contact_; }
   // The self-contact term, or null where self-contact is off.
   const SelfContactTerm* self_contact() const { return self_contact_; }
   // Changes whenever hessian() builds a new sparsity pattern; unique across objectives.
@@ -121,6 +126,9 @@ class BackwardEulerObjective {
   std::vector<int> term_handles_;
   RepulsionTerm* repulsion_ = nullptr;  // one of terms_
   ContactTerm* contact_ = nullptr;      // one of terms_
+  MeshContactTerm* mesh_contact_ = nullptr;  // one of terms_
+  // The scene's obstacle index of each analytic obstacle and each mesh, in the terms' order.
+  std::vector<int> analytic_index_, mesh_index_;
   SelfContactTerm* self_contact_ = nullptr;  // one of terms_
   double time_ = 0.0;
   // The pattern generations (repulsion's, self-contact's) assembly_ was built for.

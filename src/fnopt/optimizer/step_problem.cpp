@@ -5,17 +5,21 @@
 #include <algorithm>
 
 #include <fnopt/contact/contact_term.hpp>
+#include <fnopt/contact/mesh_contact_term.hpp>
 #include <fnopt/contact/self_contact_term.hpp>
 
 namespace fnopt {
 
 double StepProblem::feasible_fraction(const VecX& a_from, const VecX& a_to) {
   double fraction = obstacle_fraction(a_from, a_to);
-  if (const SelfContactTerm* self = objective_->self_contact()) {
+  const SelfContactTerm* self = objective_->self_contact();
+  const MeshContactTerm* meshes = objective_->mesh_contact();
+  if (self || meshes) {
     objective_->trial_positions(a_from, x_from_);
     objective_->trial_positions(a_to, x_to_);
-    fraction = std::min(fraction, self->safe_fraction(x_from_, x_to_));
   }
+  if (meshes) fraction = std::min(fraction, meshes->safe_fraction(x_from_, x_to_));
+  if (self) fraction = std::min(fraction, self->safe_fraction(x_from_, x_to_));
   return fraction;
 }
 
@@ -47,8 +51,9 @@ double StepProblem::feasible_step(const VecX& a, const VecX& direction, double s
 }
 
 double StepProblem::pullback() const {
-  const ContactTerm* contact = objective_->contact();
-  return contact ? contact->params().pullback : ContactParams{}.pullback;
+  if (const ContactTerm* contact = objective_->contact()) return contact->params().pullback;
+  if (const MeshContactTerm* meshes = objective_->mesh_contact()) return meshes->params().pullback;
+  return ContactParams{}.pullback;
 }
 
 void StepProblem::make_start_feasible(VecX& a) {
@@ -59,6 +64,10 @@ void StepProblem::make_start_feasible(VecX& a) {
     contact->safe_start_positions(x_start, x_to_);
   else
     x_to_ = x_start;
+  if (const MeshContactTerm* meshes = objective_->mesh_contact()) {
+    x_from_ = x_to_;
+    meshes->safe_start_positions(x_from_, x_to_);
+  }
   scratch_ = a;  // the handles keep their prescribed accelerations
   for (int v = 0; v < dirichlet_->vertex_count(); ++v)
     if (dirichlet_->free_index()[v] >= 0)

@@ -34,7 +34,10 @@ class StepProblem {
   long evaluations() const { return evaluations_; }
 
   // Whether the objective has obstacles or self-contact.
-  bool has_contact() const { return objective_->contact() != nullptr || objective_->self_contact() != nullptr; }
+  bool has_contact() const {
+    return objective_->contact() != nullptr || objective_->mesh_contact() != nullptr ||
+           objective_->self_contact() != nullptr;
+  }
   // The largest s in [0, 1] such that no vertex enters the contact thickness of an obstacle (posed at
   // the step's end, contact/ccd.hpp) and no two cloth primitives come within the self-contact
   // thickness (contact/additive_ccd.hpp) on the straight path from x(a_from) to x(a_to) before s; 1
@@ -46,7 +49,8 @@ class StepProblem {
   // The share of the safe fraction a pulled-back iterate keeps (ContactParams::pullback).
   double pullback() const;
   // Moves the step's start a_0 to a feasible one: from the safe start a_s (every free vertex at x_t,
-  // or carried along by an obstacle that would sweep over it: ContactTerm::safe_start_positions; the
+  // or carried along by an obstacle that would sweep over it: ContactTerm::safe_start_positions and
+  // MeshContactTerm::safe_start_positions; the
   // handles prescribed) toward a_0, a = a_s + pullback s (a_0 - a_s) where only the fraction s of
   // that move is feasible. No change without obstacles or where a_0 is reached safely.
   void make_start_feasible(VecX& a);

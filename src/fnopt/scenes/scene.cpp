@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include <fnopt/contact/mesh_contact_term.hpp>
 #include <fnopt/scenes/scene_checks.hpp>
 #include <fnopt/util/memory_limit.hpp>
 
@@ -54,12 +55,47 @@ void Scene::validate() const {
     throw Error(key, e.problem());
   }
   const VecX rest = placed_rest_positions(grid, placement);
+  refuse_mesh_start(grid, rest);
   for (std::size_t k = 0; k < obstacles.size(); ++k) {
+    if (obstacles[k].is_mesh()) continue;
     const Vec3 offset = obstacles[k].offset(0.0);
     for (int v = 0; v < grid.vertex_count(); ++v)
       if (!(obstacles[k].distance(vertex(rest, v), offset) > contact.thickness))
         throw Error("obstacle", "obstacle " + std::to_string(k + 1) + ": the cloth starts inside it at vertex (" +
                                     std::to_string(v / grid.cols) + "," + std::to_string(v % grid.cols) + ")");
+  }
+}
+
+void Scene::refuse_mesh_start(const Grid& grid, const VecX& rest) const {
+  std::vector<Obstacle> meshes;
+  std::vector<int> number;  // each mesh's place in the scene's list, from 1
+  for (std::size_t k = 0; k < obstacles.size(); ++k)
+    if (obstacles[k].is_mesh()) meshes.push_back(obstacles[k]), number.push_back(static_cast<int>(k) + 1);
+  if (meshes.empty()) return;
+  const MeshContactTerm term(grid, meshes, contact);  // posed at t = 0
+  auto vertex_name = [&](int v) { return "(" + std::to_string(v / grid.cols) + "," + std::to_string(v % grid.cols) + ")"; };
+  MeshContactPair pair{};
+  if (term.closest_pair(rest, pair) <= contact.thickness) {
+    const int owner = pair.kind == MeshContactPair::Kind::MeshPointClothTriangle ? term.mesh_owner_of_vertex(pair.mesh)
+                      : pair.kind == MeshContactPair::Kind::ClothPointMeshTriangle
+                          ? term.mesh_owner_of_triangle(pair.mesh)
+                          : term.mesh_owner_of_edge(pair.mesh);
+    std::string what;
+    if (pair.kind == MeshContactPair::Kind::ClothPointMeshTriangle)
+      what = "vertex " + vertex_name(pair.cloth) + " is within the thickness of its triangle " + std::to_string(pair.mesh - term.first_triangle(owner));
+    else if (pair.kind == MeshContactPair::Kind::MeshPointClothTriangle)
+      what = "its vertex " + std::to_string(pair.mesh - term.first_vertex(owner)) + " is within the thickness of the cloth triangle at " +
+             vertex_name(term.cloth_triangles()[pair.cloth][0]);
+    else
+      what = "the cloth edge at " + vertex_name(term.cloth_edges()[pair.cloth][0]) + " is within the thickness of its edge " +
+             std::to_string(pair.mesh - term.first_edge(owner));
+    throw Error("obstacle", "obstacle " + std::to_string(number[owner]) + ": the cloth starts through it: " + what);
+  }
+  for (int v = 0; v < grid.vertex_count(); ++v) {
+    const int inside = term.enclosing_mesh(rest, v);
+    if (inside >= 0)
+      throw Error("obstacle", "obstacle " + std::to_string(number[inside]) + ": the cloth starts inside it at vertex " +
+                                  vertex_name(v));
   }
 }
 

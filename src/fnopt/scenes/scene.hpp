@@ -66,6 +66,8 @@ struct Scene {
   // the cloth starts inside it at vertex (i,j)"). NaN fails every check. Does not open files:
   // resolve() does.
   void validate() const;
+  // Refuses a cloth that starts within the thickness of a mesh obstacle or inside a closed one.
+  void refuse_mesh_start(const Grid& grid, const VecX& rest) const;
 };
 
 // Scene file: one "key = value" per line, blank lines ignored; '#' at the start of a line or

@@ -103,20 +103,25 @@ std::string material_relative_to(const std::string& directory, const std::string
   return fs::is_regular_file(rebased, ignored) ? rebased : name;
 }
 
-// The path= files of obstacle specs, each taken relative to `directory`.
+// The files of obstacle specs (path=, and a mesh's file= and sequence=), each taken relative to
+// `directory`.
 std::string obstacle_paths_relative_to(const std::string& directory, const std::string& specs) {
   if (directory.empty()) return specs;
-  std::string rebased;
-  std::size_t copied = 0;
-  for (std::size_t key = specs.find("path="); key != std::string::npos; key = specs.find("path=", key + 5)) {
-    if (key > 0 && specs[key - 1] != ' ' && specs[key - 1] != '\t') continue;
-    const std::size_t start = key + 5;
-    const std::size_t end = std::min(specs.find_first_of(" \t;", start), specs.size());
-    rebased.append(specs, copied, start - copied);
-    rebased += relative_to(directory, specs.substr(start, end - start));
-    copied = end;
+  std::string rebased = specs;
+  for (const std::string key : {"path=", "file=", "sequence="}) {
+    std::string out;
+    std::size_t copied = 0;
+    for (std::size_t at = rebased.find(key); at != std::string::npos; at = rebased.find(key, at + key.size())) {
+      if (at > 0 && rebased[at - 1] != ' ' && rebased[at - 1] != '\t') continue;
+      const std::size_t start = at + key.size();
+      const std::size_t end = std::min(rebased.find_first_of(" \t;", start), rebased.size());
+      out.append(rebased, copied, start - copied);
+      out += relative_to(directory, rebased.substr(start, end - start));
+      copied = end;
+    }
+    rebased = out + rebased.substr(copied);
   }
-  return rebased + specs.substr(copied);
+  return rebased;
 }
 
 // ---- the grid ----
@@ -360,7 +365,8 @@ const SceneKey kKeys[] = {
   {"obstacle", T::Obstacles, "SPEC", "", "none",
    "an obstacle, repeatable: 'sphere center=X,Y,Z radius=R', 'plane point=X,Y,Z normal=X,Y,Z', "
    "'box center=X,Y,Z size=SX,SY,SZ rounding=R' or 'capsule a=X,Y,Z b=X,Y,Z radius=R', each with optional "
-   "friction=MU and motion=NAME or path=FILE.csv (docs/design.md §14)",
+   "friction=MU and motion=NAME or path=FILE.csv; or mesh file=PATH.obj or sequence=PREFIX fps=F "
+   "[scale=S] [offset=X,Y,Z] (docs/design.md §14)",
    "sphere center=0.5,-0.3,-0.5 radius=0.1 friction=0.3", "",
    kAll, kEmptyClears | kRepeatable, {apply_obstacle, write_obstacle, obstacle_paths_relative_to}},
   {"contact-stiffness", T::Number, "KAPPA", "N/m", "10", "obstacle barrier stiffness kappa (docs/design.md §14)",
