@@ -190,6 +190,21 @@ MeshContactTerm::StencilPlace MeshContactTerm::stencil_place(const Pair& pair) c
   return {};
 }
 
+void MeshContactTerm::measure_displacements(const VecX& x, const VecX& y) const {
+  displacement_.resize(grid_.vertex_count());
+  for (int v = 0; v < grid_.vertex_count(); ++v)
+    displacement_[v] = std::sqrt(std::max((vertex_of(x, v) - vertex_of(centre_, v)).squaredNorm(),
+                                          (vertex_of(y, v) - vertex_of(centre_, v)).squaredNorm()));
+}
+
+bool MeshContactTerm::may_come_within(std::size_t c, double reach) const {
+  std::array<int, 3> slots, vertices;
+  const int count = cloth_slots(candidates_[c], slots, vertices);
+  double moved = 0.0;
+  for (int k = 0; k < count; ++k) moved = std::max(moved, displacement_[vertices[k]]);
+  return candidate_distance_[c] - moved < reach;
+}
+
 double MeshContactTerm::pair_distance(const Vec12& local, const Pair& pair) const {
   if (pair.kind == Kind::ClothEdgeMeshEdge)
     return std::sqrt(edge_edge_squared_distance(local, edge_edge_distance_type(local)));
@@ -287,6 +302,9 @@ bool MeshContactTerm::inside(const VecX& x) const {
 void MeshContactTerm::rebuild(const VecX& x) const {
   centre_ = x;
   find_near_pairs(centre_, params_.thickness + kernel_.range + slack_, candidates_);
+  candidate_distance_.resize(candidates_.size());
+  for (std::size_t c = 0; c < candidates_.size(); ++c)
+    candidate_distance_[c] = pair_distance(gather(centre_, end_vertices_, candidates_[c]), candidates_[c]);
   ++rebuilds_;
 }
 
@@ -295,8 +313,15 @@ void MeshContactTerm::cover(const VecX& x) const {
 }
 
 const std::vector<MeshContactTerm::Pair>& MeshContactTerm::pairs_at(const VecX& x) const {
-  if (inside(x)) return candidates_;
-  find_near_pairs(x, params_.thickness + kernel_.range, evaluation_pairs_);
+  const double reach = params_.thickness + kernel_.range;
+  evaluation_pairs_.clear();
+  if (inside(x)) {
+    measure_displacements(x, x);
+    for (std::size_t c = 0; c < candidates_.size(); ++c)
+      if (may_come_within(c, reach)) evaluation_pairs_.push_back(candidates_[c]);
+  } else {
+    find_near_pairs(x, reach, evaluation_pairs_);
+  }
   return evaluation_pairs_;
 }
 
@@ -364,7 +389,7 @@ double MeshContactTerm::accumulate_gradient(const VecX& x, VecX& grad) const {
   double total = 0.0;
   Vec12 g;
   std::array<int, 3> slots, vertices;
-  for (const Pair& pair : candidates_) {
+  for (const Pair& pair : pairs_at(x)) {
     g.setZero();
     total += pair_barrier(pair, gather(x, end_vertices_, pair), &g, nullptr);
     const int count = cloth_slots(pair, slots, vertices);
@@ -402,7 +427,7 @@ void MeshContactTerm::accumulate_hessian(const VecX& x, bool project, HessianAss
         local.block<3, 3>(3 * place.local[a], 3 * place.local[b]) = block.template block<3, 3>(3 * a, 3 * b);
     assembly.scatter<3>(handle, place.triangle, local);
   };
-  for (const Pair& pair : candidates_) {
+  for (const Pair& pair : pairs_at(x)) {
     H.setZero();
     if (pair_barrier(pair, gather(x, end_vertices_, pair), nullptr, &H) == 0.0) continue;
     const int count = cloth_slots(pair, slots, vertices);
@@ -430,16 +455,21 @@ void MeshContactTerm::accumulate_hessian(const VecX& x, bool project, HessianAss
 }
 
 double MeshContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to) const {
-  const std::vector<Pair>* pairs = &candidates_;
-  if (!inside(x_from) || !inside(x_to)) {
+  // Inside the slack: the candidates that may come within the thickness (a vertex on the straight
+  // path is no farther from the centre than the farther end). Else a search of the move's boxes.
+  move_pairs_.clear();
+  if (inside(x_from) && inside(x_to)) {
+    measure_displacements(x_from, x_to);
+    for (std::size_t c = 0; c < candidates_.size(); ++c)
+      if (may_come_within(c, params_.thickness)) move_pairs_.push_back(candidates_[c]);
+  } else {
     collect_pairs(x_from, x_to, params_.thickness, [](const Pair&) { return true; }, move_pairs_);
-    pairs = &move_pairs_;
   }
   double fraction = 1.0;
-  const int count = static_cast<int>(pairs->size());
+  const int count = static_cast<int>(move_pairs_.size());
 #pragma omp parallel for reduction(min : fraction) schedule(static) if (count >= 256)
   for (int p = 0; p < count; ++p) {
-    const Pair& pair = (*pairs)[p];
+    const Pair& pair = move_pairs_[p];
     const Vec12 from = gather(x_from, end_vertices_, pair), to = gather(x_to, end_vertices_, pair);
     if (from == to) continue;
     auto at = [](const Vec12& s, int k) { return Vec3(s.segment<3>(3 * k)); };

@@ -20,7 +20,11 @@
 // centre x_c, first the inertial prediction, and a slack s = thickness + dhat; the pairs within
 // thickness + dhat + s at x_c hold every pair in range at any x whose vertices lie within s of x_c.
 // Outside, the energy takes the pairs found at x; the gradient's and the Hessian's states become the
-// new centre. The searches query a bounding-volume hierarchy over each kind of mesh primitive
+// new centre. Each candidate keeps its distance d_c at x_c: at a state whose pair's cloth vertices
+// lie within delta of their centre positions the pair is at least d_c - delta apart, so an
+// evaluation visits only the candidates with d_c - delta below the range (and CCD, with delta the
+// larger of both ends', those below the thickness): near the centre, little more than the pairs in
+// range. The searches query a bounding-volume hierarchy over each kind of mesh primitive
 // (box_tree.hpp; refitted where a mesh moves) with each cloth primitive's box; a mesh whose box is
 // farther than the reach from the cloth's box costs one box test per kind.
 //
@@ -154,6 +158,10 @@ class MeshContactTerm final : public EnergyTerm {
   // edge), and their cloth vertex indices.
   int cloth_slots(const Pair& pair, std::array<int, 3>& slots, std::array<int, 3>& vertices) const;
   StencilPlace stencil_place(const Pair& pair) const;
+  // displacement_[v] = the larger of |x_v - x_c,v| and |y_v - x_c,v|.
+  void measure_displacements(const VecX& x, const VecX& y) const;
+  // Whether candidate c may come within `reach` at states whose displacements were measured.
+  bool may_come_within(std::size_t c, double reach) const;
   double pair_distance(const Vec12& local, const Pair& pair) const;
   // The barrier of one pair; its full gradient and exact Hessian where asked.
   double pair_barrier(const Pair& pair, const Vec12& local, Vec12* gradient, Mat12* hessian) const;
@@ -201,6 +209,8 @@ class MeshContactTerm final : public EnergyTerm {
   std::vector<FrictionEntry> friction_;
   mutable VecX centre_;
   mutable std::vector<Pair> candidates_, evaluation_pairs_, move_pairs_;
+  mutable std::vector<double> candidate_distance_;  // d_c of each candidate
+  mutable std::vector<double> displacement_;        // per cloth vertex
   mutable long rebuilds_ = 0;
 };
 
