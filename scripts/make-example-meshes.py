@@ -16,6 +16,13 @@
                  rounding 0.02): flat faces as grids, rounded edges as quarter-cylinders and
                  corners as sphere octants, every vertex on the surface, the quarter circles cut
                  into the fewest equal arcs whose sagitta is at most 0.5 mm.
+  paddle/paddle0000.obj ... paddle0020.obj
+                 an animated mesh (a sequence at 10 frames per second, t = 0 to 2 s): an ellipsoid
+                 of radii 0.2, 0.08, 0.08 (m) spinning a half turn per second about the y axis while
+                 its centre follows examples/scenes/pushed-sphere-path.csv (at 0.5,-0.4,-0.6 until
+                 0.5 s, then 0.8 m along y in 1.5 s), through the cloth hanging in the x-z plane
+                 (examples/scenes/paddle.scene). A rotation no rigid motion= can give: every frame
+                 is the same icosphere of frequency 4, so the frames share one topology.
 
 Each mesh is checked before it is written: closed (every edge in exactly two triangles), oriented
 consistently (every directed edge once, normals outward), no triangle with a repeated vertex or
@@ -25,7 +32,7 @@ The sagittas and counts are printed and written in each file's header.
 
 Deterministic: the same files on every run (the mannequin and the sphere use only arithmetic and
 square roots, exact in IEEE arithmetic on every machine; the table's few tangents come from the C
-library, and every coordinate is written to 9 significant digits).
+library, the paddle's sines and cosines too, and every coordinate is written to 9 significant digits).
 Python 3 standard library only.
 
     scripts/make-example-meshes.py [--out DIR]    (default: examples/meshes beside this script)
@@ -597,13 +604,50 @@ def make_mannequin(out):
     return f"mannequin.obj: {len(triangles)} triangles, {size}, volume {volume:.6f} m^3"
 
 
+# ---- paddle (an animated mesh) ------------------------------------------------------------------
+
+PADDLE_RADII = (0.2, 0.08, 0.08)
+PADDLE_FPS = 10
+PADDLE_FRAMES = 21  # t = 0 to 2 s
+
+
+def paddle_centre(t):
+    """examples/scenes/pushed-sphere-path.csv: still until 0.5 s, then 0.8 m along y in 1.5 s."""
+    w = min(max((t - 0.5) / 1.5, 0.0), 1.0)
+    return (0.5, -0.4 + 0.8 * w, -0.6)
+
+
+def make_paddle(out):
+    unit, triangles = icosphere(4, (0.0, 0.0, 0.0), 1.0)
+    folder = out / "paddle"
+    folder.mkdir(parents=True, exist_ok=True)
+    for frame in range(PADDLE_FRAMES):
+        t = frame / PADDLE_FPS
+        angle = math.pi * t  # a half turn per second about y
+        c, s = math.cos(angle), math.sin(angle)
+        centre = paddle_centre(t)
+        vertices = []
+        for p in unit:
+            x, y, z = (p[k] * PADDLE_RADII[k] for k in range(3))
+            vertices.append(add(centre, (c * x + s * z, y, -s * x + c * z)))
+        check_mesh(f"paddle frame {frame}", vertices, triangles)
+        header = [
+            f"Frame {frame} of 0..{PADDLE_FRAMES - 1} (t = {t:g} s at {PADDLE_FPS} frames per second) of the paddle of",
+            "examples/scenes/paddle.scene: an ellipsoid of radii 0.2, 0.08, 0.08 (m) spinning a half turn per second",
+            "about the y axis, its centre on examples/scenes/pushed-sphere-path.csv. Icosphere of frequency 4;",
+            f"{len(vertices)} vertices, {len(triangles)} triangles, the same in every frame.",
+        ]
+        write_obj(folder / f"paddle{frame:04d}.obj", header, vertices, triangles)
+    return f"paddle/: {PADDLE_FRAMES} frames at {PADDLE_FPS} fps, {len(triangles)} triangles each"
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=pathlib.Path,
                         default=pathlib.Path(__file__).resolve().parent.parent / "examples" / "meshes")
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
-    for make in (make_mannequin, make_sphere, make_table):
+    for make in (make_mannequin, make_sphere, make_table, make_paddle):
         print(make(args.out))
 
 

@@ -92,5 +92,53 @@ TEST(ObstacleSpec, BadInputIsOneLineNamingTheProblem) {
   std::remove(file.c_str());
 }
 
+// A mesh spec reads its file (relative paths as given, stored absolute), poses it by scale and
+// offset, and writes a canonical text that parses back to the same mesh; a sequence likewise.
+TEST(ObstacleSpec, MeshesParseAndWriteBack) {
+  const std::string dir = ::testing::TempDir();
+  const std::string file = dir + "spec_tetra.obj";
+  std::ofstream(file) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  for (int k = 0; k < 2; ++k)
+    std::ofstream(dir + "spec_seq" + (k ? "0001" : "0000") + ".obj")
+        << "v 0 0 " << k << "\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  const Obstacle m = parse_obstacle("mesh file=" + file + " scale=2 offset=1,0,0 friction=0.4 motion=xy_v2");
+  ASSERT_TRUE(m.is_mesh());
+  EXPECT_EQ(m.mesh()->triangle_count(), 4);
+  EXPECT_EQ(m.mesh()->frame(0)[1], Vec3(3, 0, 0));
+  EXPECT_EQ(m.point(), Vec3(1, 0, 0));  // the origin the motion moves
+  EXPECT_EQ(m.friction(), 0.4);
+  const Obstacle back = parse_obstacle(m.to_text());
+  EXPECT_EQ(back.to_text(), m.to_text());
+  EXPECT_EQ(back.mesh()->frame(0), m.mesh()->frame(0));
+  const Obstacle s = parse_obstacle("mesh sequence=" + dir + "spec_seq fps=4");
+  EXPECT_TRUE(s.mesh()->animated());
+  EXPECT_TRUE(s.moves());
+  std::vector<Vec3> at;
+  s.mesh_vertices(0.125, at);  // half way between the frames
+  EXPECT_EQ(at[0], Vec3(0, 0, 0.5));
+  EXPECT_EQ(parse_obstacle(s.to_text()).to_text(), s.to_text());
+  EXPECT_NE(s.to_text().find("sequence=" + dir + "spec_seq fps=4"), std::string::npos) << s.to_text();
+}
+
+TEST(ObstacleSpec, BadMeshSpecsAreOneLineNamingTheFile) {
+  const std::string dir = ::testing::TempDir();
+  EXPECT_NE(problem("mesh").find("file=PATH.obj or sequence=PREFIX"), std::string::npos);
+  EXPECT_NE(problem("mesh file=" + dir + "no_such.obj").find(dir + "no_such.obj"), std::string::npos);
+  const std::string bad = dir + "spec_bad.obj";
+  std::ofstream(bad) << "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n";
+  const std::string message = problem("mesh file=" + bad);
+  EXPECT_NE(message.find(bad + ": line 2"), std::string::npos) << message;
+  const std::string empty = dir + "spec_empty.obj";
+  std::ofstream(empty) << "v 0 0 0\n";
+  EXPECT_NE(problem("mesh file=" + empty).find(empty), std::string::npos);
+  EXPECT_NE(problem("mesh file=" + bad + " sequence=x").find("not both"), std::string::npos);
+  EXPECT_NE(problem("mesh file=x.obj fps=3").find("fps= is for a sequence"), std::string::npos);
+  EXPECT_NE(problem("mesh sequence=" + dir + "spec_none").find("spec_none0000.obj"), std::string::npos);
+  const std::string tetra = dir + "spec_tetra2.obj";
+  std::ofstream(tetra) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  EXPECT_NE(problem("mesh file=" + tetra + " scale=0").find("scale"), std::string::npos);
+  EXPECT_NE(problem("mesh file=" + tetra + " radius=1").find("unknown key 'radius'"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace fnopt

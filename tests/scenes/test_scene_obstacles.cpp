@@ -105,6 +105,31 @@ TEST(SceneObstacles, BadObstaclesAreRejectedBeforeAnyWork) {
   EXPECT_TRUE(throws_error([] { load_scene_text("let-go = -2\n", "s.txt"); }, "s.txt:1: let-go"));
 }
 
+// A mesh through the hanging cloth, or around part of it, is refused naming the mesh, the feature
+// and the cloth's vertex; a mesh relative to a scene file is read next to it.
+TEST(SceneObstacles, AClothThroughOrInsideAMeshIsRejectedBeforeAnyWork) {
+  const std::string dir = ::testing::TempDir();
+  // A closed tetrahedron around (0.5, 0, -0.5): the cloth (y = 0) cuts through it.
+  std::ofstream(dir + "scene_tetra.obj") << "v 0.4 -0.1 -0.6\nv 0.6 -0.1 -0.6\nv 0.5 0.1 -0.6\nv 0.5 0 -0.4\n"
+                                           "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+  Scene scene;
+  scene.rows = scene.cols = 16;
+  scene.obstacles = parse_obstacles("plane point=0,-1,0 normal=0,1,0; mesh file=" + dir + "scene_tetra.obj");
+  EXPECT_TRUE(throws_error([&] { scene.validate(); }, "obstacle 2: the cloth starts through it: "));
+  // Moved off the cloth by 5 cm it is clear; a scene file names it relative to itself.
+  std::ofstream(dir + "scene_mesh.scene") << "obstacle = mesh file=scene_tetra.obj offset=0,-0.2,0\n";
+  const Scene loaded = load_scene_file(dir + "scene_mesh.scene");
+  ASSERT_EQ(loaded.obstacles.size(), 1u);
+  EXPECT_EQ(loaded.obstacles[0].mesh_source(), dir + "scene_tetra.obj");
+  EXPECT_NO_THROW(loaded.validate());
+  // A large box around the whole cloth's lower rows: the vertices inside are refused.
+  std::ofstream(dir + "scene_box.obj") << "v -1 -1 -2\nv 2 -1 -2\nv 2 1 -2\nv -1 1 -2\n"
+                                         "v -1 -1 -0.55\nv 2 -1 -0.55\nv 2 1 -0.55\nv -1 1 -0.55\n"
+                                         "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+  scene.obstacles = parse_obstacles("mesh file=" + dir + "scene_box.obj");
+  EXPECT_TRUE(throws_error([&] { scene.validate(); }, "obstacle 1: the cloth starts inside it at vertex (9,0)"));
+}
+
 TEST(SceneObstacles, HorizontalPlacementIsCentredInTheXYPlane) {
   const Grid grid = Grid::make(5, 9, 1.0);
   const VecX rest = placed_rest_positions(grid, Placement::Horizontal);

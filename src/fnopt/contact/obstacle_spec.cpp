@@ -78,7 +78,8 @@ Obstacle built(Build build) {
 // A mesh: file=PATH.obj or sequence=PREFIX fps=F, with scale=S and offset=X,Y,Z (mesh_shape.hpp).
 Obstacle mesh_obstacle(const SpecKeys& keys) {
   const bool sequence = keys.has("sequence");
-  SpecKeys::fail_unless(sequence != keys.has("file"), "a mesh needs file=PATH.obj or sequence=PREFIX, not both");
+  SpecKeys::fail_unless(sequence || keys.has("file"), "a mesh needs file=PATH.obj or sequence=PREFIX fps=F");
+  SpecKeys::fail_unless(!(sequence && keys.has("file")), "give file= or sequence=, not both");
   SpecKeys::fail_unless(sequence || !keys.has("fps"), "fps= is for a sequence");
   std::error_code ignored;
   const std::string source = std::filesystem::absolute(keys.text(sequence ? "sequence" : "file"), ignored).string();
