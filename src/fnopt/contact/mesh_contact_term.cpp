@@ -325,6 +325,26 @@ const std::vector<MeshContactTerm::Pair>& MeshContactTerm::pairs_at(const VecX& 
   return evaluation_pairs_;
 }
 
+bool MeshContactTerm::frozen_entry(const Pair& pair, const Vec12& start, const Vec12& end, double mu,
+                                   FrictionEntry& entry) const {
+  const double gap = pair_distance(start, pair) - params_.thickness;
+  if (!(gap > 0.0 && gap < kernel_.range)) return false;
+  const bool edges = pair.kind == Kind::ClothEdgeMeshEdge;
+  const double mollified = edges ? edge_edge_mollifier(start, edge_threshold(pair)) : 1.0;
+  entry = FrictionEntry{pair, mu * mollified * -kernel_.barrier_derivative(gap),
+                        edges ? edge_edge_tangent_frame(start) : point_triangle_tangent_frame(start), start,
+                        Eigen::Vector2d::Zero()};
+  // The mesh's slots move from `start` to `end` over the step, whatever the cloth does.
+  std::array<int, 3> slots, vertices;
+  const int count = cloth_slots(pair, slots, vertices);
+  Vec3 mesh_motion = Vec3::Zero();
+  for (int k = 0; k < 4; ++k)
+    if (std::find(slots.begin(), slots.begin() + count, k) == slots.begin() + count)
+      mesh_motion += entry.frame.weights[k] * (end.segment<3>(3 * k) - start.segment<3>(3 * k));
+  entry.offset = entry.frame.basis.transpose() * mesh_motion;
+  return true;
+}
+
 void MeshContactTerm::freeze_friction(const VecX& x_start) {
   friction_.clear();
   bool any = false;
@@ -332,36 +352,80 @@ void MeshContactTerm::freeze_friction(const VecX& x_start) {
   if (!any) return;
   // The trees hold the end pose: a pair in range at the start pose lies within the reach plus the
   // meshes' largest move of it there.
-  const double reach = params_.thickness + kernel_.range;
   std::vector<Pair> pairs;
-  collect_pairs(x_start, x_start, reach + max_motion_, [](const Pair&) { return true; }, pairs);
+  collect_pairs(x_start, x_start, params_.thickness + kernel_.range + max_motion_, [](const Pair&) { return true; },
+                pairs);
+  FrictionEntry entry;
   for (const Pair& pair : pairs) {
-    const int owner = pair.kind == Kind::ClothPointMeshTriangle  ? triangle_mesh_[pair.mesh]
-                      : pair.kind == Kind::MeshPointClothTriangle ? vertex_mesh_[pair.mesh]
-                                                                  : edge_mesh_[pair.mesh];
-    const double mu = friction_of_[owner];
-    if (mu == 0.0) continue;
-    const Vec12 start = gather(x_start, start_vertices_, pair);
-    const double gap = pair_distance(start, pair) - params_.thickness;
-    if (!(gap > 0.0 && gap < kernel_.range)) continue;
-    FrictionEntry entry{pair, 0.0, {}, start, Eigen::Vector2d::Zero()};
-    const double mollified = pair.kind == Kind::ClothEdgeMeshEdge
-                                 ? edge_edge_mollifier(start, edge_threshold(pair))
-                                 : 1.0;
-    entry.weight = mu * mollified * -kernel_.barrier_derivative(gap);
-    entry.frame = pair.kind == Kind::ClothEdgeMeshEdge ? edge_edge_tangent_frame(start)
-                                                       : point_triangle_tangent_frame(start);
-    // The mesh's slots move by Delta m over the step, whatever the cloth does.
-    const Vec12 end = gather(x_start, end_vertices_, pair);
-    std::array<int, 3> slots, vertices;
-    const int count = cloth_slots(pair, slots, vertices);
-    Vec3 mesh_motion = Vec3::Zero();
-    for (int k = 0; k < 4; ++k) {
-      const bool cloth = std::find(slots.begin(), slots.begin() + count, k) != slots.begin() + count;
-      if (!cloth) mesh_motion += entry.frame.weights[k] * (end.segment<3>(3 * k) - start.segment<3>(3 * k));
-    }
-    entry.offset = entry.frame.basis.transpose() * mesh_motion;
-    friction_.push_back(entry);
+    const double mu = friction_of_[owner(pair)];
+    if (mu > 0.0 && frozen_entry(pair, gather(x_start, start_vertices_, pair), gather(x_start, end_vertices_, pair), mu,
+                                 entry))
+      friction_.push_back(entry);
+  }
+}
+
+int MeshContactTerm::owner(const Pair& pair) const {
+  switch (pair.kind) {
+    case Kind::ClothPointMeshTriangle:
+      return triangle_mesh_[pair.mesh];
+    case Kind::MeshPointClothTriangle:
+      return vertex_mesh_[pair.mesh];
+    case Kind::ClothEdgeMeshEdge:
+      break;
+  }
+  return edge_mesh_[pair.mesh];
+}
+
+double MeshContactTerm::entry_gradient(const FrictionEntry& f, const VecX& x, Eigen::Matrix<double, 9, 1>* gradient,
+                                       Mat3* tangent_hessian) const {
+  std::array<int, 3> slots, vertices;
+  const int count = cloth_slots(f.pair, slots, vertices);
+  Vec3 slip = Vec3::Zero();
+  for (int k = 0; k < count; ++k)
+    slip += f.frame.weights[slots[k]] * (vertex_of(x, vertices[k]) - f.start.segment<3>(3 * slots[k]));
+  const Eigen::Vector2d u = f.frame.basis.transpose() * slip + f.offset;
+  const double y = u.norm();
+  if (gradient) {
+    const Vec3 force = f.weight * mollifier_.f1_over_y(y) * (f.frame.basis * u);
+    for (int k = 0; k < count; ++k) gradient->segment<3>(3 * k) = f.frame.weights[slots[k]] * force;
+  }
+  if (tangent_hessian) {
+    const Eigen::Matrix2d Hu =
+        mollifier_.f1_over_y(y) * Eigen::Matrix2d::Identity() + mollifier_.f1_over_y_slope_over_y(y) * u * u.transpose();
+    *tangent_hessian = f.weight * f.frame.basis * Hu * f.frame.basis.transpose();
+  }
+  return f.weight * mollifier_.f0(y);
+}
+
+void MeshContactTerm::add_friction_start_product(const VecX& x, const VecX& lambda, VecX& out) const {
+  // J = d(grad_x D)/dx_t at fixed x, through the frozen weight, frame, weights and start of each pair,
+  // by central differences of the frozen entry in the start's cloth coordinates (at most nine).
+  std::array<int, 3> slots, vertices;
+  Eigen::Matrix<double, 9, 1> plus, minus;
+  FrictionEntry moved;
+  for (const FrictionEntry& f : friction_) {
+    const int count = cloth_slots(f.pair, slots, vertices);
+    Vec12 end = f.start;  // the mesh's slots at the step's end; the cloth's are not read
+    const Vec12 mesh_end = gather(x, end_vertices_, f.pair);
+    for (int k = 0; k < 4; ++k)
+      if (std::find(slots.begin(), slots.begin() + count, k) == slots.begin() + count)
+        end.segment<3>(3 * k) = mesh_end.segment<3>(3 * k);
+    const double mu = friction_of_[owner(f.pair)];
+    for (int l = 0; l < count; ++l)
+      for (int c = 0; c < 3; ++c) {
+        const double step = kStartStep * (1.0 + std::abs(f.start[3 * slots[l] + c]));
+        Vec12 start = f.start;
+        start[3 * slots[l] + c] += step;
+        plus.setZero();
+        if (frozen_entry(f.pair, start, end, mu, moved)) entry_gradient(moved, x, &plus, nullptr);
+        start[3 * slots[l] + c] -= 2.0 * step;
+        minus.setZero();
+        if (frozen_entry(f.pair, start, end, mu, moved)) entry_gradient(moved, x, &minus, nullptr);
+        double product = 0.0;
+        for (int k = 0; k < count; ++k)
+          product += lambda.segment<3>(3 * vertices[k]).dot((plus - minus).segment<3>(3 * k)) / (2.0 * step);
+        out[3 * vertices[l] + c] += product;
+      }
   }
 }
 
@@ -373,14 +437,7 @@ double MeshContactTerm::barrier_energy(const VecX& x) const {
 
 double MeshContactTerm::energy(const VecX& x) const {
   double total = barrier_energy(x);
-  for (const FrictionEntry& f : friction_) {
-    std::array<int, 3> slots, vertices;
-    const int count = cloth_slots(f.pair, slots, vertices);
-    Vec3 slip = Vec3::Zero();
-    for (int k = 0; k < count; ++k)
-      slip += f.frame.weights[slots[k]] * (vertex_of(x, vertices[k]) - f.start.segment<3>(3 * slots[k]));
-    total += f.weight * mollifier_.f0((f.frame.basis.transpose() * slip + f.offset).norm());
-  }
+  for (const FrictionEntry& f : friction_) total += entry_gradient(f, x, nullptr, nullptr);
   return total;
 }
 
@@ -395,16 +452,11 @@ double MeshContactTerm::accumulate_gradient(const VecX& x, VecX& grad) const {
     const int count = cloth_slots(pair, slots, vertices);
     for (int k = 0; k < count; ++k) grad.segment<3>(3 * vertices[k]) += g.segment<3>(3 * slots[k]);
   }
+  Eigen::Matrix<double, 9, 1> friction;
   for (const FrictionEntry& f : friction_) {
+    total += entry_gradient(f, x, &friction, nullptr);
     const int count = cloth_slots(f.pair, slots, vertices);
-    Vec3 slip = Vec3::Zero();
-    for (int k = 0; k < count; ++k)
-      slip += f.frame.weights[slots[k]] * (vertex_of(x, vertices[k]) - f.start.segment<3>(3 * slots[k]));
-    const Eigen::Vector2d u = f.frame.basis.transpose() * slip + f.offset;
-    const double y = u.norm();
-    total += f.weight * mollifier_.f0(y);
-    const Vec3 force = f.weight * mollifier_.f1_over_y(y) * (f.frame.basis * u);
-    for (int k = 0; k < count; ++k) grad.segment<3>(3 * vertices[k]) += f.frame.weights[slots[k]] * force;
+    for (int k = 0; k < count; ++k) grad.segment<3>(3 * vertices[k]) += friction.segment<3>(3 * k);
   }
   return total;
 }
@@ -435,17 +487,11 @@ void MeshContactTerm::accumulate_hessian(const VecX& x, bool project, HessianAss
     if (count == 2) scatter(pair, cloth_block<2>(H, slots, project), 2);
     if (count == 3) scatter(pair, cloth_block<3>(H, slots, project), 3);
   }
-  // Friction: weight w_k w_l T hess_u T^T per pair of cloth vertices, positive semi-definite.
+  // Friction: w_k w_l (W T hess_u T^T) per pair of cloth vertices, positive semi-definite.
+  Mat3 tangent;
   for (const FrictionEntry& f : friction_) {
+    entry_gradient(f, x, nullptr, &tangent);
     const int count = cloth_slots(f.pair, slots, vertices);
-    Vec3 slip = Vec3::Zero();
-    for (int k = 0; k < count; ++k)
-      slip += f.frame.weights[slots[k]] * (vertex_of(x, vertices[k]) - f.start.segment<3>(3 * slots[k]));
-    const Eigen::Vector2d u = f.frame.basis.transpose() * slip + f.offset;
-    const double y = u.norm();
-    const Eigen::Matrix2d Hu =
-        mollifier_.f1_over_y(y) * Eigen::Matrix2d::Identity() + mollifier_.f1_over_y_slope_over_y(y) * u * u.transpose();
-    const Mat3 tangent = f.weight * f.frame.basis * Hu * f.frame.basis.transpose();
     Eigen::Matrix<double, 9, 9> block = Eigen::Matrix<double, 9, 9>::Zero();
     for (int a = 0; a < count; ++a)
       for (int b = 0; b < count; ++b)

@@ -108,6 +108,12 @@ class MeshContactTerm final : public EnergyTerm {
   // The smallest distance of a pair at x (the meshes at the step's end pose), and that pair;
   // thickness + range where none is closer.
   double closest_pair(const VecX& x, Pair& pair) const;
+  // The lagged friction's dependence on the step's start, for the adjoint (docs/design.md §15): adds
+  // J^T lambda to out, J = d(grad_x D)/dx_t at x through each pair's frozen normal force, frame,
+  // closest-point weights and start, by central differences of the frozen pair in its start's
+  // cloth coordinates (steps of kStartStep times 1 + |coordinate|).
+  void add_friction_start_product(const VecX& x, const VecX& lambda, VecX& out) const;
+  static constexpr double kStartStep = 1e-7;  // [m] per metre of coordinate
   // Whether cloth vertex v of x lies inside a closed mesh (generalized winding number above 1/2,
   // Jacobson et al. 2013), the meshes at the step's end pose; the mesh's index (in this term's
   // list) or -1.
@@ -179,6 +185,15 @@ class MeshContactTerm final : public EnergyTerm {
   // Poses the meshes at time t (plus `offsets` instead of their motions where given) into vertices.
   void pose(double t, const std::vector<Vec3>* offsets, std::vector<Vec3>& vertices) const;
   void freeze_friction(const VecX& x_start);
+  // The friction pair frozen at the stencil `start` (the mesh at its start pose; `end` the mesh's
+  // slots at the step's end) with coefficient mu; false where the pair is not in range there.
+  bool frozen_entry(const Pair& pair, const Vec12& start, const Vec12& end, double mu, FrictionEntry& entry) const;
+  // The friction potential of an entry at x; its gradient on the pair's cloth vertices (3 per
+  // vertex, cloth_slots' order) and W T hess_u T^T where asked.
+  double entry_gradient(const FrictionEntry& entry, const VecX& x, Eigen::Matrix<double, 9, 1>* gradient,
+                        Mat3* tangent_hessian) const;
+  // The mesh (index in this term's list) of the pair's mesh primitive.
+  int owner(const Pair& pair) const;
   void refit_trees();
 
   std::string name_ = "mesh-contact";
