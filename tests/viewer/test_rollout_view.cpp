@@ -83,6 +83,42 @@ TEST(ViewerRolloutView, CarriesTheScenesObstaclesPosedAtEveryFrame) {
   EXPECT_NE(rollout_metadata_json(load_rollout_view(path)).find("\"obstacles\":[]"), std::string::npos);
 }
 
+// A mesh obstacle's triangles once; its vertices once for a static mesh and at every frame for an
+// animated one, each frame's vertices translated by the frame's offset being the mesh posed at
+// the frame's time (Obstacle::mesh_vertices); the JSON gives the sizes only.
+TEST(ViewerRolloutView, CarriesMeshObstaclesTrianglesOnceAndAnAnimatedOnesVerticesPerFrame) {
+  const testing::TempDir dir;
+  const std::string path = (dir.path() / "r.h5").string();
+  const Scene scene = testing::write_mesh_obstacle_rollout(dir.path(), path, 4);
+  const RolloutView view = load_rollout_view(path);
+  const int T = view.frames();
+  ASSERT_EQ(view.obstacles.size(), 3u);
+  for (int k = 0; k < 2; ++k) {
+    const ObstacleView& o = view.obstacles[k];
+    EXPECT_EQ(o.shape, "mesh");
+    EXPECT_EQ(o.triangles, (std::vector<int>{0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3})) << k;
+    ASSERT_EQ(o.vertex_count, 4);
+    ASSERT_EQ(o.vertex_frames(), k == 0 ? 1 : T) << "a static mesh's vertices are sent once";
+    ASSERT_EQ(o.offsets.size(), 3u * T);
+    std::vector<Vec3> posed;
+    for (int f = 0; f < T; ++f) {
+      scene.obstacles[k].mesh_vertices(view.times[f], posed);
+      const float* frame = o.vertices.data() + (k == 0 ? 0 : 12 * f);
+      for (int v = 0; v < 4; ++v)
+        for (int c = 0; c < 3; ++c)
+          EXPECT_NEAR(frame[3 * v + c] + o.offsets[3 * f + c], posed[v][c], 1e-6) << k << " " << f << " " << v;
+    }
+  }
+  const std::vector<float>& walk = view.obstacles[1].vertices;
+  EXPECT_GT(walk[12 * (T - 1)] - walk[0], 0.1f) << "the animated mesh walks along x";
+  EXPECT_GT(view.obstacles[1].offsets[3 * T - 1], 0.0f) << "and its path lifts it";
+  EXPECT_TRUE(view.obstacles[2].triangles.empty());
+  const std::string meta = rollout_metadata_json(view);
+  EXPECT_NE(meta.find("\"triangle_count\":4,\"vertex_count\":4,\"vertex_frames\":1}"), std::string::npos) << meta;
+  EXPECT_NE(meta.find("\"vertex_frames\":" + std::to_string(T) + "}"), std::string::npos) << meta;
+  EXPECT_EQ(meta.find("vertices\":["), std::string::npos) << "the arrays are endpoints of their own";
+}
+
 TEST(ViewerRolloutView, ReadsAnArcsimLayoutFileWithoutSeries) {
   const testing::TempDir dir;
   const std::string path = (dir.path() / "arcsim.h5").string();

@@ -9,6 +9,7 @@
 #include <fnopt/io/csv_table.hpp>
 #include <fnopt/io/hdf5_file.hpp>
 #include <fnopt/util/error.hpp>
+#include <fnopt/viewer/rollout_view.hpp>
 #include "tests/util/temp_dir.hpp"
 #include "tests/viewer/viewer_fixture.hpp"
 // Last: httplib pulls in <resolv.h>, whose macro _res breaks Eigen's headers.
@@ -125,6 +126,26 @@ TEST_F(ViewerServerTest, ServesThePageAndThreeJs) {
   EXPECT_FALSE(get(client, "/viewer.css", "text/css").empty());
 }
 
+// A mesh obstacle's arrays as they were loaded; an analytic obstacle, or one past the last, has none.
+TEST(ViewerServerMesh, MeshObstacleEndpointsSendTheirArrays) {
+  const testing::TempDir dir;
+  const std::string path = (dir.path() / "mesh.h5").string();
+  testing::write_mesh_obstacle_rollout(dir.path(), path, 3);
+  const RolloutView view = load_rollout_view(path);
+  testing::RunningViewer viewer({path, ""});
+  httplib::Client client("127.0.0.1", viewer.port());
+  for (int k = 0; k < 2; ++k) {
+    const std::string obstacle = "/api/rollouts/0/obstacles/" + std::to_string(k);
+    EXPECT_EQ(values_of<int>(get(client, obstacle + "/triangles", "application/octet-stream")),
+              view.obstacles[k].triangles);
+    EXPECT_EQ(values_of<float>(get(client, obstacle + "/vertices", "application/octet-stream")),
+              view.obstacles[k].vertices);
+  }
+  for (const char* target : {"/api/rollouts/0/obstacles/2/triangles", "/api/rollouts/0/obstacles/3/vertices",
+                             "/api/rollouts/1/obstacles/0/vertices", "/api/rollouts/0/obstacles/0/normals"})
+    EXPECT_EQ(testing::raw_get_status(viewer.port(), target), 404) << target;
+}
+
 TEST_F(ViewerServerTest, AnythingOffTheWhitelistIs404) {
   testing::RunningViewer viewer({rollout_, ""});
   for (const std::string target : {"/../../etc/passwd",
@@ -146,6 +167,8 @@ TEST_F(ViewerServerTest, AnythingOffTheWhitelistIs404) {
                                    "/api/rollouts/-1/meta",
                                    "/api/compare",
                                    "/api/rollouts/0/rest_positions",
+                                   "/api/rollouts/0/obstacles/0/vertices",
+                                   "/api/rollouts/0/obstacles/-1/triangles",
                                    "/favicon.ico",
                                    "/%00",
                                    "/viewer.js%00.html"})

@@ -38,6 +38,50 @@ float largest_finite(const std::vector<float>& values) {
   return largest;
 }
 
+// v's coordinates, as floats, at the end of `values`.
+void append(std::vector<float>& values, const Vec3& v) {
+  values.insert(values.end(), {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())});
+}
+
+// A mesh's triangles, and its vertices without the motion's translation (the offsets carry it):
+// at rest, or at every frame's time for an animated mesh.
+void add_mesh(const Obstacle& o, const std::vector<double>& times, ObstacleView& shown) {
+  const MeshShape& mesh = *o.mesh();
+  for (const auto& triangle : mesh.triangles())
+    shown.triangles.insert(shown.triangles.end(), triangle.begin(), triangle.end());
+  shown.vertex_count = mesh.vertex_count();
+  std::vector<Vec3> posed;
+  for (const double t : mesh.animated() ? times : std::vector<double>{0.0}) {
+    o.mesh_vertices(t, Vec3::Zero(), posed);
+    for (const Vec3& p : posed) append(shown.vertices, p);
+  }
+}
+
+// Obstacle `o` as the page draws it at the frames' `times`.
+ObstacleView obstacle_view(const Obstacle& o, const std::vector<double>& times) {
+  ObstacleView shown;
+  shown.shape = shape_name(o.shape());
+  const Vec3 axis = o.shape() == ObstacleShape::Plane ? o.axis().normalized() : o.axis();
+  shown.point = {o.point().x(), o.point().y(), o.point().z()};
+  shown.axis = {axis.x(), axis.y(), axis.z()};
+  shown.radius = o.radius();
+  for (const double t : times) append(shown.offsets, o.offset(t));
+  if (o.is_mesh()) add_mesh(o, times, shown);
+  return shown;
+}
+
+// One obstacle of the /meta JSON.
+std::string obstacle_json(const ObstacleView& o) {
+  std::string text = "{\"shape\":" + json_string(o.shape) + ",\"point\":" + json_array(o.point) +
+                     ",\"axis\":" + json_array(o.axis) + ",\"radius\":" + json_number(o.radius) +
+                     ",\"offsets\":" + json_array(o.offsets);
+  if (o.vertex_count > 0)
+    text += ",\"triangle_count\":" + std::to_string(o.triangles.size() / 3) +
+            ",\"vertex_count\":" + std::to_string(o.vertex_count) +
+            ",\"vertex_frames\":" + std::to_string(o.vertex_frames());
+  return text + "}";
+}
+
 }  // namespace
 
 RolloutView load_rollout_view(const std::string& path, const std::string& reference_path) {
@@ -90,22 +134,8 @@ RolloutView load_rollout_view(const std::string& path, const std::string& refere
     rest.assign(view.positions.begin(), view.positions.begin() + 3 * N);
   view.strain = vertex_strain(frames, rest);
 
-  if (file.has_attribute("fnopt_version") && file.has_attribute("scene")) {
-    for (const Obstacle& o : read_rollout_scene(path).obstacles) {
-      ObstacleView shown;
-      shown.shape = shape_name(o.shape());
-      const Vec3 axis = o.shape() == ObstacleShape::Plane ? o.axis().normalized() : o.axis();
-      shown.point = {o.point().x(), o.point().y(), o.point().z()};
-      shown.axis = {axis.x(), axis.y(), axis.z()};
-      shown.radius = o.radius();
-      for (double t : view.times) {
-        const Vec3 offset = o.offset(t);
-        shown.offsets.insert(shown.offsets.end(), {static_cast<float>(offset.x()), static_cast<float>(offset.y()),
-                                                   static_cast<float>(offset.z())});
-      }
-      view.obstacles.push_back(std::move(shown));
-    }
-  }
+  if (file.has_attribute("fnopt_version") && file.has_attribute("scene"))
+    for (const Obstacle& o : read_rollout_scene(path).obstacles) view.obstacles.push_back(obstacle_view(o, view.times));
 
   if (!reference_path.empty()) {
     require_readable_file(reference_path);
@@ -124,10 +154,7 @@ std::string rollout_metadata_json(const RolloutView& view) {
     series += (series.size() > 1 ? "," : "") + json_string(name) + ":" + json_array(values);
   series += "}";
   std::string obstacles = "[";
-  for (const ObstacleView& o : view.obstacles)
-    obstacles += (obstacles.size() > 1 ? "," : "") + std::string("{\"shape\":") + json_string(o.shape) +
-                 ",\"point\":" + json_array(o.point) + ",\"axis\":" + json_array(o.axis) +
-                 ",\"radius\":" + json_number(o.radius) + ",\"offsets\":" + json_array(o.offsets) + "}";
+  for (const ObstacleView& o : view.obstacles) obstacles += (obstacles.size() > 1 ? "," : "") + obstacle_json(o);
   obstacles += "]";
   return "{\"name\":" + json_string(view.name) + ",\"kind\":" + json_string(view.kind) +
          ",\"optimizer\":" + json_string(view.optimizer) + ",\"divergence\":" + json_string(view.divergence) +

@@ -9,13 +9,20 @@
 namespace fnopt {
 
 // An obstacle as the page draws it (docs/design.md §14): its shape's numbers at t = 0 and its
-// translation at every frame.
+// translation at every frame. A mesh's triangles are sent once, and its vertices once or, for an
+// animated mesh, once per frame; the page draws frame f's vertices (the only ones if there is one)
+// translated by offsets[f], so a static or rigidly moving mesh costs no more than its OBJ.
 struct ObstacleView {
-  std::string shape;               // "plane", "sphere", "box" or "capsule"
-  std::vector<double> point;       // plane point, sphere/box centre, capsule end a
-  std::vector<double> axis;        // plane unit normal, box size, capsule end b
-  double radius = 0.0;             // sphere/capsule radius, box rounding
-  std::vector<float> offsets;      // [T, 3], m
+  std::string shape;            // "plane", "sphere", "box", "capsule" or "mesh"
+  std::vector<double> point;    // plane point, sphere/box centre, capsule end a, mesh origin
+  std::vector<double> axis;     // plane unit normal, box size, capsule end b; zero for a mesh
+  double radius = 0.0;          // sphere/capsule radius, box rounding
+  std::vector<float> offsets;   // [T, 3], m
+  std::vector<int> triangles;   // a mesh's [F, 3] vertex indices; empty for an analytic shape
+  int vertex_count = 0;         // a mesh's V
+  std::vector<float> vertices;  // a mesh's [K, V, 3] without offsets, m: K = 1, or T if animated
+
+  int vertex_frames() const { return vertex_count ? static_cast<int>(vertices.size()) / (3 * vertex_count) : 0; }
 };
 
 struct RolloutView {
@@ -46,7 +53,8 @@ struct RolloutView {
 RolloutView load_rollout_view(const std::string& path, const std::string& reference_path = "");
 
 // Everything but the large arrays, as the page's /meta endpoint sends it: sizes, times, handles,
-// series, the colour ranges (largest strain and distance), the provenance texts and the obstacles.
+// series, the colour ranges (largest strain and distance), the provenance texts and the obstacles
+// (a mesh's sizes only: its arrays are endpoints of their own).
 std::string rollout_metadata_json(const RolloutView& view);
 
 }  // namespace fnopt

@@ -110,6 +110,21 @@ struct ViewerServer::State {
                  if (part == "strain") send_binary(response, view, view->strain);
                  if (part == "distance") send_binary(response, view, view->distance);
                });
+    // A mesh obstacle's arrays (rollout_view.hpp); an analytic one has none.
+    server.Get(R"(/api/rollouts/(\d{1,9})/obstacles/(\d{1,9})/(triangles|vertices))",
+               [this](const httplib::Request& request, httplib::Response& response) {
+                 const auto view = rollout_with_id(std::stoul(request.matches[1].str()));
+                 const std::size_t k = std::stoul(request.matches[2].str());
+                 if (!view || k >= view->obstacles.size() || view->obstacles[k].triangles.empty()) {
+                   response.status = 404;
+                   return;
+                 }
+                 const ObstacleView& obstacle = view->obstacles[k];
+                 if (request.matches[3].str() == "triangles")
+                   send_binary(response, view, obstacle.triangles);
+                 else
+                   send_binary(response, view, obstacle.vertices);
+               });
     // Everything else: one of the page's files by its exact URL, or 404.
     server.Get(R"(/.*)", [this](const httplib::Request& request, httplib::Response& response) {
       const auto file = files.find(request.path == "/" ? "/index.html" : request.path);

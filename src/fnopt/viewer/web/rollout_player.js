@@ -1,7 +1,8 @@
 // Plays one rollout (docs/design.md §11): the cloth as a shaded two-sided mesh coloured by a
-// per-vertex value, the handle targets as spheres, an orbit camera, play/pause, a time slider,
-// the speed, a colour bar and the per-step plots. All frames are fetched once as Float32Arrays;
-// a frame change only copies one frame's positions and colours into the mesh.
+// per-vertex value, the handle targets as spheres, the scene's obstacles translucent, an orbit
+// camera, play/pause, a time slider, the speed, a colour bar and the per-step plots. All frames are
+// fetched once as Float32Arrays; a frame change only copies one frame's positions and colours into
+// the mesh (and an animated mesh obstacle's vertices into its own).
 import * as THREE from "/three/build/three.module.js";
 import { OrbitControls } from "/three/examples/jsm/controls/OrbitControls.js";
 import { NO_VALUE, drawColourRamp, viridis } from "/colour_map.js";
@@ -14,6 +15,16 @@ async function fetchChecked(url) {
 }
 
 const binary = (url, Type) => fetchChecked(url).then((r) => r.arrayBuffer()).then((b) => new Type(b));
+
+// A mesh obstacle's triangles and vertices (its vertex_frames frames of vertex_count each), from
+// the endpoints under `url`.
+async function fetchObstacleMesh(url) {
+  const [triangles, vertices] = await Promise.all([
+    binary(`${url}/triangles`, Int32Array),
+    binary(`${url}/vertices`, Float32Array),
+  ]);
+  return { triangles, vertices };
+}
 
 // The largest frame index whose time is at most `time`.
 function frameAt(times, time) {
@@ -33,9 +44,31 @@ function boundsOf(positions) {
   return box;
 }
 
+// A mesh obstacle's geometry at its first vertex frame, in the scene's coordinates.
+function meshObstacleGeometry(o, arrays) {
+  const geometry = new THREE.BufferGeometry();
+  const usage = o.vertex_frames > 1 ? THREE.DynamicDrawUsage : THREE.StaticDrawUsage;
+  const first = arrays.vertices.slice(0, 3 * o.vertex_count);
+  geometry.setAttribute("position", new THREE.BufferAttribute(first, 3).setUsage(usage));
+  geometry.setIndex(new THREE.BufferAttribute(new Uint32Array(arrays.triangles.buffer), 1));
+  geometry.computeVertexNormals();
+  return geometry;
+}
+
+// Frame f of an animated mesh obstacle's vertices into its geometry, with the normals and the
+// bounding sphere (for culling) that follow them.
+function showMeshObstacleFrame(geometry, o, vertices, f) {
+  const position = geometry.getAttribute("position");
+  position.array.set(vertices.subarray(3 * o.vertex_count * f, 3 * o.vertex_count * (f + 1)));
+  position.needsUpdate = true;
+  geometry.computeVertexNormals();
+  geometry.computeBoundingSphere();
+}
+
 // An obstacle's mesh (docs/design.md §14), placed at its t = 0 pose; a plane as a square twice the
-// scene's size. Rounded boxes are drawn with sharp edges.
-function obstacleMesh(o, size) {
+// scene's size. Rounded boxes are drawn with sharp edges. A mesh obstacle's `arrays` (from
+// fetchObstacleMesh) are in the scene's coordinates, so only the offsets move its group.
+function obstacleMesh(o, size, arrays) {
   const material = new THREE.MeshPhongMaterial({ color: 0x8899aa, transparent: true, opacity: 0.55, side: THREE.DoubleSide });
   const point = new THREE.Vector3().fromArray(o.point), axis = new THREE.Vector3().fromArray(o.axis);
   const group = new THREE.Group();
@@ -49,7 +82,9 @@ function obstacleMesh(o, size) {
     group.add(plane);
   } else if (o.shape === "capsule") {
     const along = axis.clone().sub(point), length = along.length();
-    const cylinder = new THREE.Mesh(new THREE.CylinderBufferGeometry(o.radius, o.radius, length, 32), material);
+    // Open-ended: the end discs would show through the translucent caps.
+    const side = new THREE.CylinderBufferGeometry(o.radius, o.radius, length, 32, 1, true);
+    const cylinder = new THREE.Mesh(side, material);
     cylinder.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), along.clone().normalize());
     cylinder.position.copy(along).multiplyScalar(0.5);
     group.add(cylinder);
@@ -58,13 +93,17 @@ function obstacleMesh(o, size) {
       cap.position.copy(end);
       group.add(cap);
     }
+  } else if (o.shape === "mesh") {
+    group.userData.geometry = meshObstacleGeometry(o, arrays);
+    group.add(new THREE.Mesh(group.userData.geometry, material));
   }
-  group.position.copy(point);
-  group.userData.base = point;
+  const base = o.shape === "mesh" ? new THREE.Vector3() : point;
+  group.position.copy(base);
+  group.userData.base = base;
   return group;
 }
 
-function createScene(stage, meta, positions, faces) {
+function createScene(stage, meta, positions, faces, obstacleArrays) {
   const N = meta.rows * meta.cols;
   const renderer = new THREE.WebGLRenderer({ antialias: true });
   renderer.setPixelRatio(window.devicePixelRatio || 1);
@@ -94,7 +133,7 @@ function createScene(stage, meta, positions, faces) {
     handles.push(new THREE.Mesh(sphere, handleMaterial));
     scene.add(handles[h]);
   }
-  const obstacles = (meta.obstacles || []).map((o) => obstacleMesh(o, size));
+  const obstacles = meta.obstacles.map((o, k) => obstacleMesh(o, size, obstacleArrays[k]));
   for (const mesh of obstacles) scene.add(mesh);
   const grid = new THREE.GridHelper(size * 1.5, 10, 0xcccccc, 0xe4e4e4);
   grid.rotation.x = Math.PI / 2;
@@ -122,11 +161,12 @@ function createScene(stage, meta, positions, faces) {
 export async function showRollout(id) {
   const base = `/api/rollouts/${id}`;
   const meta = await (await fetchChecked(`${base}/meta`)).json();
-  const [positions, faces, strain, distance] = await Promise.all([
+  const [positions, faces, strain, distance, obstacleArrays] = await Promise.all([
     binary(`${base}/positions`, Float32Array),
     binary(`${base}/faces`, Int32Array),
     binary(`${base}/strain`, Float32Array),
     meta.reference ? binary(`${base}/distance`, Float32Array) : null,
+    Promise.all(meta.obstacles.map((o, k) => (o.shape === "mesh" ? fetchObstacleMesh(`${base}/obstacles/${k}`) : null))),
   ]);
   const N = meta.rows * meta.cols, T = meta.frames, H = meta.handle_count;
   document.getElementById("rollout").hidden = false;
@@ -139,7 +179,7 @@ export async function showRollout(id) {
     (meta.reference ? `, against ${meta.reference}` : "") +
     (meta.divergence ? `; diverged: ${meta.divergence}` : "");
 
-  const view = createScene(document.getElementById("stage"), meta, positions, faces);
+  const view = createScene(document.getElementById("stage"), meta, positions, faces, obstacleArrays);
   const plots = createSeriesPlots(document.getElementById("plots"), meta);
   const slider = document.getElementById("time");
   const timeLabel = document.getElementById("time-label");
@@ -179,8 +219,10 @@ export async function showRollout(id) {
     }
     colour.needsUpdate = true;
     for (let h = 0; h < H; ++h) view.handles[h].position.fromArray(meta.handle_positions, 3 * (H * f + h));
-    view.obstacles.forEach((mesh, k) => {
-      mesh.position.fromArray(meta.obstacles[k].offsets, 3 * f).add(mesh.userData.base);
+    view.obstacles.forEach((group, k) => {
+      const o = meta.obstacles[k];
+      group.position.fromArray(o.offsets, 3 * f).add(group.userData.base);
+      if (o.vertex_frames > 1) showMeshObstacleFrame(group.userData.geometry, o, obstacleArrays[k].vertices, f);
     });
     slider.value = f;
     timeLabel.textContent = `t = ${meta.times[f].toFixed(3)} s (frame ${f}/${T - 1})`;
