@@ -1,8 +1,8 @@
 // fnopt evaluate: a rollout against a reference trajectory (an fnopt rollout or an ARCSim file),
 // at matching times: e_CD x 10^3, e_3D x 10^2, the rollout's max edge strain, and optionally the
 // per-step optimisation error of an inner optimizer on the reference's states (docs/design.md §8);
-// with or without a reference, the rollout's exact self-intersection count and its closest
-// approach to its obstacles.
+// with or without a reference, the rollout's exact self-intersection count, its exact count of
+// crossings with its mesh obstacles and its closest approach to its obstacles.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -115,19 +115,27 @@ void report_errors(const EvaluateFlags& flags, const TrajectoryFrames& reference
 
 // What the rollout's frames say of contact, measured on them as stored: how close the cloth came
 // to the obstacles an fnopt rollout's scene holds (docs/design.md §14: at least the contact
-// thickness, never negative), and the exact count of its self-intersections (independent of the
-// simulation's contact code, metrics/mesh_intersections.hpp).
+// thickness, never negative), and the exact counts of its self-intersections and, with a mesh
+// obstacle, of its crossings with the meshes (independent of the simulation's contact code,
+// metrics/mesh_intersections.hpp).
 void report_contact(const EvaluateFlags& flags, const TrajectoryFrames& rollout, const RolloutProvenance& provenance) {
-  if (!provenance.version.empty()) {
-    const Scene scene = read_rollout_scene(flags.rollout);
-    if (!scene.obstacles.empty())
-      std::printf("min obstacle distance = %.6g m   (over %zu frames, every vertex and obstacle)\n",
-                  min_obstacle_distance(scene, rollout.positions), rollout.positions.size());
-  }
+  const Scene scene = provenance.version.empty() ? Scene{} : read_rollout_scene(flags.rollout);
+  if (!scene.obstacles.empty())
+    std::printf("min obstacle distance = %.6g m   (over %zu frames, every vertex and obstacle; unsigned for a mesh)\n",
+                min_obstacle_distance(scene, rollout.positions), rollout.positions.size());
   const TrajectoryIntersections self = count_trajectory_self_intersections(rollout);
   std::printf("self-intersections = %ld   (cloth edges through cloth triangles they do not touch, exact, summed over "
               "%zu frames; %d frames with any)\n",
               self.crossings, rollout.positions.size(), self.frames_with_any);
+  const auto meshes =
+      std::count_if(scene.obstacles.begin(), scene.obstacles.end(), [](const Obstacle& o) { return o.is_mesh(); });
+  if (meshes == 0) return;
+  const TrajectoryIntersections mesh = count_trajectory_mesh_intersections(rollout, scene.obstacles, scene.dt);
+  std::printf(
+      "mesh intersections = %ld   (cloth edges through mesh triangles and mesh edges through cloth "
+      "triangles, exact, summed over %zu frames and %ld mesh obstacle%s; %d frames with any)\n",
+      mesh.crossings, rollout.positions.size(), static_cast<long>(meshes), meshes == 1 ? "" : "s",
+      mesh.frames_with_any);
 }
 
 // The per-step error of the chosen optimizer on the reference's states.
@@ -183,13 +191,14 @@ void run_evaluate(const EvaluateFlags& flags, bool with_step_error) {
 const RegisterCommand kRegister([](CLI::App& app) {
   auto flags = std::make_shared<EvaluateFlags>();
   CLI::App* command = app.add_subcommand(
-      "evaluate", "a rollout's errors against a reference (fnopt rollout or ARCSim file): e_CD x 10^3, e_3D x 10^2; and, "
-      "with or without one, its strain, obstacle distance and self-intersections");
+      "evaluate",
+      "a rollout's errors against a reference (fnopt rollout or ARCSim file): e_CD x 10^3, e_3D x 10^2; and, "
+      "with or without one, its strain, obstacle distance, self-intersections and mesh intersections");
   CLI::Option* reference =
       command
           ->add_option("--reference", flags->reference,
                        "reference trajectory (HDF5); without it, only what the rollout's own frames say (strain, "
-                       "obstacle distance, self-intersections)")
+                       "obstacle distance, self- and mesh intersections)")
           ->check(CLI::ExistingFile);
   command->add_option("rollout", flags->rollout, "rollout to evaluate (HDF5)")->required()->check(CLI::ExistingFile);
   command->add_option("--cd-samples", flags->chamfer.samples, "points sampled per mesh for e_CD")

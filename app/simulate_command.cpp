@@ -66,7 +66,7 @@ void run_simulate(const SimulateFlags& flags) {
   });
   bar.finish();
 
-  write_rollout_file(flags.out, rollout, to_scene_text(scene), optimizer->settings());
+  write_rollout_file(flags.out, rollout, scene, optimizer->settings());
   if (!flags.obj_dir.empty()) {
     for (std::size_t t = 0; t < rollout.positions.size(); ++t) {
       char name[32];

@@ -18,7 +18,7 @@ namespace fnopt::python {
 PyRollout run_python_rollout(const Scene& scene, InnerOptimizer& optimizer, const RolloutOptions& options) {
   const ResolvedScene resolved = resolve(scene);
   PyRollout rollout;
-  rollout.scene_text = to_scene_text(scene);
+  rollout.scene = scene;
   rollout.settings = optimizer.settings();
   rollout.optimizer = optimizer.name();
   py::gil_scoped_release release;
@@ -113,8 +113,7 @@ Made by `run_rollout`; `write` stores it as ``fnopt simulate --out`` does.)")
           },
           "list of StepRecord: Every step's record, in order.")
       .def_property_readonly(
-          "scene", [](const PyRollout& r) { return load_scene_text(r.scene_text, "rollout"); },
-          "Scene: The scene it ran, as its file stores it.")
+          "scene", [](const PyRollout& r) { return r.scene; }, "Scene: The scene it ran, as its file stores it.")
       .def_property_readonly(
           "rows", [](const PyRollout& r) { return r.result.grid.rows; }, "int: The grid's rows of vertices.")
       .def_property_readonly(
@@ -137,9 +136,7 @@ Made by `run_rollout`; `write` stores it as ``fnopt simulate --out`` does.)")
           "str: The optimizer and its settings, as the rollout file stores them.")
       .def(
           "write",
-          [](const PyRollout& r, const std::string& path) {
-            write_rollout_file(path, r.result, r.scene_text, r.settings);
-          },
+          [](const PyRollout& r, const std::string& path) { write_rollout_file(path, r.result, r.scene, r.settings); },
           py::arg("path"), R"(Writes the rollout file (HDF5) that ``fnopt simulate --out`` writes.
 
 Parameters

@@ -11,8 +11,9 @@ namespace fnopt::python {
 
 struct PyRollout {
   RolloutResult result;
-  std::string scene_text, settings;  // stored in its file
-  std::string optimizer;             // the optimizer's name
+  Scene scene;            // stored in its file, with its meshes
+  std::string settings;   // stored in its file
+  std::string optimizer;  // the optimizer's name
 };
 
 // A step's record as fnopt.records.StepRecord.

@@ -1,4 +1,6 @@
 """fnopt.Simulator and run_rollout: the command line's rollouts, step by step and whole."""
+import pathlib
+import shutil
 import threading
 import time
 
@@ -213,3 +215,51 @@ def test_obstacles_steered_step_by_step_push_the_cloth_and_stay_outside_it():
     assert pushed > 0.1
     with pytest.raises(fnopt.Error, match="obstacles"):
         sim.step(obstacles=np.zeros((2, 3)))
+
+
+# The example mesh sphere: centre (0, 0, -0.3), radius 0.25, every vertex on the sphere and every
+# facet within 0.9 mm inside it.
+SPHERE_OBJ = pathlib.Path(__file__).resolve().parents[2] / "examples" / "meshes" / "sphere.obj"
+
+
+def mesh_sphere(obj, center, radius):
+    """The spec of the example sphere's mesh (read from `obj`) scaled and moved to `center` and `radius`."""
+    scale = radius / 0.25
+    x, y, z = np.asarray(center, dtype=float) - scale * np.array([0.0, 0.0, -0.3])
+    return f"mesh file={obj} scale={scale!r} offset={x!r},{y!r},{z!r}"
+
+
+def test_a_cloth_dropped_on_a_mesh_stays_outside_and_its_rollout_reads_without_the_obj(tmp_path):
+    obj = tmp_path / "sphere.obj"
+    shutil.copy(SPHERE_OBJ, obj)
+    scene = fnopt.Scene(res=8, frames=20, handles="none", placement="horizontal",
+                        obstacles=[mesh_sphere(obj, [0.0, 0.0, -0.3], 0.25) + " friction=0.3",
+                                   "plane point=0,0,-0.6 normal=0,0,1"])
+    rollout = fnopt.run_rollout(scene, optimizer="pqn")
+    assert not rollout.diverged
+    x = rollout.positions.reshape(21, -1, 3)
+    distance = np.linalg.norm(x - np.array([0.0, 0.0, -0.3]), axis=2) - 0.25
+    assert distance.min() > -0.001  # outside the mesh, whose facets lie within 0.9 mm of the sphere
+    assert distance[-1].min() < 0.02  # the cloth fell onto it
+    path = tmp_path / "drop.h5"
+    rollout.write(str(path))
+    obj.unlink()
+    back = fnopt.read_rollout(str(path))  # the mesh from the file, its OBJ gone
+    assert back.scene == scene and np.array_equal(back.positions, rollout.positions)
+
+
+def test_a_mesh_obstacle_steered_step_by_step_moves_rigidly_and_pushes_the_cloth():
+    center, radius = np.array([0.0, -0.3, -0.4]), 0.15
+    scene = fnopt.Scene(res=8, frames=40, motion="static", obstacles=[mesh_sphere(SPHERE_OBJ, center, radius)])
+    sim = fnopt.Simulator(scene, optimizer="pqn")
+    assert sim.obstacle_offsets.tolist() == [[0.0, 0.0, 0.0]]
+    pushed = 0.0
+    for t in range(1, 41):
+        offset = np.array([[0.0, 0.015 * t, 0.0]])  # through the cloth's plane y = 0 and beyond
+        x = sim.step(obstacles=offset).reshape(-1, 3)
+        assert np.array_equal(sim.obstacle_offsets, offset)
+        # Outside the translated mesh (its facets within 0.6 mm of the scaled sphere).
+        assert (np.linalg.norm(x - (center + offset[0]), axis=1) >= radius - 0.0006).all()
+        pushed = max(pushed, x[:, 1].max())
+    assert pushed > 0.1
+

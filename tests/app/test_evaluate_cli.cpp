@@ -1,11 +1,15 @@
 // fnopt evaluate as a user runs it: a rollout against itself, the per-frame and per-step tables
-// it writes, and the per-step table's rows making up the printed mean.
+// it writes, and the per-step table's rows making up the printed mean; the self- and mesh
+// intersections of a rollout's own frames.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <sstream>
 #include <vector>
 
+#include <fnopt/contact/obstacle_spec.hpp>
 #include <fnopt/io/hdf5_file.hpp>
+#include <fnopt/simulation/rollout_file.hpp>
 #include "run_fnopt.hpp"
 #include "tests/util/temp_dir.hpp"
 
@@ -118,9 +122,66 @@ TEST(EvaluateCli, WithoutAReferenceItCountsTheRolloutsOwnSelfIntersections) {
   const CommandResult hanging = run_fnopt("evaluate " + rollout);
   ASSERT_EQ(hanging.status, 0) << hanging.output;
   EXPECT_NE(hanging.output.find("self-intersections = 0 "), std::string::npos) << hanging.output;
+  EXPECT_EQ(hanging.output.find("mesh intersections"), std::string::npos) << "no mesh obstacle: " << hanging.output;
   // The per-frame errors and the per-step error need a reference.
   EXPECT_EQ(run_fnopt("evaluate " + rollout + " --per-frame " + (tmp.path() / "f.csv").string()).status, 2);
   EXPECT_EQ(run_fnopt("evaluate " + rollout + " --optimizer pqn").status, 2);
+}
+
+// A 4 x 4 cloth lying flat, then lifted through a mesh spike (one triangle standing over it in
+// the plane y = 0.08): each of the spike's two slanted edges passes through one cloth triangle.
+// evaluate counts them from the mesh the rollout stores, its OBJ file deleted.
+TEST(EvaluateCli, CountsTheCrossingsOfTheClothAndAMeshObstacleFromTheMeshTheRolloutStores) {
+  const fnopt::testing::TempDir tmp;
+  const std::string obj = tmp.write("spike.obj", "v -0.1 0.08 0.5\nv 0.1 0.08 0.5\nv 0 0.08 1.5\nf 1 2 3\n");
+  fnopt::Scene scene;
+  scene.rows = scene.cols = 4;
+  scene.handles = "none";
+  scene.placement = fnopt::Placement::Horizontal;
+  scene.obstacles = fnopt::parse_obstacles("mesh file=" + obj);
+  fnopt::RolloutResult rollout;
+  rollout.grid = fnopt::Grid::make(4, 4, 1.0);
+  rollout.dt = scene.dt;
+  const Eigen::VectorXf flat = fnopt::placed_rest_positions(rollout.grid, scene.placement).cast<float>();
+  rollout.positions = {flat, flat + Eigen::Vector3f(0, 0, 1).replicate(16, 1)};
+  rollout.times = {0.0, scene.dt};
+  rollout.handle_targets.resize(2);
+  rollout.steps.resize(1);
+  const std::string path = (tmp.path() / "spike.h5").string();
+  fnopt::write_rollout_file(path, rollout, scene, "by hand");
+  std::filesystem::remove(obj);
+
+  const CommandResult r = run_fnopt("evaluate " + path);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("self-intersections = 0 "), std::string::npos) << r.output;
+  const auto at = r.output.find("mesh intersections = 2 ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("summed over 2 frames and 1 mesh obstacle; 1 frames with any)", at), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("min obstacle distance = "), std::string::npos) << r.output;
+}
+
+// The drop of fnopt's example mesh sphere: simulate prints its closest approach, and evaluate
+// the same from the file, with no crossing of the mesh.
+TEST(EvaluateCli, AClothDroppedOnAMeshHasNoMeshIntersections) {
+  const fnopt::testing::TempDir tmp;
+  const std::string scene = tmp.write(
+      "drop.scene", "handles = none\nplacement = horizontal\nobstacle = mesh file=" + std::string(FNOPT_SOURCE_DIR) +
+                        "/examples/meshes/sphere.obj friction=0.3\n"
+                        "obstacle = plane point=0,0,-0.6 normal=0,0,1\n");
+  const auto rollout = (tmp.path() / "drop.h5").string();
+  const CommandResult sim =
+      run_fnopt("simulate --scene " + scene + " --res 8 --frames 20 --threads 1 --out " + rollout);
+  ASSERT_EQ(sim.status, 0) << sim.output;
+  const std::string key = "min obstacle distance = ";
+  ASSERT_NE(sim.output.find(key), std::string::npos) << sim.output;
+  const double simulated = std::stod(sim.output.substr(sim.output.find(key) + key.size()));
+  EXPECT_GT(simulated, 0.0) << sim.output;
+  const CommandResult r = run_fnopt("evaluate " + rollout + " --threads 1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NEAR(std::stod(r.output.substr(r.output.find(key) + key.size())), simulated, 1e-6) << r.output;
+  EXPECT_NE(r.output.find("mesh intersections = 0 "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("0 frames with any)", r.output.find("mesh intersections")), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -81,7 +81,8 @@ TEST(ContactScenes, ASpherePushedThroughAHangingClothCarriesIt) {
   // At t = 1.2 s the sphere's front is at y = 0.65: the cloth's middle was carried forward.
   EXPECT_GT(position(r, 72, grid.index(8, 8)).y(), 0.3);
   for (std::size_t f = 0; f < r.positions.size(); ++f)
-    EXPECT_GT(min_obstacle_distance(scene.obstacles, r.positions[f].cast<double>(), f * scene.dt), 0.0);
+    EXPECT_GT(min_obstacle_distance(scene.obstacles, r.positions[f].cast<double>(), grid.rows, grid.cols, f * scene.dt),
+              0.0);
 }
 
 // The cloth's mean x after 1.2 s on a floor (mu = 0.5) with gravity tilted by atan(slope) toward +x.

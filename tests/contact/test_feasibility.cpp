@@ -36,7 +36,8 @@ struct ClothOverObstacles {
     return x;
   }
   double clearance(const VecX& a) const {
-    return min_obstacle_distance(objective.contact()->obstacles(), positions(a), objective.start_time() + objective.dt());
+    return min_obstacle_distance(objective.contact()->obstacles(), positions(a), grid.rows, grid.cols,
+                                 objective.start_time() + objective.dt());
   }
 };
 

@@ -73,7 +73,8 @@ void expect_no_penetration(const Scene& scene, const Method& method, const std::
   ASSERT_FALSE(r.diverged) << what << ": " << r.divergence;
   ASSERT_EQ(r.positions.size(), 61u) << what;
   for (std::size_t f = 0; f < r.positions.size(); ++f) {
-    const double d = min_obstacle_distance(scene.obstacles, r.positions[f].cast<double>(), f * scene.dt);
+    const double d =
+        min_obstacle_distance(scene.obstacles, r.positions[f].cast<double>(), r.grid.rows, r.grid.cols, f * scene.dt);
     ASSERT_GT(d, 0.0) << what << " frame " << f;
   }
   const double dhat = scene.contact.range_fraction * resolve(scene).grid.spacing;

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include <fnopt/baselines/pqn.hpp>
+#include <fnopt/contact/obstacle_spec.hpp>
 #include <fnopt/io/hdf5_file.hpp>
 #include <fnopt/io/obj_file.hpp>
 #include <fnopt/simulation/rollout_file.hpp>
@@ -113,6 +114,60 @@ TEST(RolloutFile, ADivergedRolloutStoresNoNaNAndSaysWhereItStopped) {
   EXPECT_EQ(file.string_attribute("unit", "positions"), "m");
   EXPECT_EQ(file.string_attribute("unit", "step_max_strain").rfind("fraction", 0), 0u);
   EXPECT_NE(file.string_attribute("legend", "step_status").find("4 non-finite"), std::string::npos);
+}
+
+// A tetrahedron as an OBJ file's text, its vertices moved by `shift`.
+std::string tetrahedron_obj(double shift) {
+  std::string text;
+  for (const Vec3& v : {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)})
+    text += "v " + std::to_string(v.x() + shift) + " " + std::to_string(v.y()) + " " + std::to_string(v.z()) + "\n";
+  return text + "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
+}
+
+void expect_same_mesh(const Obstacle& read, const Obstacle& written) {
+  ASSERT_TRUE(read.is_mesh());
+  EXPECT_EQ(read.mesh_source(), written.mesh_source());
+  EXPECT_EQ(read.to_text(), written.to_text());
+  EXPECT_EQ(read.mesh()->triangles(), written.mesh()->triangles());
+  ASSERT_EQ(read.mesh()->frame_count(), written.mesh()->frame_count());
+  for (int k = 0; k < written.mesh()->frame_count(); ++k) EXPECT_EQ(read.mesh()->frame(k), written.mesh()->frame(k));
+}
+
+// A rollout keeps its meshes: with the OBJ file and the sequence's files deleted, its scene still
+// reads, with the same meshes, named by their places among the obstacles.
+TEST(RolloutFile, StoresItsMeshObstaclesSoThatTheSceneReadsWithoutTheirFiles) {
+  const auto dir = temp_dir("meshes");
+  std::ofstream(dir / "tet.obj") << tetrahedron_obj(0.0);
+  for (int k = 0; k < 3; ++k) std::ofstream(dir / ("seq000" + std::to_string(k) + ".obj")) << tetrahedron_obj(0.1 * k);
+  Scene scene;
+  scene.rows = scene.cols = 3;
+  scene.obstacles = parse_obstacles("plane point=0,0,-5 normal=0,0,1; mesh file=" + (dir / "tet.obj").string() +
+                                    " scale=0.5 offset=3,0,0; mesh sequence=" + (dir / "seq").string() +
+                                    " fps=30 offset=-3,0,0 friction=0.2");
+  const std::string path = (dir / "r.h5").string();
+  write_rollout_file(path, small_rollout(), scene, "pqn: test");
+  for (const char* name : {"tet.obj", "seq0000.obj", "seq0001.obj", "seq0002.obj"}) std::filesystem::remove(dir / name);
+
+  const Hdf5File file(path, Hdf5File::Mode::Read);
+  EXPECT_EQ(file.string_attribute("scene"), to_scene_text(scene));
+  EXPECT_FALSE(file.has("mesh_1_vertices"));
+  EXPECT_EQ(file.dims("mesh_2_vertices"), (std::vector<hsize_t>{1, 4, 3}));
+  EXPECT_EQ(file.dims("mesh_3_vertices"), (std::vector<hsize_t>{3, 4, 3}));
+  EXPECT_EQ(file.dims("mesh_3_triangles"), (std::vector<hsize_t>{4, 3}));
+  EXPECT_EQ(file.string_attribute("source", "mesh_2_vertices"), (dir / "tet.obj").string());
+  EXPECT_EQ(file.read_doubles("mesh_3_vertices")[3 * 4 * 2], 0.2);  // frame 2 as given: shifted, not offset
+
+  const Scene read = read_rollout_scene(path);
+  ASSERT_EQ(read.obstacles.size(), 3u);
+  expect_same_mesh(read.obstacles[1], scene.obstacles[1]);
+  expect_same_mesh(read.obstacles[2], scene.obstacles[2]);
+  EXPECT_EQ(to_scene_text(read), to_scene_text(scene));
+  // Outside the reading, the files are what counts: they are gone.
+  EXPECT_THROW(load_scene_text(to_scene_text(scene), "scene"), Error);
+  // A rollout written from the scene's text alone stores no mesh.
+  write_rollout_file(path, small_rollout(), to_scene_text(scene), "pqn: test");
+  EXPECT_FALSE(Hdf5File(path, Hdf5File::Mode::Read).has("mesh_2_vertices"));
+  EXPECT_THROW(read_rollout_scene(path), Error);
 }
 
 TEST(RolloutFile, RejectsMissingAndForeignFiles) {

@@ -33,6 +33,12 @@ struct Box {
     return (lower.array() <= b.upper.array()).all() && (b.lower.array() <= upper.array()).all();
   }
   bool contains(const Vec3& p) const { return (lower.array() <= p.array()).all() && (p.array() <= upper.array()).all(); }
+  // The squared distance between the closed boxes (0 where they overlap): a lower bound on the
+  // squared distance between anything inside one and anything inside the other. A point is the
+  // box of one point.
+  double squared_distance(const Box& b) const {
+    return (lower - b.upper).cwiseMax(b.lower - upper).cwiseMax(0.0).squaredNorm();
+  }
 };
 
 class BoxHash {

@@ -5,6 +5,11 @@
 // its boxes' centres along the longest axis of their centres' box, leaves of up to kLeafSize), and
 // refitted (the boxes move, the tree keeps its shape) when an animated mesh moves: a refit keeps
 // every query exact, only less tight if the motion is large.
+//
+// Besides the overlap query, a branch-and-bound search for the smallest value of a distance over
+// the primitives (nearest()): the closest-approach metrics (metrics/obstacle_distance.hpp).
+#include <algorithm>
+#include <limits>
 #include <vector>
 
 #include <fnopt/contact/box_hash.hpp>
@@ -43,6 +48,39 @@ class BoxTree {
       stack[top++] = node.first;  // the left child; the right one follows it
       stack[top++] = node.first + 1;
     }
+  }
+
+  // The smallest distance(k) over the primitives k, or `best` where that is smaller (+inf: none
+  // known). bound(box) must be a lower bound on distance(k) for every primitive whose box lies
+  // inside `box` (Box::squared_distance to a query's box, for a squared distance). Visits the
+  // nearer child first and skips every node and primitive whose bound is not below the smallest
+  // value found so far, so a small `best` (a value known from earlier queries) skips most of the
+  // tree: only values below it are looked for.
+  template <class Bound, class Distance>
+  double nearest(Bound&& bound, Distance&& distance, double best = std::numeric_limits<double>::infinity()) const {
+    if (nodes_.empty()) return best;
+    struct Entry {
+      int node;
+      double bound;
+    };
+    Entry stack[64];  // a depth-first search holds at most one sibling per level
+    int top = 0;
+    stack[top++] = {0, bound(nodes_.front().box)};
+    while (top > 0) {
+      const Entry entry = stack[--top];
+      if (!(entry.bound < best)) continue;
+      const Node& node = nodes_[entry.node];
+      if (node.count > 0) {
+        for (int e = node.first; e < node.first + node.count; ++e)
+          if (bound(boxes_[order_[e]]) < best) best = std::min(best, static_cast<double>(distance(order_[e])));
+        continue;
+      }
+      const Entry left{node.first, bound(nodes_[node.first].box)};
+      const Entry right{node.first + 1, bound(nodes_[node.first + 1].box)};
+      stack[top++] = left.bound < right.bound ? right : left;  // the farther one waits
+      stack[top++] = left.bound < right.bound ? left : right;
+    }
+    return best;
   }
 
  private:

@@ -62,6 +62,17 @@ void Hdf5File::write(const std::string& name, const std::vector<hsize_t>& dims, 
 
 bool Hdf5File::has(const std::string& name) const { return H5Lexists(file_, name.c_str(), H5P_DEFAULT) > 0; }
 
+std::vector<std::string> Hdf5File::names() const {
+  std::vector<std::string> names;
+  auto add = [](hid_t, const char* name, const H5L_info_t*, void* out) -> herr_t {
+    static_cast<std::vector<std::string>*>(out)->push_back(name);
+    return 0;
+  };
+  if (H5Literate(file_, H5_INDEX_NAME, H5_ITER_INC, nullptr, add, &names) < 0)
+    throw Error(path_ + ": cannot list its datasets");
+  return names;
+}
+
 std::vector<hsize_t> Hdf5File::dims(const std::string& name) const {
   Handle set(H5Dopen2(file_, name.c_str(), H5P_DEFAULT), H5Dclose);
   if (!set.valid()) throw Error(path_ + ": missing dataset '" + name + "'");

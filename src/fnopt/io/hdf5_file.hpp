@@ -23,6 +23,8 @@ class Hdf5File {
   void write(const std::string& name, const std::vector<hsize_t>& dims, const double* data);
   void write(const std::string& name, const std::vector<hsize_t>& dims, const int* data);
   bool has(const std::string& name) const;
+  // The names of the root group's members, in name order.
+  std::vector<std::string> names() const;
   std::vector<hsize_t> dims(const std::string& name) const;
   std::vector<float> read_floats(const std::string& name) const;    // converts on read
   std::vector<double> read_doubles(const std::string& name) const;  // converts on read

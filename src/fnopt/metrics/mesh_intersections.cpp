@@ -6,8 +6,10 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <utility>
 
 #include <fnopt/cloth/grid.hpp>
+#include <fnopt/contact/obstacle.hpp>
 #include <fnopt/metrics/exact_predicates.hpp>
 #include <fnopt/util/error.hpp>
 
@@ -123,7 +125,7 @@ Box box_of(const std::vector<Vec3>& points, const std::array<int, N>& vertices) 
 }
 
 // The unique edges (lower index first) of the faces; a repeated index makes no edge.
-std::vector<Edge> unique_edges(const std::vector<Face>& faces) {
+std::vector<Edge> distinct_edges(const std::vector<Face>& faces) {
   std::vector<Edge> edges;
   edges.reserve(3 * faces.size());
   for (const Face& f : faces)
@@ -349,7 +351,7 @@ std::vector<Face> mesh_faces(const std::vector<Vec3>& vertices, const std::vecto
 long count_self_intersections(const Eigen::VectorXf& positions, int rows, int cols) {
   const std::vector<Vec3> points = cloth_points(positions, rows, cols);
   const std::vector<Face> faces = cloth_faces(rows, cols);
-  const std::vector<Edge> edges = unique_edges(faces);
+  const std::vector<Edge> edges = distinct_edges(faces);
   return PairCounter({points, edges, points, faces, true, mean_edge_length(points, edges)}).count();
 }
 
@@ -358,7 +360,7 @@ long count_mesh_intersections(const Eigen::VectorXf& cloth_positions, int rows, 
                               const std::vector<Eigen::Vector3i>& mesh_triangles) {
   const std::vector<Vec3> cloth = cloth_points(cloth_positions, rows, cols);
   const std::vector<Face> cloth_triangles = cloth_faces(rows, cols), mesh = mesh_faces(mesh_vertices, mesh_triangles);
-  const std::vector<Edge> cloth_edges = unique_edges(cloth_triangles), mesh_edges = unique_edges(mesh);
+  const std::vector<Edge> cloth_edges = distinct_edges(cloth_triangles), mesh_edges = distinct_edges(mesh);
   const double side = std::max(mean_edge_length(cloth, cloth_edges), mean_edge_length(mesh_vertices, mesh_edges));
   return PairCounter({cloth, cloth_edges, mesh_vertices, mesh, false, side}).count() +
          PairCounter({mesh_vertices, mesh_edges, cloth, cloth_triangles, false, side}).count();
@@ -368,6 +370,29 @@ TrajectoryIntersections count_trajectory_self_intersections(const TrajectoryFram
   TrajectoryIntersections total;
   for (const Eigen::VectorXf& frame : frames.positions) {
     const long crossings = count_self_intersections(frame, frames.rows, frames.cols);
+    total.crossings += crossings;
+    total.frames_with_any += crossings > 0 ? 1 : 0;
+  }
+  return total;
+}
+
+TrajectoryIntersections count_trajectory_mesh_intersections(const TrajectoryFrames& frames,
+                                                            const std::vector<Obstacle>& obstacles, double dt) {
+  std::vector<std::pair<const Obstacle*, std::vector<Eigen::Vector3i>>> meshes;
+  for (const Obstacle& obstacle : obstacles) {
+    if (!obstacle.is_mesh()) continue;
+    std::vector<Eigen::Vector3i> triangles;
+    for (const Face& t : obstacle.mesh()->triangles()) triangles.emplace_back(t[0], t[1], t[2]);
+    meshes.emplace_back(&obstacle, std::move(triangles));
+  }
+  TrajectoryIntersections total;
+  std::vector<Vec3> vertices;
+  for (std::size_t f = 0; f < frames.positions.size(); ++f) {
+    long crossings = 0;
+    for (const auto& [obstacle, triangles] : meshes) {
+      obstacle->mesh_vertices(f * dt, vertices);
+      crossings += count_mesh_intersections(frames.positions[f], frames.rows, frames.cols, vertices, triangles);
+    }
     total.crossings += crossings;
     total.frames_with_any += crossings > 0 ? 1 : 0;
   }

@@ -33,6 +33,8 @@
 
 namespace fnopt {
 
+class Obstacle;
+
 // Whether the closed segment pq and the closed triangle abc share a point, exactly. A segment
 // that reaches the triangle's plane at one point X meets it where X lies on no edge's outer side
 // (the signs of the volumes of pq with each edge, orient3d). A segment in the plane is compared
@@ -60,5 +62,11 @@ struct TrajectoryIntersections {
   int frames_with_any = 0;  // frames with at least one
 };
 TrajectoryIntersections count_trajectory_self_intersections(const TrajectoryFrames& frames);
+
+// Mesh intersections over every frame of a trajectory and every mesh obstacle among `obstacles`,
+// frame f's meshes posed at time f dt by Obstacle::mesh_vertices (the obstacle's shape and
+// motion, not its contact code); fnopt evaluate's `mesh intersections`. None without a mesh.
+TrajectoryIntersections count_trajectory_mesh_intersections(const TrajectoryFrames& frames,
+                                                            const std::vector<Obstacle>& obstacles, double dt);
 
 }  // namespace fnopt

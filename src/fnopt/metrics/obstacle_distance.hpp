@@ -1,9 +1,20 @@
 #pragma once
-// How close a rollout came to its obstacles (docs/design.md §8, §14): the smallest signed distance
-// d_k(x_i) over every vertex i, obstacle k and frame, each frame's obstacles posed at its time
-// (frame f at f dt). Negative where a vertex is inside an obstacle; the contact's guarantee is a
-// value of at least the contact thickness (up to the float storage of the frames).
-// `fnopt evaluate` prints it as "min obstacle distance = D m".
+// How close a rollout came to its obstacles (docs/design.md §8, §14), each frame's obstacles posed
+// at its time (frame f at f dt), the smallest over every obstacle and frame of:
+//  * an analytic obstacle: the signed distance d_k(x_i) over the cloth's vertices, negative
+//    where a vertex is inside;
+//  * a mesh obstacle (the mesh posed by Obstacle::mesh_vertices): the unsigned distance between
+//    the cloth's surface and the mesh's, the smallest of the cloth-vertex/mesh-triangle,
+//    mesh-vertex/cloth-triangle and cloth-edge/mesh-edge distances (closed primitives, the
+//    cloth triangulated as Grid::triangles() does; a mesh vertex on no triangle is not on its
+//    surface and is left out). A cloth through the mesh is not negative here: the mesh
+//    intersection count (mesh_intersections.hpp) says that.
+// The contact's guarantee is a value of at least the contact thickness (up to the float storage
+// of the frames). `fnopt evaluate` prints it as "min obstacle distance = D m".
+//
+// The mesh's distance is a branch-and-bound search per primitive of one side over a box tree of
+// the other's (contact/box_tree.hpp), each search starting from the smallest distance found so
+// far, so that the cloth far from the mesh costs about one box test per primitive.
 #include <vector>
 
 #include <Eigen/Core>
@@ -13,8 +24,10 @@
 
 namespace fnopt {
 
-// The smallest d_k(x_i) of one state at time t; +inf without obstacles.
-double min_obstacle_distance(const std::vector<Obstacle>& obstacles, const VecX& positions, double time);
+// The smallest distance of one state of a rows x cols cloth at time t; +inf without obstacles.
+// Throws Error where positions' size is not 3 rows cols and there is a mesh obstacle.
+double min_obstacle_distance(const std::vector<Obstacle>& obstacles, const VecX& positions, int rows, int cols,
+                             double time);
 // Over the frames of a rollout of `scene` (positions as stored, frame f at time f scene.dt).
 double min_obstacle_distance(const Scene& scene, const std::vector<Eigen::VectorXf>& frames);
 

@@ -13,6 +13,10 @@
 // `unit` attribute. Root attributes: rows, cols (int), dt [s], scene (the resolved scene file
 // text), optimizer (its settings), fnopt_version, diverged (0/1), diverged_step (the step that
 // diverged, 1-based, 0 if none: it kept no frame) and divergence (why, with its strain).
+// Each mesh obstacle, the scene's k-th (1-based), as its frames were read, before scale and offset
+// (MeshShape::frames_as_given): mesh_<k>_vertices float64 [F, V, 3] with a `source` attribute
+// (the OBJ file or sequence prefix, absolute, as the scene text names it) and mesh_<k>_triangles
+// int32 [T, 3]; reading the scene takes the mesh from them, so the OBJ files may be gone.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -22,15 +26,21 @@
 
 namespace fnopt {
 
-// Writes atomically (temporary name, then rename).
+// Writes atomically (temporary name, then rename): the scene's text and its mesh obstacles.
+void write_rollout_file(const std::string& path, const RolloutResult& rollout, const Scene& scene,
+                        const std::string& optimizer_settings);
+// The same for a scene given as text: no mesh is stored, so reading it back needs the OBJ files
+// of its mesh obstacles.
 void write_rollout_file(const std::string& path, const RolloutResult& rollout, const std::string& scene_text,
                         const std::string& optimizer_settings);
 
 // A rollout's kept frames (frame 0 = the initial state), as a file would give them back.
 TrajectoryFrames frames_of(const RolloutResult& rollout);
 
-// The scene stored with an fnopt rollout (its `scene` attribute). Throws Error naming the file if
-// it has none (an ARCSim file, say) or the text is not a valid scene.
+// The scene stored with an fnopt rollout (its `scene` attribute), its mesh obstacles from the
+// meshes the file stores where it has them (contact/mesh_source.hpp's StoredMeshes). Throws Error
+// naming the file if it has none (an ARCSim file, say), a stored mesh is malformed or the text is
+// not a valid scene.
 Scene read_rollout_scene(const std::string& path);
 // Who wrote an fnopt rollout: its `optimizer` settings and `fnopt_version` attributes ("" where
 // missing). Throws Error naming the file if it cannot be read.

@@ -145,7 +145,7 @@ RolloutValidation::RolloutValidation(const ValidationOptions& options, const std
       const RolloutResult reference = run_rollout(resolved_[i], newton, rollout_options, progress);
       require(!reference.diverged, "validate",
               "the Newton reference of " + scene_name(scenes_[i]) + " diverged: " + reference.divergence);
-      write_rollout_file(paths[i], reference, to_scene_text(scenes_[i]), newton.settings());
+      write_rollout_file(paths[i], reference, scenes_[i], newton.settings());
       ++references_solved_;
     }
     references_.push_back(read_trajectory_frames(paths[i]));

@@ -57,8 +57,8 @@ NewtonBenchRun time_newton_rollout(const BenchRun& bench, const NewtonParams& pa
       run_rollout(resolve(scene), newton, options, [&](int done, int, const StepRecord&) { bar.update(done); });
   bar.finish();
   if (!bench.keep.empty() && round == 0)
-    write_rollout_file((std::filesystem::path(bench.keep) / ("newton_" + std::to_string(n) + ".h5")).string(), r,
-                       to_scene_text(scene), newton.settings());
+    write_rollout_file((std::filesystem::path(bench.keep) / ("newton_" + std::to_string(n) + ".h5")).string(), r, scene,
+                       newton.settings());
   NewtonBenchRun run;
   run.ms_per_frame = r.mean_step_ms();
   run.steps = static_cast<int>(r.steps.size());

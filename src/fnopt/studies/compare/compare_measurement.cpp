@@ -65,7 +65,7 @@ void measure_run(const CompareStudy& study, const CompareScene& c, const Optimiz
                         ("rollout_" + r.spec.method + (r.spec.budget ? "_" + std::to_string(r.spec.budget) : "") + "_" +
                          resolution_text(scene) + "_" + motion_text(scene) + ".h5"))
                            .string(),
-                       rollout, to_scene_text(scene), optimizer.settings());
+                       rollout, scene, optimizer.settings());
   r.frames = static_cast<int>(rollout.steps.size());
   r.ms = ms_per_frame(rollout);
   r.iterations = iterations_per_frame(rollout);

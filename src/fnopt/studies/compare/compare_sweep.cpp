@@ -159,7 +159,7 @@ void CompareSweep::run_reference(std::size_t task, SweepTaskRun<CompareTaskResul
   options.solve = NewtonOptimizer::reference_solve_options();
   ResolvedScene resolved = resolve(scene);
   const TimedRollout reference = timed_rollout(resolved, newton, options, progress(run, runner_->tasks()[task].label));
-  write_rollout_file(reference_file(scene), reference.rollout, to_scene_text(scene), newton.settings());
+  write_rollout_file(reference_file(scene), reference.rollout, scene, newton.settings());
   if (reference.rollout.diverged)
     SweepRunner::print_line("warning: the Newton reference of %s/%s %s\n", resolution_text(scene).c_str(),
                             motion_text(scene).c_str(), reference.rollout.divergence.c_str());
