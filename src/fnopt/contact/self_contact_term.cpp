@@ -44,11 +44,11 @@ double edge_edge_distance(const Vec12& local) {
 SelfContactTerm::SelfContactTerm(const Grid& grid, const SelfContactParams& params)
     : grid_(grid),
       params_(params),
+      slack_(std::min(0.4 * (grid.spacing / std::sqrt(2.0) - params.thickness - params.range),
+                      4.0 * (params.thickness + params.range))),
       rest_(grid.rest_positions()),
       row_(grid.vertex_count()),
-      col_(grid.vertex_count()),
-      slack_(std::min(0.4 * (grid.spacing / std::sqrt(2.0) - params.thickness - params.range),
-                      4.0 * (params.thickness + params.range))) {
+      col_(grid.vertex_count()) {
   params.validate_for(grid);
   for (int v = 0; v < grid.vertex_count(); ++v) row_[v] = v / grid.cols, col_[v] = v % grid.cols;
   const auto triangles = grid.triangles();
