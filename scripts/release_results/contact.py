@@ -1,6 +1,6 @@
 """Contact with obstacles: every method on the contact scenes of examples/scenes (fnopt compare --scene), e_CD
-against Newton per scene and grid and the smallest vertex-obstacle distance; then far obstacles' cost (fnopt
-bench contact)."""
+against Newton per scene and grid, the smallest obstacle and cloth-cloth distances and the intersection counts;
+then far obstacles' cost (fnopt bench contact)."""
 
 import os
 import re
@@ -20,17 +20,23 @@ BENCH_HEADER = ["grid", "method", "ms/frame without obstacles", "with far obstac
 
 def contact_table(grids, scenes, results):
     """A row per (method, N) over the scenes' compare.csv rows (results: {scene: rows}): e_CD per scene as
-    "32² / 64² / ..." ("diverged" where it did), the smallest obstacle distance in mm, runs diverged."""
-    cells, smallest, diverged = {}, {}, {}
+    "32² / 64² / ..." ("diverged" where it did), the smallest obstacle and cloth-cloth distances in mm, the self-
+    and mesh intersections summed over every run, runs diverged."""
+    cells, smallest, diverged, crossings = {}, {}, {}, {}
     for name, _ in scenes:
         for r in results[name]:
             key = (r["method"], r["N"])
             done = r["diverged"] == "no"
             cells.setdefault(key, {}).setdefault(name, {})[r["resolution"]] = (
                 fmt(fnum(r["e_cd_x1e3"])) if done else "diverged")
-            distance = fnum(r.get("min_obstacle_distance_m"))
-            if distance is not None:
-                smallest[key] = min(smallest.get(key, distance), distance)
+            for column in ("min_obstacle_distance_m", "min_cloth_distance_m"):
+                distance = fnum(r.get(column))
+                if distance is not None:
+                    smallest.setdefault(key, {})[column] = min(smallest.get(key, {}).get(column, distance), distance)
+            for column in ("self_intersections", "mesh_intersections"):
+                count = fnum(r.get(column))
+                if count is not None:
+                    crossings.setdefault(key, {})[column] = crossings.get(key, {}).get(column, 0) + int(count)
             diverged.setdefault(key, [0, 0])
             diverged[key][0] += not done
             diverged[key][1] += 1
@@ -39,7 +45,13 @@ def contact_table(grids, scenes, results):
         row = [key[0], key[1] or "converged"]
         for name, _ in scenes:
             row.append(" / ".join(cells[key].get(name, {}).get(g, "—") for g in grids))
-        row += [fmt(1e3 * smallest[key]) if key in smallest else "—", "%d/%d" % tuple(diverged[key])]
+        for column in ("min_obstacle_distance_m", "min_cloth_distance_m"):
+            value = smallest.get(key, {}).get(column)
+            row.append(fmt(1e3 * value) if value is not None else "—")
+        for column in ("self_intersections", "mesh_intersections"):
+            value = crossings.get(key, {}).get(column)
+            row.append(str(value) if value is not None else "—")
+        row.append("%d/%d" % tuple(diverged[key]))
         table.append(row)
     return table
 
@@ -62,7 +74,9 @@ def part_contact(ctx, part, plan_):
     smallest vertex-obstacle distance of any run; then far obstacles' cost."""
     grids = plan_["res"].split(",")
     header = ["method", "N"] + ["%s e_CD × 10³ (%s)" % (name, " / ".join(g + "²" for g in grids))
-                                for name, _ in plan_["scenes"]] + ["smallest distance (mm)", "diverged"]
+                                for name, _ in plan_["scenes"]] + [
+        "smallest obstacle distance (mm)", "smallest cloth-cloth distance (mm)", "self-intersections",
+        "mesh intersections", "diverged"]
     results, commands = {}, []
     for name, frames in plan_["scenes"]:
         d = os.path.join(ctx.out, part, name)
@@ -77,9 +91,13 @@ def part_contact(ctx, part, plan_):
     write_csv(path, header, table)
     bench_args, bench_table, bench_path = far_obstacles_cost(ctx, part, plan_)
     body = ("The scenes of `examples/scenes/` (a released cloth on a sphere above a floor, on a table top with an "
-            "overhang, on a plane tilted by 30° with friction 0.4; a sphere pushed through the hanging cloth), every "
-            "method against Newton converging on every step; the smallest distance of any vertex to any obstacle "
-            "over every frame, scene and grid (≥ the contact thickness, 1 mm: no penetration).\n\n" +
+            "overhang, on a plane tilted by 30° with friction 0.4; a sphere pushed through the hanging cloth; a cloth "
+            "hung over a thin rod; a cloth dropped and pushed so that it folds; the sphere and table as meshes; a "
+            "drape over a mannequin mesh; an animated paddle through the hanging cloth), every method against "
+            "Newton converging on every step. Over every frame, scene and grid: the smallest distance of the cloth "
+            "to an obstacle and of the cloth to itself (vertex-disjoint primitives; ≥ the contact thickness, 1 mm: no "
+            "penetration), and the exact self- and mesh intersections of the stored frames summed over the runs "
+            "(`fnopt evaluate`'s counts; 0: nothing crossed).\n\n" +
             markdown_table(header, table) + "\n\nFar obstacles' cost: the benchmark scene with and without a floor "
             "and a sphere far from the cloth, alternated runs, medians.\n\n```\n" +
             ctx.shown(bench_args) + "\n```\n\n" + markdown_table(BENCH_HEADER, bench_table))

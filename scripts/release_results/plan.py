@@ -4,7 +4,8 @@ tables should show is added here; the parts turn these plans into fnopt commands
 EVAL = "eval"  # compare's name for the fifteen evaluation motions
 OFF_CORNER_PRESETS = ["diagonal", "mid-edge", "corner-center", "single-mid-edge", "single-center"]
 # The contact part's scenes (examples/scenes/NAME.scene) and the frames each runs.
-CONTACT_SCENES = [("drape", 120), ("table", 120), ("pushed-sphere", 150), ("tilted-plane", 120)]
+CONTACT_SCENES = [("drape", 120), ("table", 120), ("pushed-sphere", 150), ("tilted-plane", 120), ("rod-hang", 150),
+                  ("fold-push", 150), ("drape-mesh", 120), ("table-mesh", 120), ("mannequin", 150), ("paddle", 150)]
 
 
 def frontier_runs(quick):
@@ -68,7 +69,7 @@ def plan(args):
                         "arcsim": 10, "stability": 10, "contact": 10, "adjoint": 10, "paper": 0} if quick else
                        {"frontier-32": 9000, "frontier-64": 14400, "frontier-100": 36000,
                         "newton-cost": 1500 * args.repeat, "superres": 10800, "offcorner-32": 3600,
-                        "offcorner-64": 24000, "arcsim": 12000, "stability": 3600, "contact": 14400,
+                        "offcorner-64": 24000, "arcsim": 12000, "stability": 3600, "contact": 43200,
                         "adjoint": 7200, "paper": 0})
     # Fewer samples where the grids are tiny: the per-step error's reference states, e_CD's points.
     p["compare_extra"] = ["--step-samples", "2", "--cd-samples", "2000"] if quick else []

@@ -46,8 +46,9 @@ TEST(ContactCli, AReleasedClothOnASphereStaysOutsideForEveryMethod) {
   }
 }
 
-// compare reports each run's smallest distance in compare.csv (column min_obstacle_distance_m).
-TEST(ContactCli, CompareReportsEveryRunsSmallestDistance) {
+// compare reports each run's smallest obstacle and cloth-cloth distances and its self-intersections
+// in compare.csv; mesh intersections only with a mesh obstacle.
+TEST(ContactCli, CompareReportsEveryRunsSmallestDistancesAndCrossings) {
   const fnopt::testing::TempDir tmp;
   const fs::path dir = tmp.path() / "cmp";
   const CommandResult r = run_fnopt(
@@ -60,12 +61,20 @@ TEST(ContactCli, CompareReportsEveryRunsSmallestDistance) {
   std::vector<std::string> columns;
   std::istringstream names(header);
   for (std::string name; std::getline(names, name, ',');) columns.push_back(name);
-  const auto column = std::find(columns.begin(), columns.end(), "min_obstacle_distance_m") - columns.begin();
-  ASSERT_LT(column, static_cast<long>(columns.size())) << header;
+  auto at = [&](const std::string& name) {
+    const auto column = std::find(columns.begin(), columns.end(), name) - columns.begin();
+    EXPECT_LT(column, static_cast<long>(columns.size())) << name << " not in " << header;
+    return static_cast<std::size_t>(column);
+  };
+  const std::size_t obstacle = at("min_obstacle_distance_m"), cloth = at("min_cloth_distance_m"),
+                    self = at("self_intersections"), mesh = at("mesh_intersections");
   ASSERT_EQ(rows.size(), 3u);
   for (const auto& row : rows) {
-    ASSERT_GT(row.size(), static_cast<std::size_t>(column)) << row[0];
-    EXPECT_GE(std::stod(row[column]), 0.0) << row[0];
+    ASSERT_GT(row.size(), std::max({obstacle, cloth, self, mesh})) << row[0];
+    EXPECT_GE(std::stod(row[obstacle]), 0.0) << row[0];
+    EXPECT_GE(std::stod(row[cloth]), 1e-3) << row[0];  // self-contact is on for a released cloth
+    EXPECT_EQ(row[self], "0") << row[0];
+    EXPECT_EQ(row[mesh], "") << row[0];
   }
 }
 

@@ -12,9 +12,7 @@
 // The contact's guarantee is a value of at least the contact thickness (up to the float storage
 // of the frames). `fnopt evaluate` prints it as "min obstacle distance = D m".
 //
-// The mesh's distance is a branch-and-bound search per primitive of one side over a box tree of
-// the other's (contact/box_tree.hpp), each search starting from the smallest distance found so
-// far, so that the cloth far from the mesh costs about one box test per primitive.
+// The mesh's distance is metrics/surface_distance.hpp's.
 #include <vector>
 
 #include <Eigen/Core>

@@ -8,6 +8,7 @@
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <type_traits>
 #include <vector>
 
 #include <fnopt/util/error.hpp>
@@ -41,8 +42,9 @@ inline std::string_view number_body(std::string_view text) {
   return text;
 }
 
-// True and `value` set when `text` is exactly one decimal integer that fits in an int.
-inline bool parse_int(std::string_view text, int& value) {
+// True and `value` set when `text` is exactly one decimal integer that fits in `value`'s type.
+template <class Integer, class = std::enable_if_t<std::is_integral_v<Integer>>>
+bool parse_int(std::string_view text, Integer& value) {
   text = number_body(text);
   if (text.empty()) return false;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);

@@ -5,6 +5,7 @@
 // throwing factory gives an error row; no CSV cell is ever NaN.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <fnopt/baselines/gradient_descent.hpp>
@@ -167,6 +168,8 @@ TEST(StabilitySuite, EveryCaseValidatesAndChangesTheFieldsItNames) {
         EXPECT_NE(s.cols, base.cols);
       else if (field == "obstacles")
         EXPECT_NE(s.obstacles.size(), base.obstacles.size());
+      else if (field == "placement")
+        EXPECT_NE(s.placement, base.placement);
       else
         ADD_FAILURE() << "unknown field " << field;
     }
@@ -180,6 +183,7 @@ TEST(StabilitySuite, EveryCaseValidatesAndChangesTheFieldsItNames) {
     restored.rows = base.rows;
     restored.cols = base.cols;
     restored.obstacles = base.obstacles;
+    restored.placement = base.placement;
     EXPECT_EQ(to_scene_text(restored), to_scene_text(base));
   }
   // The named ones change the base scene as their names say.
@@ -260,6 +264,45 @@ TEST(StabilitySuite, PlotMarksDivergedRunsAndConsoleTableNamesThem) {
   const std::string table = stability_console_table({ok, bad});
   EXPECT_NE(table.find("diverged @7"), std::string::npos) << table;
   EXPECT_NE(table.find("baseline / gd: diverged at step 7"), std::string::npos) << table;
+}
+
+// A 5 x 5 run whose second frame pushes an edge of the far corner through the cloth: counted on a
+// case with contact, in the CSV and the summary; not measured (-1, an empty cell) without contact.
+TEST(StabilitySuite, IntersectionsAreCountedOnContactCasesAndRoundTripThroughTheCsv) {
+  StabilityRun run;
+  run.rollout.grid = Grid{5, 5, 1.0};
+  Eigen::VectorXf flat(3 * 25);
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j) flat.segment<3>(3 * (5 * i + j)) = Eigen::Vector3f(j, i, 0);
+  Eigen::VectorXf crossed = flat;
+  crossed.segment<3>(3 * 24) = Eigen::Vector3f(1.3f, 1.6f, -0.5f);  // (4,4) under the cloth
+  crossed.segment<3>(3 * 18) = Eigen::Vector3f(1.5f, 1.7f, 0.5f);   // (3,3) above: their edge crosses it
+  run.rollout.positions = {flat, crossed};
+  run.rollout.times = {0.0, 1.0 / 60};
+  run.frames_requested = 1;
+  const StabilityMethod pqn{"pqn", {10, 0.0}};
+  Scene contact = small_scene(1), plain = small_scene(1);
+  contact.rows = contact.cols = plain.rows = plain.cols = 5;
+  contact.self_contact = AutoSwitch::On;
+  plain.self_contact = AutoSwitch::Off;
+  StabilityRow counted = stability_row("contact-drop", pqn, run, nullptr), skipped = counted;
+  count_intersections(contact, run, counted);
+  count_intersections(plain, run, skipped);
+  EXPECT_GT(counted.self_intersections, 0);
+  EXPECT_EQ(counted.mesh_intersections, -1);  // no mesh obstacle
+  EXPECT_EQ(skipped.self_intersections, -1);
+  const std::vector<std::string> cells = stability_csv_row(counted);
+  EXPECT_EQ(stability_row_from_csv(cells).self_intersections, counted.self_intersections);
+  EXPECT_EQ(stability_row_from_csv(stability_csv_row(skipped)).self_intersections, -1);
+  const auto summary = stability_summary({counted}, {"pqn"});
+  EXPECT_TRUE(std::any_of(summary.begin(), summary.end(), [](const std::string& line) {
+    return line.find("runs whose frames cross (self / mesh intersections): pqn on contact-drop") != std::string::npos;
+  }));
+  counted.self_intersections = 0;
+  const auto clean = stability_summary({counted}, {"pqn"});
+  EXPECT_TRUE(std::any_of(clean.begin(), clean.end(), [](const std::string& line) {
+    return line == "no self- or mesh intersection in any of the 1 runs of the contact cases";
+  }));
 }
 
 }  // namespace

@@ -2,10 +2,13 @@
 
 #include <time.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 
+#include <fnopt/metrics/cloth_distance.hpp>
+#include <fnopt/metrics/mesh_intersections.hpp>
 #include <fnopt/metrics/obstacle_distance.hpp>
 #include <fnopt/simulation/rollout_file.hpp>
 
@@ -23,6 +26,17 @@ double process_cpu_seconds() {
   timespec t{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
   return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+// A contact scene's closest cloth-cloth approach and intersection counts (RunResult); a scene
+// without obstacles or self-contact (the hanging benchmark) measures none, and costs nothing.
+void measure_contact(const Scene& scene, const TrajectoryFrames& frames, RunResult& r) {
+  if (scene.obstacles.empty() && !self_contact_enabled(scene)) return;
+  r.cloth_distance = min_cloth_distance(frames);
+  r.self_intersections = static_cast<double>(count_trajectory_self_intersections(frames).crossings);
+  if (std::any_of(scene.obstacles.begin(), scene.obstacles.end(), [](const Obstacle& o) { return o.is_mesh(); }))
+    r.mesh_intersections =
+        static_cast<double>(count_trajectory_mesh_intersections(frames, scene.obstacles, scene.dt).crossings);
 }
 
 }  // namespace
@@ -74,6 +88,7 @@ void measure_run(const CompareStudy& study, const CompareScene& c, const Optimiz
   r.diverged = rollout.diverged;
   if (rollout.diverged) r.note = rollout.divergence;
   const TrajectoryFrames frames = frames_of(rollout);
+  measure_contact(scene, frames, r);
   TrajectoryComparisonOptions options;
   options.chamfer = study.chamfer;
   options.chamfer_stride = study.cd_stride;

@@ -32,6 +32,9 @@ const std::vector<std::string> kColumns = {"method",
                                            "step_error_median",
                                            "max_strain_pct",
                                            "min_obstacle_distance_m",
+                                           "min_cloth_distance_m",
+                                           "self_intersections",
+                                           "mesh_intersections",
                                            "diverged",
                                            "frontier",
                                            "e_cd_arcsim_x1e3",
@@ -52,6 +55,7 @@ const std::vector<std::string>& compare_key_columns() {
 std::vector<std::string> compare_csv_row(const RunResult& r, int threads) {
   // Undefined values (a diverged run's errors) are empty cells, not "nan".
   auto num = [](double v, int digits = 4) { return std::isnan(v) ? std::string() : CsvTable::number(v, digits); };
+  auto count = [](double v) { return std::isnan(v) ? std::string() : std::to_string(static_cast<long>(v)); };
   return {r.spec.method,
           budget_text(r.spec),
           method_traits(r.spec.method).learning_rate ? num(r.lr) : "",
@@ -70,6 +74,9 @@ std::vector<std::string> compare_csv_row(const RunResult& r, int threads) {
           num(r.step_median),
           num(100.0 * r.strain),
           num(r.obstacle_distance, 6),
+          num(r.cloth_distance, 6),
+          count(r.self_intersections),
+          count(r.mesh_intersections),
           r.failed ? "error" : (r.diverged ? "yes" : "no"),
           r.frontier ? "yes" : "no",
           std::isnan(r.e_cd_arcsim) ? "" : num(1e3 * r.e_cd_arcsim),
@@ -100,6 +107,9 @@ RunResult run_result_of_row(const RunSpec& spec, const std::vector<std::string>&
   r.step_median = num("step_error_median");
   r.strain = 1e-2 * num("max_strain_pct");
   r.obstacle_distance = num("min_obstacle_distance_m");
+  r.cloth_distance = num("min_cloth_distance_m");
+  r.self_intersections = num("self_intersections");
+  r.mesh_intersections = num("mesh_intersections");
   r.e_cd_arcsim = 1e-3 * num("e_cd_arcsim_x1e3");
   r.diverged = cell("diverged") == "yes";
   r.failed = cell("diverged") == "error";
@@ -116,7 +126,7 @@ std::string encode_run_result(const RunResult& r) {
     << kSeparator << r.lr_source << kSeparator << r.note;
   for (double v :
        {r.lr, r.ms, r.cpu_share, r.iterations, r.e_cd, r.e_3d, r.step_mean, r.step_median, r.strain, r.e_cd_arcsim,
-        r.obstacle_distance})
+        r.obstacle_distance, r.cloth_distance, r.self_intersections, r.mesh_intersections})
     s << kSeparator << v;
   s << kSeparator << r.diverged << kSeparator << r.failed << kSeparator << r.frames << kSeparator << r.frames_requested;
   return s.str();
@@ -124,7 +134,7 @@ std::string encode_run_result(const RunResult& r) {
 
 RunResult decode_run_result(const std::string& text) {
   const std::vector<std::string_view> f = split(text, kSeparator);
-  if (f.size() != 21)
+  if (f.size() != 24)
     throw Error("compare", "a run's result arrived damaged (" + std::to_string(f.size()) + " fields)");
   RunResult r;
   auto number = [](std::string_view v) {
@@ -139,12 +149,13 @@ RunResult decode_run_result(const std::string& text) {
   r.lr_source = f[4];
   r.note = f[5];
   double* fields[] = {&r.lr,   &r.ms,        &r.cpu_share,   &r.iterations, &r.e_cd,      &r.e_3d,
-                      &r.step_mean, &r.step_median, &r.strain, &r.e_cd_arcsim, &r.obstacle_distance};
-  for (int i = 0; i < 11; ++i) *fields[i] = number(f[6 + i]);
-  r.diverged = f[17] == "1";
-  r.failed = f[18] == "1";
-  parse_int(f[19], r.frames);
-  parse_int(f[20], r.frames_requested);
+                      &r.step_mean, &r.step_median, &r.strain, &r.e_cd_arcsim, &r.obstacle_distance,
+                      &r.cloth_distance, &r.self_intersections, &r.mesh_intersections};
+  for (int i = 0; i < 14; ++i) *fields[i] = number(f[6 + i]);
+  r.diverged = f[20] == "1";
+  r.failed = f[21] == "1";
+  parse_int(f[22], r.frames);
+  parse_int(f[23], r.frames_requested);
   return r;
 }
 

@@ -21,6 +21,12 @@ struct RunResult {
   double e_cd_arcsim = NAN;
   // The smallest vertex-obstacle distance over the rollout [m] (docs/design.md §14); NaN without obstacles.
   double obstacle_distance = NAN;
+  // On a contact scene (obstacles or self-contact), measured on the frames as stored, independently of
+  // the contact code: the smallest distance between vertex-disjoint cloth primitives [m]
+  // (metrics/cloth_distance.hpp), the exact self-intersection count and, with a mesh obstacle, the
+  // mesh intersection count, summed over the frames (metrics/mesh_intersections.hpp). NaN where not
+  // measured.
+  double cloth_distance = NAN, self_intersections = NAN, mesh_intersections = NAN;
   bool diverged = false, failed = false;
   int frames = 0, frames_requested = 0;
   std::string lr_source;  // where the learning rate came from (given, swept)

@@ -93,6 +93,13 @@ StabilityCase contact_case(const std::string& name, const std::string& what, con
 // A sphere behind the hanging cloth, in the way of its swing, and a floor 2 cm below its lower edge.
 constexpr const char* kSwingSphere = "sphere center=0.5,0.3,-0.6 radius=0.25 friction=0.3";
 constexpr const char* kCloseFloor = "plane point=0,0,-1.02 normal=0,0,1 friction=0.3";
+// A floor 1 m below the hanging cloth's lower edge.
+constexpr const char* kFarFloor = "plane point=0,0,-2 normal=0,0,1 friction=0.3";
+// Two rods along y, 1 cm of gap between them, 20 cm below the flat cloth's centre, and a floor.
+constexpr const char* kTwoRods =
+    "capsule a=-0.015,-1,-0.2 b=-0.015,1,-0.2 radius=0.01 friction=0.3; "
+    "capsule a=0.015,-1,-0.2 b=0.015,1,-0.2 radius=0.01 friction=0.3; "
+    "plane point=0,0,-1.5 normal=0,0,1 friction=0.3";
 
 }  // namespace
 
@@ -134,6 +141,22 @@ const std::vector<StabilityCase>& stability_cases() {
                              {"dt", "frames"}, [](Scene& s) {
                                s.frames = frames_for_dt(s, 1.0 / 24.0);
                                s.dt = 1.0 / 24.0;
+                             }));
+    // Self-contact (on with obstacles): the cloth let go of, so that it folds onto itself.
+    c.push_back(contact_case("contact-drop",
+                             "the cloth let go of above a floor 1 m below it: it lands at about 4.5 m/s and folds onto "
+                             "itself",
+                             kFarFloor, {"handles"}, [](Scene& s) {
+                               s.handles = "none";
+                               s.handle_vertices.clear();
+                             }));
+    c.push_back(contact_case("contact-thin-gap",
+                             "the cloth let go of flat above two rods 1 cm apart (less than a cell at 32^2): it drapes "
+                             "over both, its halves meeting below them",
+                             kTwoRods, {"handles", "placement"}, [](Scene& s) {
+                               s.handles = "none";
+                               s.handle_vertices.clear();
+                               s.placement = Placement::Horizontal;
                              }));
     return c;
   }();

@@ -4,6 +4,7 @@
 #include <map>
 #include <sstream>
 
+#include <fnopt/metrics/mesh_intersections.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
 #include <fnopt/objective/backward_euler.hpp>
 #include <fnopt/simulation/rollout_file.hpp>
@@ -120,6 +121,14 @@ StabilityRow stability_row(const std::string& case_name, const StabilityMethod& 
     }
   }
   return row;
+}
+
+void count_intersections(const Scene& scene, const StabilityRun& run, StabilityRow& row) {
+  if (run.failed || (scene.obstacles.empty() && !self_contact_enabled(scene))) return;
+  const TrajectoryFrames frames = frames_of(run.rollout);
+  row.self_intersections = count_trajectory_self_intersections(frames).crossings;
+  if (std::any_of(scene.obstacles.begin(), scene.obstacles.end(), [](const Obstacle& o) { return o.is_mesh(); }))
+    row.mesh_intersections = count_trajectory_mesh_intersections(frames, scene.obstacles, scene.dt).crossings;
 }
 
 }  // namespace fnopt

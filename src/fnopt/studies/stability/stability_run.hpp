@@ -54,12 +54,19 @@ struct StabilityRow {
   double iterations_per_frame = NAN;
   int unconverged_steps = 0;         // see count_unconverged_steps
   std::string unconverged_statuses;  // "iteration-budget x2, line-search-failed x1", "" if none
+  // On a case with contact (obstacles or self-contact), the exact self-intersection count of the
+  // frames as stored and, with a mesh obstacle, the mesh intersection count (count_intersections);
+  // -1 where not measured.
+  long self_intersections = -1, mesh_intersections = -1;
 };
 
 // Measures a run against the case's Newton reference (nullptr, failed or empty: no e_3D and no
 // energy growth). Never produces NaN in a field that the run defines.
 StabilityRow stability_row(const std::string& case_name, const StabilityMethod& method, const StabilityRun& run,
                            const StabilityRun* reference);
+
+// Fills the row's intersection counts from the run's frames where `scene` has contact.
+void count_intersections(const Scene& scene, const StabilityRun& run, StabilityRow& row);
 
 // Steps that stopped for a reason other than convergence. With a tolerance (Newton) every step
 // short of it counts; with a fixed budget (tolerance 0) using the whole budget is the normal end,

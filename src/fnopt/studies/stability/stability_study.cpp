@@ -189,10 +189,11 @@ void StabilitySweep::run(std::size_t task, SweepTaskRun<FinishedRow>& run) {
   for (std::size_t j = 0; j < study_.methods.size(); ++j) {
     const StabilityMethod& m = study_.methods[j];
     if (rows_.resumed(slot(cases_[task], j))) continue;
-    const StabilityRow row =
-        m.reference ? stability_row(c.name, m, reference, &reference)  // counted above
-                    : stability_row(c.name, m, run_with_progress(scene, m, m.method + " " + c.name, run, cost_done),
-                                    &reference);
+    const StabilityRun own =
+        m.reference ? StabilityRun{} : run_with_progress(scene, m, m.method + " " + c.name, run, cost_done);
+    const StabilityRun& ran = m.reference ? reference : own;  // the reference is counted above
+    StabilityRow row = stability_row(c.name, m, ran, &reference);
+    count_intersections(scene, ran, row);
     run.emit({j, row, stability_csv_row(row)});
   }
 }

@@ -11,10 +11,20 @@
 #include <fnopt/util/parse_text.hpp>
 
 namespace fnopt {
+namespace {
+
+// "self / mesh" intersection counts, "self" without a mesh, "" where not measured.
+std::string crossings_text(const StabilityRow& r) {
+  if (r.self_intersections < 0) return "";
+  return std::to_string(r.self_intersections) +
+         (r.mesh_intersections >= 0 ? " / " + std::to_string(r.mesh_intersections) : "");
+}
+
+}  // namespace
 
 std::string stability_console_table(const std::vector<StabilityRow>& rows) {
   const std::vector<std::string> header = {"case",     "method",   "N",      "outcome",  "frames",
-                                           "strain %", "E growth", "e3D e2", "ms/frame", "unconverged"};
+                                           "strain %", "E growth", "e3D e2", "ms/frame", "crossings", "unconverged"};
   std::vector<std::vector<std::string>> cells;
   for (const StabilityRow& r : rows) {
     std::string outcome = to_string(r.outcome);
@@ -26,7 +36,8 @@ std::string stability_console_table(const std::vector<StabilityRow>& rows) {
     cells.push_back({r.case_name, r.method, budget_text(r.solve), outcome,
                      std::to_string(r.frames_done) + "/" + std::to_string(r.frames_requested),
                      stability_cell(1e2 * r.max_strain, 3), stability_cell(r.energy_growth, 3),
-                     stability_cell(1e2 * r.e3d, 3), stability_cell(r.ms_per_frame, 3), unconverged});
+                     stability_cell(1e2 * r.e3d, 3), stability_cell(r.ms_per_frame, 3), crossings_text(r),
+                     unconverged});
   }
   std::vector<std::size_t> width(header.size());
   for (std::size_t k = 0; k < header.size(); ++k) width[k] = header[k].size();
@@ -85,6 +96,19 @@ std::vector<std::string> stability_summary(const std::vector<StabilityRow>& rows
   if (has_newton && newton_clean) lines.push_back("newton converged every step of every case it ran");
   if (!unconverged.empty())
     lines.push_back("steps that stopped short of convergence (or on a failure): " + joined(unconverged));
+  // Crossings, counted on every run of a contact case: the guarantee is none (docs/design.md §14).
+  std::vector<std::string> crossed;
+  int counted = 0;
+  for (const StabilityRow& r : rows) {
+    if (r.self_intersections < 0) continue;
+    ++counted;
+    if (r.self_intersections > 0 || r.mesh_intersections > 0)
+      crossed.push_back(r.method + " on " + r.case_name + " (" + crossings_text(r) + ")");
+  }
+  if (counted > 0)
+    lines.push_back(crossed.empty() ? "no self- or mesh intersection in any of the " + std::to_string(counted) +
+                                          " runs of the contact cases"
+                                    : "runs whose frames cross (self / mesh intersections): " + joined(crossed));
   std::vector<std::string> blowups;
   for (const StabilityRow& r : rows)
     if (r.outcome == StabilityOutcome::Finished && std::isfinite(r.energy_growth) && r.energy_growth > 2.0)

@@ -35,6 +35,8 @@ const std::vector<std::string>& stability_columns() {
                                                    "iterations_per_frame",
                                                    "unconverged_steps",
                                                    "unconverged_statuses",
+                                                   "self_intersections",
+                                                   "mesh_intersections",
                                                    "reason"};
   return columns;
 }
@@ -61,6 +63,8 @@ std::vector<std::string> stability_csv_row(const StabilityRow& r) {
           stability_cell(r.iterations_per_frame),
           ran ? std::to_string(r.unconverged_steps) : "",
           r.unconverged_statuses,
+          r.self_intersections >= 0 ? std::to_string(r.self_intersections) : "",
+          r.mesh_intersections >= 0 ? std::to_string(r.mesh_intersections) : "",
           r.reason};
 }
 
@@ -96,7 +100,9 @@ StabilityRow stability_row_from_csv(const std::vector<std::string>& cells) {
   r.iterations_per_frame = number_or_nan(cells[10]);
   if (!cells[11].empty()) parse_int(cells[11], r.unconverged_steps);
   r.unconverged_statuses = cells[12];
-  r.reason = cells[13];
+  if (!cells[13].empty()) parse_int(cells[13], r.self_intersections);
+  if (!cells[14].empty()) parse_int(cells[14], r.mesh_intersections);
+  r.reason = cells[15];
   return r;
 }
 
