@@ -40,8 +40,9 @@ const RegisterCommand kRegister([](CLI::App& app) {
       app.add_subcommand("bench", "timing tables: the Newton step, the FNO passes, a rollout's adjoint, contact's cost");
   command
       ->add_option("what", flags->run.what,
-                   "newton, fno, adjoint (a recorded rollout's forward and backward passes), contact (the benchmark "
-                   "scene with and without far obstacles, pqn and newton) or all (newton and fno)")
+                   "newton, fno, adjoint (a recorded rollout's forward and backward passes), contact (pqn and newton "
+                   "with far obstacles, a far mesh and self-contact, each against the same scene without) or all "
+                   "(newton and fno)")
       ->capture_default_str();
   command->add_option("--res", flags->resolution_list, "resolutions, comma-separated")->capture_default_str();
   command->add_option("--model", flags->run.model, "fno: the model whose shape is timed (default: the shipped model)");

@@ -13,9 +13,9 @@ from .runner import PartFailed
 from .tables import fmt, fnum, markdown_table
 
 SCENES = os.path.join(REPOSITORY, "examples", "scenes")
-# A row of fnopt bench contact's table: grid, method, ms/frame without and with far obstacles, ratio, same rollout.
-BENCH_CONTACT_ROW = re.compile(r"^\s*(\d+)\^2\s+(\S+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s+(\S+)\s*$")
-BENCH_HEADER = ["grid", "method", "ms/frame without obstacles", "with far obstacles", "ratio", "same rollout"]
+# A row of fnopt bench contact's table: grid, method, case, ms/frame without and with it, ratio, same rollout.
+BENCH_CONTACT_ROW = re.compile(r"^\s*(\d+)\^2\s+(\S+)\s+(\S+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)\s+(\S+)\s*$")
+BENCH_HEADER = ["grid", "method", "case", "ms/frame without", "with", "ratio", "same rollout"]
 
 
 def contact_table(grids, scenes, results):
@@ -98,7 +98,8 @@ def part_contact(ctx, part, plan_):
             "to an obstacle and of the cloth to itself (vertex-disjoint primitives; ≥ the contact thickness, 1 mm: no "
             "penetration), and the exact self- and mesh intersections of the stored frames summed over the runs "
             "(`fnopt evaluate`'s counts; 0: nothing crossed).\n\n" +
-            markdown_table(header, table) + "\n\nFar obstacles' cost: the benchmark scene with and without a floor "
-            "and a sphere far from the cloth, alternated runs, medians.\n\n```\n" +
+            markdown_table(header, table) + "\n\nContact's cost, alternated runs, medians: far-obstacles, the benchmark "
+            "scene with and without a floor and a sphere far from the cloth; far-mesh, the same sphere as a mesh; "
+            "self-contact, the sphere drape without and with self-contact.\n\n```\n" +
             ctx.shown(bench_args) + "\n```\n\n" + markdown_table(BENCH_HEADER, bench_table))
     return section("Contact with obstacles", commands, body), [path, bench_path]

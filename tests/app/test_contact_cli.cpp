@@ -78,16 +78,28 @@ TEST(ContactCli, CompareReportsEveryRunsSmallestDistancesAndCrossings) {
   }
 }
 
-// bench contact: a row per resolution and method, and far obstacles leave the rollout as it is.
-TEST(ContactCli, BenchContactTimesFarObstaclesAndTheRolloutsAreTheSame) {
+// bench contact: a row per resolution, case and method; far obstacles and a far mesh leave the
+// rollout as it is, self-contact has no such claim.
+TEST(ContactCli, BenchContactTimesEveryCaseAndFarObstaclesLeaveTheRolloutAsItIs) {
   const CommandResult r = run_fnopt("bench contact --res 8,10 --frames 4 --repeat 2 --threads 1");
   ASSERT_EQ(r.status, 0) << r.output;
-  for (const std::string row : {"8^2      pqn", "8^2   newton", "10^2      pqn", "10^2   newton"}) {
-    const auto at = r.output.find(row);
-    ASSERT_NE(at, std::string::npos) << row << "\n" << r.output;
-    const std::string line = r.output.substr(at, r.output.find('\n', at) - at);
-    EXPECT_NE(line.find(" yes"), std::string::npos) << line;
-  }
+  for (const std::string grid : {"8^2", "10^2"})
+    for (const std::string method : {"pqn", "newton"})
+      for (const std::string c : {"far-obstacles", "far-mesh", "self-contact"}) {
+        std::istringstream lines(r.output);
+        bool found = false;
+        for (std::string line; std::getline(lines, line);) {
+          std::istringstream cells(line);
+          std::string g, m, name, without, with, ratio, same;
+          if (!(cells >> g >> m >> name >> without >> with >> ratio >> same) || g != grid || m != method || name != c)
+            continue;
+          found = true;
+          EXPECT_GT(std::stod(without), 0.0) << line;
+          EXPECT_GT(std::stod(with), 0.0) << line;
+          EXPECT_EQ(same, c == "self-contact" ? "-" : "yes") << line;
+        }
+        EXPECT_TRUE(found) << grid << " " << method << " " << c << "\n" << r.output;
+      }
 }
 
 TEST(ContactCli, ARolloutWithoutObstaclesPrintsNoDistance) {

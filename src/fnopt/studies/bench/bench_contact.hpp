@@ -1,6 +1,7 @@
 #pragma once
-// The contact term's cost where the cloth never comes near an obstacle (fnopt bench contact,
-// docs/design.md §14): the benchmark scene with and without two far obstacles, pqn and newton.
+// Contact's cost (fnopt bench contact, docs/design.md §14), pqn and newton: far analytic obstacles
+// and a far mesh on the benchmark scene (where the cloth never comes near them), and self-contact
+// on the sphere drape.
 #include <fnopt/studies/bench/bench_run.hpp>
 
 namespace fnopt {
