@@ -99,6 +99,34 @@ TEST(SelfContactTerm, TheEnergyOnTheCandidatesIsTheEnergyOfEveryPair) {
   EXPECT_GT(term.rebuilds(), 1);
 }
 
+// A cloth falling as a whole keeps its candidates: translated by a metre plus less than the slack
+// per vertex, the gradient's state rebuilds nothing and the energy is still that of every pair.
+TEST(SelfContactTerm, ACommonTranslationKeepsTheCandidates) {
+  const Grid grid = Grid::make(8, 8, 0.1);
+  const SelfContactParams params;
+  SelfContactTerm term(grid, params);
+  const VecX start = folded(grid, params.thickness + 0.5 * params.range);
+  term.begin_step(start);
+  const long rebuilds = term.rebuilds();
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> jitter(-1e-5, 1e-5);
+  VecX x = start;
+  for (int v = 0; v < grid.vertex_count(); ++v) {
+    x.segment<3>(3 * v) += Vec3(0.3, -1.0, 0.2);
+    for (int c = 0; c < 3; ++c) x[3 * v + c] += jitter(random);
+  }
+  VecX gradient = VecX::Zero(x.size());
+  term.accumulate_gradient(x, gradient);
+  EXPECT_EQ(term.rebuilds(), rebuilds);
+  const double expected = every_pair_energy(grid, params, x);
+  EXPECT_GT(expected, 0.0);
+  EXPECT_NEAR(term.energy(x), expected, 1e-12 * expected);
+  // A vertex moved by more than the slack relative to the rest is outside: the centre moves.
+  x[0] += 0.05;
+  term.accumulate_gradient(x, gradient);
+  EXPECT_EQ(term.rebuilds(), rebuilds + 1);
+}
+
 TEST(SelfContactTerm, GradientAndHessianMatchFiniteDifferences) {
   const Grid grid = Grid::make(8, 8, 0.1);
   const SelfContactParams params;

@@ -68,9 +68,15 @@ SelfContactTerm::SelfContactTerm(const Grid& grid, const SelfContactParams& para
 }
 
 bool SelfContactTerm::inside(const VecX& x) const {
+  // Distances do not change under a common translation: the vertices' displacements from the
+  // centre are measured from their mean, so that a cloth falling as a whole stays inside.
+  const int n = grid_.vertex_count();
+  Vec3 mean = Vec3::Zero();
+  for (int v = 0; v < n; ++v) mean += x.segment<3>(3 * v) - centre_.segment<3>(3 * v);
+  mean /= static_cast<double>(n);
   const double r2 = slack_ * slack_;
-  for (int v = 0; v < grid_.vertex_count(); ++v)
-    if (!((x.segment<3>(3 * v) - centre_.segment<3>(3 * v)).squaredNorm() <= r2)) return false;
+  for (int v = 0; v < n; ++v)
+    if (!((x.segment<3>(3 * v) - centre_.segment<3>(3 * v) - mean).squaredNorm() <= r2)) return false;
   return true;
 }
 

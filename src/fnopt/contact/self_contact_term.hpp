@@ -14,8 +14,10 @@
 // Candidates (the Verlet-list idea). The step keeps a centre x_c, at first the inertial prediction
 // x^ = x_t + dt v_t, and a slack s. Primitives move by at most the largest displacement of their
 // vertices, so the pairs within thickness + dhat + 2s at x_c (a box hash, box_hash.hpp, and the
-// neighbours' planes, then the exact distance) hold every pair within thickness + dhat at any x whose every vertex lies within s
-// of x_c: on those states the energy over the candidates is the exact energy of every pair. At a
+// neighbours' planes, then the exact distance) hold every pair within thickness + dhat at any x whose
+// every vertex lies within s of x_c translated by the mean displacement (distances do not change
+// under a common translation, so a cloth falling as a whole stays inside): on those states the
+// energy over the candidates is the exact energy of every pair. At a
 // state outside, the energy takes the pairs within thickness + dhat at that state, found afresh (a
 // line search's far trial costs one search and changes nothing); the gradient's and the Hessian's
 // states become the new centre (cover(), rebuilds() counts them): an optimizer stands there, and
@@ -23,8 +25,8 @@
 // one exact function of x for the whole step and no pair is ever missed. s = 0.4 (h/sqrt(2) -
 // thickness - dhat), so a flat cloth has no candidate, and at most 4 (thickness + dhat), so that a
 // coarse grid's folds do not hold pairs far out of range.
-// CCD from x_from to x_to uses the candidates where both ends lie within s of the centre (the
-// straight path between them does too); otherwise the pairs whose boxes, swept in the frame that
+// CCD from x_from to x_to uses the candidates where both ends lie inside (the straight path between
+// them does too: its mean displacement is the same blend of theirs); otherwise the pairs whose boxes, swept in the frame that
 // moves with the mean displacement, come within the thickness (distances do not change under a
 // common translation, so a cloth falling as a whole sweeps nothing there), and the neighbours whose
 // plane's clearance at x_from is less than the thickness plus their vertices' relative motion (the
@@ -83,7 +85,8 @@ class SelfContactTerm final : public EnergyTerm {
   bool neighbours(int a, int b) const {
     return std::abs(row_[a] - row_[b]) <= 1 && std::abs(col_[a] - col_[b]) <= 1;
   }
-  // Whether every vertex of x lies within the slack of the centre.
+  // Whether every vertex of x lies within the slack of the centre translated by their mean
+  // displacement.
   bool inside(const VecX& x) const;
   // The pairs of primitives (sharing no vertex) whose boxes over x and y, grown by `grow`, overlap
   // and that `accept` takes, into `out`, sorted.
