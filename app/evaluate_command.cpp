@@ -10,6 +10,7 @@
 #include <fnopt/io/csv_table.hpp>
 #include <fnopt/io/hdf5_file.hpp>
 #include <fnopt/simulation/rollout_file.hpp>
+#include <fnopt/metrics/cloth_distance.hpp>
 #include <fnopt/metrics/mesh_intersections.hpp>
 #include <fnopt/metrics/obstacle_distance.hpp>
 #include <fnopt/metrics/trajectory_error.hpp>
@@ -123,6 +124,16 @@ void report_contact(const EvaluateFlags& flags, const TrajectoryFrames& rollout,
   if (!scene.obstacles.empty())
     std::printf("min obstacle distance = %.6g m   (over %zu frames, every vertex and obstacle; unsigned for a mesh)\n",
                 min_obstacle_distance(scene, rollout.positions), rollout.positions.size());
+  const std::vector<double> cloth = cloth_distance_per_frame(rollout);
+  std::printf("min cloth distance = %.6g m   (vertex-disjoint cloth primitives, over %zu frames",
+              cloth.empty() ? INFINITY : *std::min_element(cloth.begin(), cloth.end()), cloth.size());
+  if (self_contact_enabled(scene) && !provenance.version.empty()) {
+    const double range = scene.self_contact_params.thickness + scene.self_contact_params.range;
+    std::printf("; %ld frames with a pair within self-contact's thickness + range, %.3g m",
+                static_cast<long>(std::count_if(cloth.begin(), cloth.end(), [&](double d) { return d < range; })),
+                range);
+  }
+  std::printf(")\n");
   const TrajectoryIntersections self = count_trajectory_self_intersections(rollout);
   std::printf("self-intersections = %ld   (cloth edges through cloth triangles they do not touch, exact, summed over "
               "%zu frames; %d frames with any)\n",

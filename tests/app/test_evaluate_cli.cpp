@@ -3,6 +3,8 @@
 // intersections of a rollout's own frames.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <filesystem>
 #include <sstream>
 #include <vector>
@@ -123,6 +125,19 @@ TEST(EvaluateCli, WithoutAReferenceItCountsTheRolloutsOwnSelfIntersections) {
   ASSERT_EQ(hanging.status, 0) << hanging.output;
   EXPECT_NE(hanging.output.find("self-intersections = 0 "), std::string::npos) << hanging.output;
   EXPECT_EQ(hanging.output.find("mesh intersections"), std::string::npos) << "no mesh obstacle: " << hanging.output;
+  // The hanging cloth stays about flat: its closest vertex-disjoint pairs about h/sqrt(2) apart; no
+  // self-contact, so no range to count frames in.
+  const auto cloth = hanging.output.find("min cloth distance = ");
+  ASSERT_NE(cloth, std::string::npos) << hanging.output;
+  EXPECT_NEAR(std::stod(hanging.output.substr(cloth + 21)), 1.0 / 7.0 / std::sqrt(2.0), 0.01) << hanging.output;
+  EXPECT_EQ(hanging.output.find("frames with a pair within"), std::string::npos) << hanging.output;
+  // Released, self-contact is on: the frames within its range are counted (none for a flat fall).
+  const auto released = (tmp.path() / "released.h5").string();
+  ASSERT_EQ(run_fnopt("simulate --res 8 --frames 4 --handles none --threads 1 --out " + released).status, 0);
+  const CommandResult falling = run_fnopt("evaluate " + released);
+  EXPECT_NE(falling.output.find("; 0 frames with a pair within self-contact's thickness + range, 0.0025 m)"),
+            std::string::npos)
+      << falling.output;
   // The per-frame errors and the per-step error need a reference.
   EXPECT_EQ(run_fnopt("evaluate " + rollout + " --per-frame " + (tmp.path() / "f.csv").string()).status, 2);
   EXPECT_EQ(run_fnopt("evaluate " + rollout + " --optimizer pqn").status, 2);

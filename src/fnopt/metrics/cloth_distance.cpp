@@ -7,17 +7,23 @@
 
 namespace fnopt {
 
-double min_cloth_distance(const TrajectoryFrames& frames) {
+std::vector<double> cloth_distance_per_frame(const TrajectoryFrames& frames) {
   DistanceSurface cloth;
   cloth.set_grid(frames.rows, frames.cols);
   cloth.points.resize(static_cast<std::size_t>(frames.rows) * frames.cols);
-  double smallest = std::numeric_limits<double>::infinity();
+  std::vector<double> distances;
   for (const Eigen::VectorXf& x : frames.positions) {
     for (std::size_t v = 0; v < cloth.points.size(); ++v) cloth.points[v] = x.segment<3>(3 * v).cast<double>();
     cloth.place();
-    smallest = std::min(smallest, disjoint_self_distance(cloth));
+    distances.push_back(disjoint_self_distance(cloth));
   }
-  return smallest;
+  return distances;
+}
+
+double min_cloth_distance(const TrajectoryFrames& frames) {
+  const std::vector<double> distances = cloth_distance_per_frame(frames);
+  return distances.empty() ? std::numeric_limits<double>::infinity()
+                           : *std::min_element(distances.begin(), distances.end());
 }
 
 }  // namespace fnopt
