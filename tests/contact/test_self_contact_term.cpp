@@ -89,7 +89,7 @@ TEST(SelfContactTerm, TheEnergyOnTheCandidatesIsTheEnergyOfEveryPair) {
   std::mt19937 random(4);
   std::normal_distribution<double> noise(0.0, 5e-5);
   const VecX prediction = folded(grid, params.thickness + 0.5 * params.range);
-  term.begin_step(prediction);
+  term.begin_step(prediction, prediction, 0.01);
   for (double gap : {0.0025, 0.0019, 0.0016, 0.0014, 0.004}) {
     VecX x = folded(grid, gap);
     for (Eigen::Index k = 0; k < x.size(); ++k) x[k] += noise(random);
@@ -106,7 +106,7 @@ TEST(SelfContactTerm, ACommonTranslationKeepsTheCandidates) {
   const SelfContactParams params;
   SelfContactTerm term(grid, params);
   const VecX start = folded(grid, params.thickness + 0.5 * params.range);
-  term.begin_step(start);
+  term.begin_step(start, start, 0.01);
   const long rebuilds = term.rebuilds();
   std::mt19937 random(7);
   std::uniform_real_distribution<double> jitter(-1e-5, 1e-5);
@@ -127,37 +127,69 @@ TEST(SelfContactTerm, ACommonTranslationKeepsTheCandidates) {
   EXPECT_EQ(term.rebuilds(), rebuilds + 1);
 }
 
+// With and without friction between the layers, the upper sheet slid along x since the step's
+// start by less and more than the mollifier's eps_v dt (its two branches).
 TEST(SelfContactTerm, GradientAndHessianMatchFiniteDifferences) {
   const Grid grid = Grid::make(8, 8, 0.1);
-  const SelfContactParams params;
-  SelfContactTerm term(grid, params);
-  std::mt19937 random(9);
-  std::normal_distribution<double> noise(0.0, 1e-4);
-  VecX x = folded(grid, params.thickness + 0.6 * params.range);
-  for (Eigen::Index k = 0; k < x.size(); ++k) x[k] += noise(random);
-  term.begin_step(x);
-  ASSERT_GT(term.energy(x), 0.0);
-  VecX gradient = VecX::Zero(x.size());
-  term.accumulate_gradient(x, gradient);
-  const VecX direction = VecX::NullaryExpr(x.size(), [&] { return noise(random); }).normalized();
-  const double h = 1e-8;
-  const double difference = (term.energy(x + h * direction) - term.energy(x - h * direction)) / (2 * h);
-  EXPECT_NEAR(gradient.dot(direction), difference, 1e-5 * std::abs(difference));
+  for (const double slide : {0.0, 5e-5, 5e-4}) {
+    SelfContactParams params;
+    params.friction = slide > 0.0 ? 0.5 : 0.0;
+    SelfContactTerm term(grid, params);
+    std::mt19937 random(9);
+    std::normal_distribution<double> noise(0.0, 1e-4);
+    VecX x = folded(grid, params.thickness + 0.6 * params.range);
+    for (Eigen::Index k = 0; k < x.size(); ++k) x[k] += noise(random);
+    VecX start = x;
+    for (int v = grid.vertex_count() / 2; v < grid.vertex_count(); ++v) start[3 * v] -= slide;  // the upper sheet
+    term.begin_step(start, x, 0.01);
+    EXPECT_EQ(term.friction_pair_count() > 0, slide > 0.0) << slide;
+    ASSERT_GT(term.energy(x), 0.0);
+    VecX gradient = VecX::Zero(x.size());
+    term.accumulate_gradient(x, gradient);
+    const VecX direction = VecX::NullaryExpr(x.size(), [&] { return noise(random); }).normalized();
+    const double h = 1e-8;
+    const double difference = (term.energy(x + h * direction) - term.energy(x - h * direction)) / (2 * h);
+    EXPECT_NEAR(gradient.dot(direction), difference, 1e-5 * std::abs(difference)) << slide;
 
-  std::vector<int> free_index(grid.vertex_count());
-  for (int v = 0; v < grid.vertex_count(); ++v) free_index[v] = v;
-  term.cover(x);
-  HessianAssembly assembly(free_index);
-  const int handle = term.register_hessian(assembly);
-  assembly.finalize();
-  assembly.set_zero();
-  term.accumulate_hessian(x, false, assembly, handle);
-  VecX plus = VecX::Zero(x.size()), minus = VecX::Zero(x.size());
-  term.accumulate_gradient(x + h * direction, plus);
-  term.accumulate_gradient(x - h * direction, minus);
-  const VecX hessian_product = assembly.matrix() * direction;
-  const VecX difference_product = (plus - minus) / (2 * h);
-  EXPECT_LT((hessian_product - difference_product).norm(), 1e-4 * difference_product.norm());
+    std::vector<int> free_index(grid.vertex_count());
+    for (int v = 0; v < grid.vertex_count(); ++v) free_index[v] = v;
+    term.cover(x);
+    HessianAssembly assembly(free_index);
+    const int handle = term.register_hessian(assembly);
+    assembly.finalize();
+    assembly.set_zero();
+    term.accumulate_hessian(x, false, assembly, handle);
+    VecX plus = VecX::Zero(x.size()), minus = VecX::Zero(x.size());
+    term.accumulate_gradient(x + h * direction, plus);
+    term.accumulate_gradient(x - h * direction, minus);
+    const VecX hessian_product = assembly.matrix() * direction;
+    const VecX difference_product = (plus - minus) / (2 * h);
+    EXPECT_LT((hessian_product - difference_product).norm(), 1e-4 * difference_product.norm()) << slide;
+  }
+}
+
+// Friction opposes the layers' relative slide: on the upper sheet, slid along +x since the step's
+// start, the friction force (minus its gradient) points along -x, in proportion to mu.
+TEST(SelfContactTerm, FrictionBetweenLayersOpposesTheirSlide) {
+  const Grid grid = Grid::make(8, 8, 0.1);
+  auto upper_force = [&](double mu) {
+    SelfContactParams params;
+    params.friction = mu;
+    SelfContactTerm term(grid, params);
+    const VecX x = folded(grid, params.thickness + 0.5 * params.range);
+    VecX start = x;
+    for (int v = grid.vertex_count() / 2; v < grid.vertex_count(); ++v) start[3 * v] -= 1e-3;
+    term.begin_step(start, x, 0.01);
+    VecX gradient = VecX::Zero(x.size());
+    term.accumulate_gradient(x, gradient);
+    double force = 0.0;
+    for (int v = grid.vertex_count() / 2; v < grid.vertex_count(); ++v) force -= gradient[3 * v];
+    return force;
+  };
+  // The barrier's own x force (the crease's pairs) is the same with or without friction.
+  const double without = upper_force(0.0), with = upper_force(0.3) - without, more = upper_force(0.6) - without;
+  EXPECT_LT(with, 0.0);
+  EXPECT_NEAR(more, 2.0 * with, 1e-9 * std::abs(with));
 }
 
 // Moving the upper sheet straight through the lower one: CCD stops it before the thickness, and

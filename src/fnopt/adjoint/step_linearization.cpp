@@ -7,6 +7,7 @@
 #include <fnopt/cloth/lumped_mass.hpp>
 #include <fnopt/contact/contact_term.hpp>
 #include <fnopt/contact/mesh_contact_term.hpp>
+#include <fnopt/contact/self_contact_term.hpp>
 
 namespace fnopt {
 namespace {
@@ -122,12 +123,15 @@ void StepLinearization::stiffness_product(const VecX& lambda, VecX& product) con
 void StepLinearization::subtract_friction_start_product(const VecX& lambda, VecX& xbar) {
   const ContactTerm* contact = objective_.contact();
   const MeshContactTerm* meshes = objective_.mesh_contact();
+  const SelfContactTerm* self = objective_.self_contact();
   const bool analytic = contact && !contact->friction_pairs().empty();
   const bool mesh = meshes && meshes->friction_pair_count() > 0;
-  if (!analytic && !mesh) return;
+  const bool layers = self && self->friction_pair_count() > 0;
+  if (!analytic && !mesh && !layers) return;
   friction_buffer_.setZero(x_.size());
   if (analytic) contact->add_friction_start_product(x_, lambda, friction_buffer_);
   if (mesh) meshes->add_friction_start_product(x_, lambda, friction_buffer_);
+  if (layers) self->add_friction_start_product(x_, lambda, friction_buffer_);
   xbar -= objective_.dt() * objective_.dt() * friction_buffer_;
 }
 

@@ -14,7 +14,7 @@
 // Contact (docs/design.md §14): the barrier is part of P; the lagged friction D(x; x_t) is too, and
 // depends on x_t also through its frozen normal force, tangent plane and start, so that
 //   dg/dx_t = dt^2 (K + J),   J = d(grad_x D)/dx_t at fixed x   (ContactTerm::add_friction_start_product,
-//   MeshContactTerm::add_friction_start_product).
+//   MeshContactTerm::, SelfContactTerm::add_friction_start_product).
 //
 // H_FF is factorised as a matrix over every dof whose handle rows and columns are replaced by the
 // handles' inertia weights on the diagonal (the same sparsity pattern at every step, so the

@@ -12,6 +12,9 @@ void SelfContactParams::validate() const {
           "must be a positive finite number [N/m]");
   require(std::isfinite(range) && range > 0.0, "self-contact-range", "must be a positive length [m]");
   require(std::isfinite(thickness) && thickness >= 0.0, "self-contact-thickness", "must be a finite length >= 0 [m]");
+  require(std::isfinite(friction) && friction >= 0.0, "self-contact-friction", "must be a finite number >= 0");
+  require(std::isfinite(friction_velocity) && friction_velocity > 0.0, "self-contact-friction-velocity",
+          "must be a positive speed [m/s]");
 }
 
 void SelfContactParams::validate_for(const Grid& grid) const {

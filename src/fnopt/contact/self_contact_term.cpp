@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <iterator>
 #include <limits>
 
 #include <fnopt/cloth/pattern_slots.hpp>
+#include <fnopt/cloth/repulsion_kernel.hpp>
 #include <fnopt/contact/additive_ccd.hpp>
 #include <fnopt/contact/primitive_distance.hpp>
 #include <fnopt/contact/self_contact_kernel.hpp>
@@ -64,7 +66,7 @@ SelfContactTerm::SelfContactTerm(const Grid& grid, const SelfContactParams& para
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   edges_ = std::move(edges);
   neighbours_ = neighbour_pairs(grid, triangles_, edges_);
-  begin_step(rest_);
+  rebuild(rest_);
 }
 
 bool SelfContactTerm::inside(const VecX& x) const {
@@ -215,17 +217,90 @@ void SelfContactTerm::rebuild(const VecX& x) const {
   centre_ = x;
   find_near_pairs(centre_, slack_, candidates_);
   ++rebuilds_;
-  // Keep the pattern while it holds every candidate.
-  if (pattern_slots(candidates_, pattern_, candidate_slot_)) return;
-  pattern_ = candidates_;
+  // Keep the pattern while it holds every candidate and friction pair.
+  if (pattern_slots(candidates_, pattern_, candidate_slot_) && pattern_slots(friction_pairs_, pattern_, friction_slot_))
+    return;
+  pattern_.clear();
+  std::set_union(candidates_.begin(), candidates_.end(), friction_pairs_.begin(), friction_pairs_.end(),
+                 std::back_inserter(pattern_));
   pattern_vertices_.clear();
   for (const Pair& pair : pattern_)
     pattern_vertices_.insert(pattern_vertices_.end(), pair.vertices.begin(), pair.vertices.end());
   ++generation_;
-  for (std::size_t c = 0; c < candidates_.size(); ++c) candidate_slot_[c] = static_cast<int>(c);
+  pattern_slots(candidates_, pattern_, candidate_slot_);
+  pattern_slots(friction_pairs_, pattern_, friction_slot_);
 }
 
-void SelfContactTerm::begin_step(const VecX& x_predicted) { rebuild(x_predicted); }
+void SelfContactTerm::begin_step(const VecX& x_start, const VecX& x_predicted, double dt) {
+  mollifier_.epsilon = params_.friction_velocity * dt;
+  freeze_friction(x_start);
+  rebuild(x_predicted);
+}
+
+bool SelfContactTerm::frozen_entry(const Pair& pair, const Vec12& start, FrictionEntry& entry) const {
+  const bool edges = pair.kind == Kind::EdgeEdge;
+  const double gap = (edges ? edge_edge_distance(start) : point_triangle_distance(start)) - params_.thickness;
+  if (!(gap > 0.0 && gap < params_.range)) return false;
+  const double mollified = edges ? edge_edge_mollifier(start, edge_edge_mollifier_threshold(gather(rest_, pair))) : 1.0;
+  const RepulsionKernel barrier{params_.stiffness, params_.range};
+  entry = FrictionEntry{pair, params_.friction * mollified * -barrier.barrier_derivative(gap),
+                        edges ? edge_edge_tangent_frame(start) : point_triangle_tangent_frame(start), start};
+  return true;
+}
+
+void SelfContactTerm::freeze_friction(const VecX& x_start) {
+  friction_.clear();
+  friction_pairs_.clear();
+  if (params_.friction <= 0.0) return;
+  std::vector<Pair> near;
+  find_near_pairs(x_start, 0.0, near);
+  FrictionEntry entry;
+  for (const Pair& pair : near)
+    if (frozen_entry(pair, gather(x_start, pair), entry)) {
+      friction_.push_back(entry);
+      friction_pairs_.push_back(pair);
+    }
+}
+
+double SelfContactTerm::entry_gradient(const FrictionEntry& f, const VecX& x, Vec12* gradient,
+                                       Mat3* tangent_hessian) const {
+  const Eigen::Vector2d u = f.frame.tangent_displacement(gather(x, f.pair), f.start);
+  const double y = u.norm();
+  if (gradient) {
+    const Vec3 force = f.weight * mollifier_.f1_over_y(y) * (f.frame.basis * u);
+    for (int k = 0; k < 4; ++k) gradient->segment<3>(3 * k) = f.frame.weights[k] * force;
+  }
+  if (tangent_hessian) {
+    const Eigen::Matrix2d Hu =
+        mollifier_.f1_over_y(y) * Eigen::Matrix2d::Identity() + mollifier_.f1_over_y_slope_over_y(y) * u * u.transpose();
+    *tangent_hessian = f.weight * f.frame.basis * Hu * f.frame.basis.transpose();
+  }
+  return f.weight * mollifier_.f0(y);
+}
+
+void SelfContactTerm::add_friction_start_product(const VecX& x, const VecX& lambda, VecX& out) const {
+  // J = d(grad_x D)/dx_t at fixed x, through each pair's frozen weight, frame, weights and start, by
+  // central differences of the frozen entry in its start's twelve coordinates.
+  Vec12 plus, minus;
+  FrictionEntry moved;
+  for (const FrictionEntry& f : friction_) {
+    const auto& v = f.pair.vertices;
+    for (int l = 0; l < 4; ++l)
+      for (int c = 0; c < 3; ++c) {
+        const double step = kStartStep * (1.0 + std::abs(f.start[3 * l + c]));
+        Vec12 start = f.start;
+        start[3 * l + c] += step;
+        plus.setZero();
+        if (frozen_entry(f.pair, start, moved)) entry_gradient(moved, x, &plus, nullptr);
+        start[3 * l + c] -= 2.0 * step;
+        minus.setZero();
+        if (frozen_entry(f.pair, start, moved)) entry_gradient(moved, x, &minus, nullptr);
+        double product = 0.0;
+        for (int k = 0; k < 4; ++k) product += lambda.segment<3>(3 * v[k]).dot((plus - minus).segment<3>(3 * k));
+        out[3 * v[l] + c] += product / (2.0 * step);
+      }
+  }
+}
 
 void SelfContactTerm::cover(const VecX& x) const {
   if (!inside(x)) rebuild(x);
@@ -255,6 +330,7 @@ double SelfContactTerm::pair_barrier(const Pair& pair, const Vec12& local, Vec12
 double SelfContactTerm::energy(const VecX& x) const {
   double total = 0.0;
   for (const Pair& pair : pairs_at(x)) total += pair_barrier(pair, gather(x, pair), nullptr, nullptr, false);
+  for (const FrictionEntry& f : friction_) total += entry_gradient(f, x, nullptr, nullptr);
   return total;
 }
 
@@ -268,6 +344,10 @@ double SelfContactTerm::accumulate_gradient(const VecX& x, VecX& grad) const {
     g.setZero();
     total += pair_barrier(pair, gather(x, pair), &g, nullptr, false);
     for (int k = 0; k < 4; ++k) grad.segment<3>(3 * pair.vertices[k]) += g.segment<3>(3 * k);
+  }
+  for (const FrictionEntry& f : friction_) {
+    total += entry_gradient(f, x, &g, nullptr);
+    for (int k = 0; k < 4; ++k) grad.segment<3>(3 * f.pair.vertices[k]) += g.segment<3>(3 * k);
   }
   return total;
 }
@@ -283,6 +363,15 @@ void SelfContactTerm::accumulate_hessian(const VecX& x, bool project, HessianAss
     H.setZero();
     if (pair_barrier(candidates_[c], gather(x, candidates_[c]), nullptr, &H, project) != 0.0)
       assembly.scatter<4>(handle, candidate_slot_[c], H);
+  }
+  // Friction: w_a w_b (W T hess_u T^T) per pair of its vertices, positive semi-definite.
+  Mat3 tangent;
+  for (std::size_t e = 0; e < friction_.size(); ++e) {
+    const FrictionEntry& f = friction_[e];
+    entry_gradient(f, x, nullptr, &tangent);
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) H.block<3, 3>(3 * a, 3 * b) = f.frame.weights[a] * f.frame.weights[b] * tangent;
+    assembly.scatter<4>(handle, friction_slot_[e], H);
   }
 }
 

@@ -31,8 +31,12 @@
 // common translation, so a cloth falling as a whole sweeps nothing there), and the neighbours whose
 // plane's clearance at x_from is less than the thickness plus their vertices' relative motion (the
 // range of the displacements over a 7 x 7 block).
-// The Hessian pattern holds the candidates; it changes (pattern_generation()) only when a rebuild
-// finds a pair it lacks.
+// The Hessian pattern holds the candidates and the friction pairs; it changes (pattern_generation())
+// only when a rebuild finds a pair it lacks.
+// Friction between layers: IPC's lagged friction, as the meshes' (mesh_contact_term.hpp), on the
+// pairs within range at x_t: each pair's normal force lambda = -b'(g(x_t)) (times the edge-edge
+// mollifier), tangent frame T and closest points' weights w frozen there, u = T^T sum_k w_k (x_k -
+// x_t,k) over its four vertices, D = mu lambda f0(|u|) (friction.hpp).
 #include <array>
 #include <cstdlib>
 #include <string>
@@ -41,8 +45,10 @@
 #include <fnopt/cloth/energy_term.hpp>
 #include <fnopt/cloth/grid.hpp>
 #include <fnopt/contact/box_hash.hpp>
+#include <fnopt/contact/friction.hpp>
 #include <fnopt/contact/neighbour_pairs.hpp>
 #include <fnopt/contact/primitive_distance.hpp>
+#include <fnopt/contact/self_contact_kernel.hpp>
 #include <fnopt/contact/self_contact_pair.hpp>
 #include <fnopt/contact/self_contact_params.hpp>
 
@@ -55,8 +61,9 @@ class SelfContactTerm final : public EnergyTerm {
 
   SelfContactTerm(const Grid& grid, const SelfContactParams& params);
 
-  // Starts a step: every vertex's region is x^'s position grown by the slack.
-  void begin_step(const VecX& x_predicted);
+  // Starts a step of length dt from x_start: freezes the friction pairs there (where friction is on)
+  // and centres the candidates at the prediction x^.
+  void begin_step(const VecX& x_start, const VecX& x_predicted, double dt);
   // Grows the regions to hold x (rebuilding the candidates if one grew). The energy, gradient and
   // CCD do this themselves; the objective calls it before the Hessian, whose pattern it may change.
   void cover(const VecX& x) const;
@@ -73,6 +80,13 @@ class SelfContactTerm final : public EnergyTerm {
   // The smallest distance between the primitives of any pair at x, and that pair; thickness + range
   // where none is closer (`pair` unset). For refusing a start that is within the thickness of itself.
   double closest_pair(const VecX& x, Pair& pair) const;
+
+  // The lagged friction's dependence on the step's start, for the adjoint (docs/design.md §15): adds
+  // J^T lambda to out, J = d(grad_x D)/dx_t at x, by central differences of each frozen pair in its
+  // start's coordinates (steps of kStartStep times 1 + |coordinate|).
+  void add_friction_start_product(const VecX& x, const VecX& lambda, VecX& out) const;
+  static constexpr double kStartStep = 1e-7;  // [m] per metre of coordinate
+  int friction_pair_count() const { return static_cast<int>(friction_.size()); }
 
   const SelfContactParams& params() const { return params_; }
   const std::vector<Pair>& candidates() const { return candidates_; }
@@ -112,6 +126,21 @@ class SelfContactTerm final : public EnergyTerm {
   // The CCD fraction of one pair.
   double pair_safe_fraction(const Pair& pair, const VecX& x_from, const VecX& x_to) const;
 
+  // A frozen friction pair: its weight mu lambda [N], tangent frame and closest points' weights, and
+  // its stencil at the step's start.
+  struct FrictionEntry {
+    Pair pair;
+    double weight;
+    ContactTangentFrame frame;
+    Vec12 start;
+  };
+  void freeze_friction(const VecX& x_start);
+  // The entry of `pair` frozen at the stencil `start`; false where the pair is not in range there.
+  bool frozen_entry(const Pair& pair, const Vec12& start, FrictionEntry& entry) const;
+  // The friction potential of an entry at x; its gradient on the pair's four vertices and
+  // W T hess_u T^T where asked.
+  double entry_gradient(const FrictionEntry& entry, const VecX& x, Vec12* gradient, Mat3* tangent_hessian) const;
+
   std::string name_ = "self-contact";
   Grid grid_;
   SelfContactParams params_;
@@ -125,6 +154,10 @@ class SelfContactTerm final : public EnergyTerm {
   mutable VecX centre_;
   mutable std::vector<Pair> candidates_;     // sorted
   mutable std::vector<int> candidate_slot_;  // index of each candidate in pattern_
+  std::vector<FrictionEntry> friction_;      // sorted by pair
+  std::vector<Pair> friction_pairs_;         // their pairs
+  mutable std::vector<int> friction_slot_;   // index of each in pattern_
+  FrictionMollifier mollifier_;
   mutable std::vector<Pair> pattern_;        // sorted
   mutable std::vector<int> pattern_vertices_;  // its stencils' vertices, 4 each (the assembly reads them)
   mutable long generation_ = 0;

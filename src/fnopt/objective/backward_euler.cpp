@@ -89,7 +89,7 @@ void BackwardEulerObjective::begin_step(const VecX& x, const VecX& v, double tim
     const ObstacleOffsets offsets = obstacle_offsets ? picked(mesh_index_) : ObstacleOffsets{};
     mesh_contact_->begin_step(x_start_, x_inertial_, time, dt_, obstacle_offsets ? &offsets : nullptr);
   }
-  if (self_contact_) self_contact_->begin_step(x_inertial_);
+  if (self_contact_) self_contact_->begin_step(x_start_, x_inertial_, dt_);
 }
 
 double BackwardEulerObjective::value(const VecX& a) const {

@@ -261,6 +261,11 @@ void write_self_contact_value(const Scene& s, Values& out) {
   if (self_contact_enabled(s)) out.push_back(exact(s.self_contact_params.*Field));
 }
 
+// Friction between layers is written where it acts (so a scene without it reads as before).
+void write_self_contact_friction(const Scene& s, Values& out) {
+  if (self_contact_enabled(s) && s.self_contact_params.friction != 0.0) out.push_back(exact(s.self_contact_params.friction));
+}
+
 // ---- placement and release ----
 
 void apply_placement(Scene& s, const std::string& key, const std::string& value) {
@@ -387,6 +392,8 @@ const SceneKey kKeys[] = {
   {"self-contact-thickness", T::Number, "D", "m", "0.001", "the gap self-contact keeps between cloth layers",
    "0.0005", "", kAll, 0, {apply_self_contact_value<&SelfContactParams::thickness>,
                            write_self_contact_value<&SelfContactParams::thickness>}},
+  {"self-contact-friction", T::Number, "MU", "", "0", "friction coefficient between cloth layers (lagged)", "0.3", "",
+   kAll, 0, {apply_self_contact_value<&SelfContactParams::friction>, write_self_contact_friction}},
 };
 // clang-format on
 
