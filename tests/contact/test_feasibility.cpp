@@ -11,6 +11,8 @@
 #include <fnopt/baselines/first_order.hpp>
 #include <fnopt/contact/contact_term.hpp>
 #include <fnopt/contact/obstacle_spec.hpp>
+#include <fnopt/contact/self_contact_term.hpp>
+#include <fnopt/metrics/mesh_intersections.hpp>
 #include <fnopt/metrics/obstacle_distance.hpp>
 #include <fnopt/optimizer/inner_optimizer.hpp>
 #include <fnopt/optimizer/line_search.hpp>
@@ -129,6 +131,40 @@ TEST(FeasibilityFilter, AVertexSweptByAMovingObstacleIsCarriedAlong) {
     }
   EXPECT_GT(carried, 0);
   EXPECT_GT(s.clearance(a), s.objective.contact()->thickness());
+}
+
+// A cloth folded in two, its layers 3 mm apart, lies on a floor that rises 2.5 mm within the step.
+// The floor carries the lower layer up to within 0.5 mm of the upper one, less than self-contact's
+// thickness; the upper layer, in the way, is carried up with it.
+TEST(FeasibilityFilter, AClothLayerInTheWayOfACarriedOneIsCarriedToo) {
+  const Grid grid = Grid::make(8, 8, 1.0);
+  const double gap = 0.003;
+  VecX folded(grid.dof_count());
+  for (int i = 0; i < grid.rows; ++i)
+    for (int j = 0; j < grid.cols; ++j) {
+      const bool upper = j >= 4;
+      folded.segment<3>(3 * grid.index(i, j)) = Vec3((upper ? 7 - j : j) * grid.spacing, i * grid.spacing, upper ? gap : 0.0);
+    }
+  BackwardEulerObjective objective(grid, Material{}, 1.0 / 60.0, Vec3(0, 0, -9.81),
+                                   parse_obstacles("plane point=0,0,-0.0015 normal=0,0,1"), ContactParams{},
+                                   SelfContactParams{});
+  const DirichletSet dirichlet(grid.vertex_count(), {});
+  StepProblem problem(objective, dirichlet);
+  ObstacleOffsets offsets{{Vec3::Zero()}, {Vec3(0, 0, 0.0025)}};
+  objective.begin_step(folded, VecX::Zero(grid.dof_count()), 0.0, &offsets);
+  VecX a = VecX::Zero(grid.dof_count());
+  problem.make_start_feasible(a);
+  VecX x;
+  objective.trial_positions(a, x);
+  SelfContactTerm::Pair pair;
+  EXPECT_GT(objective.self_contact()->closest_pair(x, pair), objective.self_contact()->params().thickness);
+  EXPECT_EQ(count_self_intersections(x.cast<float>(), grid.rows, grid.cols), 0);
+  // Both layers rose: the lower one above the floor's end, the upper one above the lower.
+  for (int i = 0; i < grid.rows; ++i) {
+    EXPECT_GT(x[3 * grid.index(i, 2) + 2], 0.001) << i;
+    EXPECT_GT(x[3 * grid.index(i, 5) + 2], x[3 * grid.index(i, 2) + 2] + objective.self_contact()->params().thickness) << i;
+  }
+  EXPECT_TRUE(std::isfinite(problem.value(a)));
 }
 
 TEST(FeasibilityFilter, FeasibleStepCapsALineSearchsFirstTrial) {

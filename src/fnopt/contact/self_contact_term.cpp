@@ -385,14 +385,19 @@ double SelfContactTerm::pair_safe_fraction(const Pair& pair, const VecX& x_from,
   return edge_edge_safe_fraction(from(0), from(1), from(2), from(3), to(0), to(1), to(2), to(3), params_.thickness);
 }
 
-double SelfContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to) const {
+double SelfContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to, std::vector<Pair>* blocking) const {
   const std::vector<Pair>* pairs = &candidates_;
   if (!inside(x_from) || !inside(x_to)) {
     find_swept_pairs(x_from, x_to, move_candidates_);
     pairs = &move_candidates_;
   }
+  if (blocking) blocking->clear();
   double fraction = 1.0;
-  for (const Pair& pair : *pairs) fraction = std::min(fraction, pair_safe_fraction(pair, x_from, x_to));
+  for (const Pair& pair : *pairs) {
+    const double s = pair_safe_fraction(pair, x_from, x_to);
+    fraction = std::min(fraction, s);
+    if (blocking && s < 1.0) blocking->push_back(pair);
+  }
   return fraction;
 }
 

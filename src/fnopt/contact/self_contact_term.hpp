@@ -75,8 +75,9 @@ class SelfContactTerm final : public EnergyTerm {
   void accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly, int handle) const override;
 
   // The largest s in [0, 1] such that no pair comes within the thickness on the straight path from
-  // x_from to x_to before s: additive CCD (additive_ccd.hpp) on the candidates, conservative.
-  double safe_fraction(const VecX& x_from, const VecX& x_to) const;
+  // x_from to x_to before s: additive CCD (additive_ccd.hpp) on the candidates, conservative. With
+  // `blocking`, also the pairs that stop the move before its end.
+  double safe_fraction(const VecX& x_from, const VecX& x_to, std::vector<Pair>* blocking = nullptr) const;
   // The smallest distance between the primitives of any pair at x, and that pair; thickness + range
   // where none is closer (`pair` unset). For refusing a start that is within the thickness of itself.
   double closest_pair(const VecX& x, Pair& pair) const;

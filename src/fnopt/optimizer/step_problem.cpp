@@ -56,6 +56,31 @@ double StepProblem::pullback() const {
   return ContactParams{}.pullback;
 }
 
+void StepProblem::carry_blocking_cloth(const SelfContactTerm& self, const VecX& x_start) {
+  // A vertex an obstacle carries may be carried into the cloth beside it (a corner pushed into a
+  // crease). The pairs that stop the carried move (self-contact's CCD from x_t) are carried along,
+  // every vertex of one by the displacement of its most carried one, which keeps the pair as it was
+  // at x_t; round after round until the move is free, for at most kCarryRounds. A pair so carried
+  // moves as the obstacle does where it touches, so it keeps its distance to it.
+  std::vector<SelfContactTerm::Pair> blocking;
+  for (int round = 0; round < kCarryRounds && self.safe_fraction(x_start, x_to_, &blocking) < 1.0; ++round) {
+    bool carried = false;
+    for (const SelfContactTerm::Pair& pair : blocking) {
+      Vec3 shift = Vec3::Zero();
+      for (const int v : pair.vertices) {
+        const Vec3 moved = x_to_.segment<3>(3 * v) - x_start.segment<3>(3 * v);
+        if (moved.squaredNorm() > shift.squaredNorm()) shift = moved;
+      }
+      for (const int v : pair.vertices)
+        if (x_to_.segment<3>(3 * v) != x_start.segment<3>(3 * v) + shift) {
+          x_to_.segment<3>(3 * v) = x_start.segment<3>(3 * v) + shift;
+          carried = true;
+        }
+    }
+    if (!carried) return;  // pairs that the carry cannot free: the step's filter stops them
+  }
+}
+
 void StepProblem::make_start_feasible(VecX& a) {
   if (!has_contact()) return;
   const double dt2 = objective_->dt() * objective_->dt();
@@ -68,6 +93,8 @@ void StepProblem::make_start_feasible(VecX& a) {
     x_from_ = x_to_;
     meshes->safe_start_positions(x_from_, x_to_);
   }
+  if (const SelfContactTerm* self = objective_->self_contact(); self && x_to_ != x_start)
+    carry_blocking_cloth(*self, x_start);
   scratch_ = a;  // the handles keep their prescribed accelerations
   for (int v = 0; v < dirichlet_->vertex_count(); ++v)
     if (dirichlet_->free_index()[v] >= 0)

@@ -10,6 +10,8 @@
 
 namespace fnopt {
 
+class SelfContactTerm;
+
 class StepProblem {
  public:
   StepProblem(BackwardEulerObjective& objective, const DirichletSet& dirichlet)
@@ -53,11 +55,17 @@ class StepProblem {
   // MeshContactTerm::safe_start_positions; the
   // handles prescribed) toward a_0, a = a_s + pullback s (a_0 - a_s) where only the fraction s of
   // that move is feasible. No change without obstacles or where a_0 is reached safely.
+  // A pair of the cloth that the carried start would bring within self-contact's thickness is
+  // carried too (carry_blocking_cloth).
   void make_start_feasible(VecX& a);
 
  private:
   // feasible_fraction's obstacle part (1 without obstacles).
   double obstacle_fraction(const VecX& a_from, const VecX& a_to);
+  // Carries, beside the vertices the obstacles carried into x_to_, the pairs of the cloth that the
+  // carried move from x_start would bring within self-contact's thickness.
+  void carry_blocking_cloth(const SelfContactTerm& self, const VecX& x_start);
+  static constexpr int kCarryRounds = 64;
   BackwardEulerObjective* objective_;
   const DirichletSet* dirichlet_;
   long evaluations_ = 0;
