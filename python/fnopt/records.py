@@ -222,7 +222,13 @@ class CompareRow:
     max_strain_pct : float
         The largest edge strain in percent.
     min_obstacle_distance_m : float
-        The smallest vertex-obstacle distance over the rollout in metres; NaN without obstacles.
+        The smallest cloth-obstacle distance over the rollout in metres; NaN without obstacles.
+    min_cloth_distance_m : float
+        On a contact scene (obstacles or self-contact), the smallest distance between cloth primitives
+        that share no vertex, in metres; NaN elsewhere.
+    self_intersections, mesh_intersections : float
+        On a contact scene, the exact crossings of the stored frames, summed (mesh: with a mesh
+        obstacle); NaN where not measured.
     diverged : str
         ``no``, ``yes``, or ``error`` for a run that failed.
     frontier : bool
@@ -251,6 +257,9 @@ class CompareRow:
     step_error_median: float
     max_strain_pct: float
     min_obstacle_distance_m: float
+    min_cloth_distance_m: float
+    self_intersections: float
+    mesh_intersections: float
     diverged: str
     frontier: bool
     e_cd_arcsim_x1e3: float

@@ -15,6 +15,7 @@
 #include <fnopt/contact/mesh_contact_term.hpp>
 #include <fnopt/contact/self_contact_kernel.hpp>
 #include <fnopt/metrics/mesh_intersections.hpp>
+#include "tests/util/energy_term_derivatives.hpp"
 #include "tests/util/error_message.hpp"
 
 namespace fnopt {
@@ -116,27 +117,14 @@ TEST(MeshContactTerm, GradientAndHessianMatchFiniteDifferencesWithFriction) {
   term.begin_step(start, x, 0.0, 0.01);
   ASSERT_GT(term.friction_pair_count(), 0);
   ASSERT_GT(term.barrier_energy(x), 0.0);
-  VecX gradient = VecX::Zero(x.size());
-  term.accumulate_gradient(x, gradient);
   const VecX direction = VecX::NullaryExpr(x.size(), [&] { return noise(random); }).normalized();
-  const double h = 1e-8;
-  const double difference = (term.energy(x + h * direction) - term.energy(x - h * direction)) / (2 * h);
-  EXPECT_NEAR(gradient.dot(direction), difference, 1e-5 * std::abs(difference));
+  testing::expect_derivatives_match_differences(term, x, direction);
 
   std::vector<int> free_index(grid.vertex_count());
   for (int v = 0; v < grid.vertex_count(); ++v) free_index[v] = v;
   HessianAssembly assembly(free_index);
   const int handle = term.register_hessian(assembly);
   assembly.finalize();
-  assembly.set_zero();
-  term.accumulate_hessian(x, false, assembly, handle);
-  VecX plus = VecX::Zero(x.size()), minus = VecX::Zero(x.size());
-  term.accumulate_gradient(x + h * direction, plus);
-  term.accumulate_gradient(x - h * direction, minus);
-  const VecX hessian_product = assembly.matrix() * direction;
-  const VecX difference_product = (plus - minus) / (2 * h);
-  EXPECT_LT((hessian_product - difference_product).norm(), 1e-4 * difference_product.norm());
-
   // The projected Hessian is positive semi-definite.
   assembly.set_zero();
   term.accumulate_hessian(x, true, assembly, handle);

@@ -11,6 +11,7 @@
 #include <fnopt/contact/self_contact_kernel.hpp>
 #include <fnopt/contact/self_contact_term.hpp>
 #include <fnopt/metrics/mesh_intersections.hpp>
+#include "tests/util/energy_term_derivatives.hpp"
 #include "tests/util/error_message.hpp"
 
 namespace fnopt {
@@ -144,27 +145,8 @@ TEST(SelfContactTerm, GradientAndHessianMatchFiniteDifferences) {
     term.begin_step(start, x, 0.01);
     EXPECT_EQ(term.friction_pair_count() > 0, slide > 0.0) << slide;
     ASSERT_GT(term.energy(x), 0.0);
-    VecX gradient = VecX::Zero(x.size());
-    term.accumulate_gradient(x, gradient);
     const VecX direction = VecX::NullaryExpr(x.size(), [&] { return noise(random); }).normalized();
-    const double h = 1e-8;
-    const double difference = (term.energy(x + h * direction) - term.energy(x - h * direction)) / (2 * h);
-    EXPECT_NEAR(gradient.dot(direction), difference, 1e-5 * std::abs(difference)) << slide;
-
-    std::vector<int> free_index(grid.vertex_count());
-    for (int v = 0; v < grid.vertex_count(); ++v) free_index[v] = v;
-    term.cover(x);
-    HessianAssembly assembly(free_index);
-    const int handle = term.register_hessian(assembly);
-    assembly.finalize();
-    assembly.set_zero();
-    term.accumulate_hessian(x, false, assembly, handle);
-    VecX plus = VecX::Zero(x.size()), minus = VecX::Zero(x.size());
-    term.accumulate_gradient(x + h * direction, plus);
-    term.accumulate_gradient(x - h * direction, minus);
-    const VecX hessian_product = assembly.matrix() * direction;
-    const VecX difference_product = (plus - minus) / (2 * h);
-    EXPECT_LT((hessian_product - difference_product).norm(), 1e-4 * difference_product.norm()) << slide;
+    testing::expect_derivatives_match_differences(term, x, direction);
   }
 }
 
