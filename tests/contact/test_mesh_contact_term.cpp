@@ -171,6 +171,29 @@ TEST(MeshContactTerm, TheStartIsCarriedByAMovingMesh) {
   EXPECT_GE(term.closest_pair(safe, pair), term.params().thickness);
 }
 
+// A needle 1 mm thick whose tip, 5 mm behind the cloth, passes through a cloth triangle's middle
+// within the step, sweeping over no cloth vertex: the triangle is carried with the tip.
+TEST(MeshContactTerm, AThinCornerSweepingThroughAClothTriangleCarriesIt) {
+  const Grid grid = test_grid();
+  const double h = grid.spacing;
+  const Vec3 tip((3 + 4 + 4) / 3.0 * h, -0.005, -(3 + 4 + 3) / 3.0 * h);
+  TriangleMesh needle;
+  needle.vertices = {tip, tip + Vec3(-0.0005, -0.05, 0.0005), tip + Vec3(0.0005, -0.05, 0.0005),
+                     tip + Vec3(0.0, -0.05, -0.0005)};
+  needle.triangles = {{0, 2, 1}, {0, 3, 2}, {0, 1, 3}, {1, 2, 3}};
+  MeshContactTerm term(grid, {mesh_obstacle(needle)}, {});
+  ObstacleOffsets offsets{{Vec3::Zero()}, {Vec3(0.0, 0.02, 0.0)}};
+  const VecX rest = grid.rest_positions();
+  term.begin_step(rest, rest, 0.0, 0.01, &offsets);
+  VecX safe;
+  term.safe_start_positions(rest, safe);
+  MeshContactPair pair;
+  EXPECT_GE(term.closest_pair(safe, pair), term.params().thickness);
+  for (const auto& [i, j] : {std::pair{3, 3}, std::pair{4, 4}, std::pair{3, 4}})
+    EXPECT_NEAR(safe[3 * grid.index(i, j) + 1], 0.02, 1e-12) << i << "," << j;  // the triangle, carried
+  EXPECT_EQ(safe[3 * grid.index(0, 0) + 1], 0.0);                               // the rest stays
+}
+
 TEST(MeshContactTerm, AFarMeshHasNoCandidateAndCostsABoxTest) {
   const Grid grid = test_grid();
   MeshContactTerm term(grid, {mesh_obstacle(pyramid(grid, 1.0))}, {});

@@ -565,6 +565,37 @@ void MeshContactTerm::safe_start_positions(const VecX& x_start, VecX& x_safe) co
     });
     if (first < 1.0) x_safe.segment<3>(3 * v) = p + carried;
   }
+  carry_swept_triangles(x_start, x_safe);
+}
+
+void MeshContactTerm::carry_swept_triangles(const VecX& x_start, VecX& x_safe) const {
+  // A mesh vertex may sweep through a cloth triangle between its vertices (a thin corner passing
+  // through a face). Its triangle's vertices are then carried by the mesh vertex's motion, which
+  // keeps the vertex where it was relative to them, unless one was carried farther already.
+  std::vector<Box> boxes(cloth_triangles_.size());
+  for (std::size_t t = 0; t < cloth_triangles_.size(); ++t) {
+    for (const int v : cloth_triangles_[t]) boxes[t].add(vertex_of(x_start, v));
+    boxes[t].grow(params_.thickness);
+  }
+  BoxTree tree;
+  tree.build(boxes);
+  for (std::size_t m = 0; m < start_vertices_.size(); ++m) {
+    const Vec3 motion = end_vertices_[m] - start_vertices_[m];
+    if (motion.isZero()) continue;
+    Box swept;
+    swept.add(start_vertices_[m]);
+    swept.add(end_vertices_[m]);
+    tree.for_each_overlap(swept, [&](int t) {
+      const auto& tri = cloth_triangles_[t];
+      const Vec3 a = vertex_of(x_start, tri[0]), b = vertex_of(x_start, tri[1]), c = vertex_of(x_start, tri[2]);
+      if (!(point_triangle_safe_fraction(start_vertices_[m], a, b, c, end_vertices_[m], a, b, c, params_.thickness) <
+            1.0))
+        return;
+      for (const int v : tri)
+        if ((vertex_of(x_safe, v) - vertex_of(x_start, v)).squaredNorm() < motion.squaredNorm())
+          x_safe.segment<3>(3 * v) = vertex_of(x_start, v) + motion;
+    });
+  }
 }
 
 double MeshContactTerm::closest_pair(const VecX& x, Pair& pair) const {

@@ -103,7 +103,8 @@ class MeshContactTerm final : public EnergyTerm {
   double safe_fraction(const VecX& x_from, const VecX& x_to) const;
   // Whether some mesh at the step's end may come within the thickness of a point in the box.
   bool may_touch(const Vec3& lower, const Vec3& upper) const;
-  // x_t, with the vertices a moving mesh would sweep over during the step carried along (see above).
+  // x_t, with the vertices a moving mesh would sweep over during the step carried along (see above),
+  // and those of the cloth triangles a mesh vertex would sweep through.
   void safe_start_positions(const VecX& x_start, VecX& x_safe) const;
   // The smallest distance of a pair at x (the meshes at the step's end pose), and that pair;
   // thickness + range where none is closer.
@@ -195,6 +196,9 @@ class MeshContactTerm final : public EnergyTerm {
   // The mesh (index in this term's list) of the pair's mesh primitive.
   int owner(const Pair& pair) const;
   void refit_trees();
+  // safe_start_positions' second part: the vertices of cloth triangles that a mesh vertex sweeps
+  // through are carried by its motion.
+  void carry_swept_triangles(const VecX& x_start, VecX& x_safe) const;
 
   std::string name_ = "mesh-contact";
   Grid grid_;
