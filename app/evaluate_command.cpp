@@ -127,7 +127,7 @@ void report_contact(const EvaluateFlags& flags, const TrajectoryFrames& rollout,
   const std::vector<double> cloth = cloth_distance_per_frame(rollout);
   std::printf("min cloth distance = %.6g m   (vertex-disjoint cloth primitives, over %zu frames",
               cloth.empty() ? INFINITY : *std::min_element(cloth.begin(), cloth.end()), cloth.size());
-  if (self_contact_enabled(scene) && !provenance.version.empty()) {
+  if (self_contact_enabled(scene)) {  // an ARCSim file's scene (the default) has none
     const double range = scene.self_contact_params.thickness + scene.self_contact_params.range;
     std::printf("; %ld frames with a pair within self-contact's thickness + range, %.3g m",
                 static_cast<long>(std::count_if(cloth.begin(), cloth.end(), [&](double d) { return d < range; })),

@@ -49,21 +49,28 @@ struct FrictionMollifier {
     return y > 0.0 ? -1.0 / (epsilon * epsilon * y) : 0.0;
   }
 
+  // The potential W f0(|u|) of a tangential displacement u (in the basis T) with weight W = mu lambda;
+  // where asked, its gradient in the 3-space of the displacement, W (f1/y) T u, and W T hess_u T^T.
+  double tangent_potential(double weight, const Eigen::Matrix<double, 3, 2>& basis, const Eigen::Vector2d& u,
+                           Vec3* gradient, Mat3* hessian) const {
+    const double y = u.norm();
+    if (gradient) *gradient = weight * f1_over_y(y) * (basis * u);
+    if (hessian) {
+      const Eigen::Matrix2d Hu =
+          f1_over_y(y) * Eigen::Matrix2d::Identity() + f1_over_y_slope_over_y(y) * u * u.transpose();
+      *hessian = weight * basis * Hu * basis.transpose();
+    }
+    return weight * f0(y);
+  }
+
   double energy(const FrictionPair& pair, const Vec3& x) const {
-    return pair.weight * f0(pair.tangent_displacement(x).norm());
+    return tangent_potential(pair.weight, pair.basis, pair.tangent_displacement(x), nullptr, nullptr);
   }
   double gradient(const FrictionPair& pair, const Vec3& x, Vec3& g) const {
-    const Eigen::Vector2d u = pair.tangent_displacement(x);
-    const double y = u.norm();
-    g = pair.weight * f1_over_y(y) * (pair.basis * u);
-    return pair.weight * f0(y);
+    return tangent_potential(pair.weight, pair.basis, pair.tangent_displacement(x), &g, nullptr);
   }
   void hessian(const FrictionPair& pair, const Vec3& x, Mat3& H) const {
-    const Eigen::Vector2d u = pair.tangent_displacement(x);
-    const double y = u.norm();
-    const Eigen::Matrix2d Hu =
-        f1_over_y(y) * Eigen::Matrix2d::Identity() + f1_over_y_slope_over_y(y) * u * u.transpose();
-    H = pair.weight * pair.basis * Hu * pair.basis.transpose();
+    tangent_potential(pair.weight, pair.basis, pair.tangent_displacement(x), nullptr, &H);
   }
 };
 

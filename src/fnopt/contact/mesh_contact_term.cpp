@@ -384,17 +384,12 @@ double MeshContactTerm::entry_gradient(const FrictionEntry& f, const VecX& x, Ei
   for (int k = 0; k < count; ++k)
     slip += f.frame.weights[slots[k]] * (vertex_of(x, vertices[k]) - f.start.segment<3>(3 * slots[k]));
   const Eigen::Vector2d u = f.frame.basis.transpose() * slip + f.offset;
-  const double y = u.norm();
-  if (gradient) {
-    const Vec3 force = f.weight * mollifier_.f1_over_y(y) * (f.frame.basis * u);
+  Vec3 force;
+  const double potential = mollifier_.tangent_potential(f.weight, f.frame.basis, u, gradient ? &force : nullptr,
+                                                        tangent_hessian);
+  if (gradient)
     for (int k = 0; k < count; ++k) gradient->segment<3>(3 * k) = f.frame.weights[slots[k]] * force;
-  }
-  if (tangent_hessian) {
-    const Eigen::Matrix2d Hu =
-        mollifier_.f1_over_y(y) * Eigen::Matrix2d::Identity() + mollifier_.f1_over_y_slope_over_y(y) * u * u.transpose();
-    *tangent_hessian = f.weight * f.frame.basis * Hu * f.frame.basis.transpose();
-  }
-  return f.weight * mollifier_.f0(y);
+  return potential;
 }
 
 void MeshContactTerm::add_friction_start_product(const VecX& x, const VecX& lambda, VecX& out) const {

@@ -265,17 +265,12 @@ void SelfContactTerm::freeze_friction(const VecX& x_start) {
 double SelfContactTerm::entry_gradient(const FrictionEntry& f, const VecX& x, Vec12* gradient,
                                        Mat3* tangent_hessian) const {
   const Eigen::Vector2d u = f.frame.tangent_displacement(gather(x, f.pair), f.start);
-  const double y = u.norm();
-  if (gradient) {
-    const Vec3 force = f.weight * mollifier_.f1_over_y(y) * (f.frame.basis * u);
+  Vec3 force;
+  const double potential = mollifier_.tangent_potential(f.weight, f.frame.basis, u, gradient ? &force : nullptr,
+                                                        tangent_hessian);
+  if (gradient)
     for (int k = 0; k < 4; ++k) gradient->segment<3>(3 * k) = f.frame.weights[k] * force;
-  }
-  if (tangent_hessian) {
-    const Eigen::Matrix2d Hu =
-        mollifier_.f1_over_y(y) * Eigen::Matrix2d::Identity() + mollifier_.f1_over_y_slope_over_y(y) * u * u.transpose();
-    *tangent_hessian = f.weight * f.frame.basis * Hu * f.frame.basis.transpose();
-  }
-  return f.weight * mollifier_.f0(y);
+  return potential;
 }
 
 void SelfContactTerm::add_friction_start_product(const VecX& x, const VecX& lambda, VecX& out) const {

@@ -11,6 +11,7 @@
 #include <fnopt/cloth/grid.hpp>
 #include <fnopt/contact/obstacle.hpp>
 #include <fnopt/metrics/exact_predicates.hpp>
+#include <fnopt/scenes/scene.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
@@ -397,6 +398,15 @@ TrajectoryIntersections count_trajectory_mesh_intersections(const TrajectoryFram
     total.frames_with_any += crossings > 0 ? 1 : 0;
   }
   return total;
+}
+
+SceneCrossings count_scene_crossings(const Scene& scene, const TrajectoryFrames& frames) {
+  SceneCrossings crossings;
+  if (scene.obstacles.empty() && !self_contact_enabled(scene)) return crossings;
+  crossings.self = count_trajectory_self_intersections(frames).crossings;
+  if (std::any_of(scene.obstacles.begin(), scene.obstacles.end(), [](const Obstacle& o) { return o.is_mesh(); }))
+    crossings.mesh = count_trajectory_mesh_intersections(frames, scene.obstacles, scene.dt).crossings;
+  return crossings;
 }
 
 }  // namespace fnopt

@@ -34,6 +34,7 @@
 namespace fnopt {
 
 class Obstacle;
+struct Scene;
 
 // Whether the closed segment pq and the closed triangle abc share a point, exactly. A segment
 // that reaches the triangle's plane at one point X meets it where X lies on no edge's outer side
@@ -68,5 +69,14 @@ TrajectoryIntersections count_trajectory_self_intersections(const TrajectoryFram
 // motion, not its contact code); fnopt evaluate's `mesh intersections`. None without a mesh.
 TrajectoryIntersections count_trajectory_mesh_intersections(const TrajectoryFrames& frames,
                                                             const std::vector<Obstacle>& obstacles, double dt);
+
+// The crossings compare and the stability suite report for a rollout of `scene`: on a scene with
+// contact (obstacles or self-contact), the self-intersections summed over the frames and, with a
+// mesh obstacle, the mesh intersections; -1 where not measured (a scene without contact, which
+// costs nothing).
+struct SceneCrossings {
+  long self = -1, mesh = -1;
+};
+SceneCrossings count_scene_crossings(const Scene& scene, const TrajectoryFrames& frames);
 
 }  // namespace fnopt

@@ -2,7 +2,6 @@
 
 #include <time.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -31,12 +30,11 @@ double process_cpu_seconds() {
 // A contact scene's closest cloth-cloth approach and intersection counts (RunResult); a scene
 // without obstacles or self-contact (the hanging benchmark) measures none, and costs nothing.
 void measure_contact(const Scene& scene, const TrajectoryFrames& frames, RunResult& r) {
-  if (scene.obstacles.empty() && !self_contact_enabled(scene)) return;
+  const SceneCrossings crossings = count_scene_crossings(scene, frames);
+  if (crossings.self < 0) return;
   r.cloth_distance = min_cloth_distance(frames);
-  r.self_intersections = static_cast<double>(count_trajectory_self_intersections(frames).crossings);
-  if (std::any_of(scene.obstacles.begin(), scene.obstacles.end(), [](const Obstacle& o) { return o.is_mesh(); }))
-    r.mesh_intersections =
-        static_cast<double>(count_trajectory_mesh_intersections(frames, scene.obstacles, scene.dt).crossings);
+  r.self_intersections = static_cast<double>(crossings.self);
+  if (crossings.mesh >= 0) r.mesh_intersections = static_cast<double>(crossings.mesh);
 }
 
 }  // namespace

@@ -124,11 +124,10 @@ StabilityRow stability_row(const std::string& case_name, const StabilityMethod& 
 }
 
 void count_intersections(const Scene& scene, const StabilityRun& run, StabilityRow& row) {
-  if (run.failed || (scene.obstacles.empty() && !self_contact_enabled(scene))) return;
-  const TrajectoryFrames frames = frames_of(run.rollout);
-  row.self_intersections = count_trajectory_self_intersections(frames).crossings;
-  if (std::any_of(scene.obstacles.begin(), scene.obstacles.end(), [](const Obstacle& o) { return o.is_mesh(); }))
-    row.mesh_intersections = count_trajectory_mesh_intersections(frames, scene.obstacles, scene.dt).crossings;
+  if (run.failed) return;
+  const SceneCrossings crossings = count_scene_crossings(scene, frames_of(run.rollout));
+  row.self_intersections = crossings.self;
+  row.mesh_intersections = crossings.mesh;
 }
 
 }  // namespace fnopt
