@@ -81,23 +81,31 @@ TEST(SelfContactTerm, RefusesABarrierThatWouldActOnAFlatCloth) {
   EXPECT_TRUE(testing::throws_error([&] { SelfContactTerm(grid, params); }, "self-contact-range: "));
 }
 
-// Whatever the state, the candidates give the energy of every pair: states far from the step's
-// prediction (a rebuild), near it (the same candidates) and in between.
+// Whatever the state, the candidates give the energy of every pair: states near the step's prediction
+// (the same candidates), in between, and far from it (found afresh, then the gradient's new centre:
+// outside the neighbours' region only, and outside both), on a square grid and on one whose rows and
+// columns differ (the quads' last row and column own the grid's last vertices and edges).
 TEST(SelfContactTerm, TheEnergyOnTheCandidatesIsTheEnergyOfEveryPair) {
-  const Grid grid = Grid::make(8, 8, 0.1);
-  const SelfContactParams params;
-  SelfContactTerm term(grid, params);
-  std::mt19937 random(4);
-  std::normal_distribution<double> noise(0.0, 5e-5);
-  const VecX prediction = folded(grid, params.thickness + 0.5 * params.range);
-  term.begin_step(prediction, prediction, 0.01);
-  for (double gap : {0.0025, 0.0019, 0.0016, 0.0014, 0.004}) {
-    VecX x = folded(grid, gap);
-    for (Eigen::Index k = 0; k < x.size(); ++k) x[k] += noise(random);
-    const double expected = every_pair_energy(grid, params, x);
-    EXPECT_NEAR(term.energy(x), expected, 1e-12 * std::max(1.0, expected)) << gap;
+  for (const Grid& grid : {Grid::make(8, 8, 0.1), Grid::make(8, 11, 0.14)}) {
+    const SelfContactParams params;
+    SelfContactTerm term(grid, params);
+    std::mt19937 random(4);
+    std::normal_distribution<double> noise(0.0, 5e-5);
+    const VecX prediction = folded(grid, params.thickness + 0.5 * params.range);
+    term.begin_step(prediction, prediction, 0.01);
+    const long rebuilds = term.rebuilds();
+    for (double gap : {0.0025, 0.0019, 0.008, 0.0016, 0.012, 0.0014, 0.004}) {
+      VecX x = folded(grid, gap);
+      for (Eigen::Index k = 0; k < x.size(); ++k) x[k] += noise(random);
+      const double expected = every_pair_energy(grid, params, x);
+      if (gap < 0.002) EXPECT_GT(expected, 0.0) << gap;
+      EXPECT_NEAR(term.energy(x), expected, 1e-12 * std::max(1.0, expected)) << gap;
+      VecX gradient = VecX::Zero(x.size());
+      term.accumulate_gradient(x, gradient);
+      EXPECT_NEAR(term.energy(x), expected, 1e-12 * std::max(1.0, expected)) << gap;
+    }
+    EXPECT_GT(term.rebuilds(), rebuilds) << grid.cols;
   }
-  EXPECT_GT(term.rebuilds(), 1);
 }
 
 // A cloth falling as a whole keeps its candidates: translated by a metre plus less than the slack

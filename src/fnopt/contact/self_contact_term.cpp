@@ -46,8 +46,10 @@ double edge_edge_distance(const Vec12& local) {
 SelfContactTerm::SelfContactTerm(const Grid& grid, const SelfContactParams& params)
     : grid_(grid),
       params_(params),
-      slack_(std::min(0.4 * (grid.spacing / std::sqrt(2.0) - params.thickness - params.range),
-                      4.0 * (params.thickness + params.range))),
+      neighbour_slack_(std::min(0.4 * (grid.spacing / std::sqrt(2.0) - params.thickness - params.range),
+                                4.0 * (params.thickness + params.range))),
+      far_slack_(std::min(0.4 * (grid.spacing - params.thickness - params.range),
+                          4.0 * (params.thickness + params.range))),
       rest_(grid.rest_positions()),
       row_(grid.vertex_count()),
       col_(grid.vertex_count()) {
@@ -66,20 +68,48 @@ SelfContactTerm::SelfContactTerm(const Grid& grid, const SelfContactParams& para
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   edges_ = std::move(edges);
   neighbours_ = neighbour_pairs(grid, triangles_, edges_);
-  rebuild(rest_);
+  // The quads (Grid::triangles() holds two per quad, in order), and the vertices and edges each owns:
+  // those whose lowest (i, j) is its corner, clamped to the last quad of a row or column.
+  for (std::size_t t = 0; t < triangles_.size(); t += 2) {
+    const int a = triangles_[t][0], e = triangles_[t][2];  // (i, j) and (i + 1, j + 1)
+    quads_.push_back({a, a + 1, e - 1, e});
+  }
+  const auto owner = [&](int i, int j) { return std::min(i, grid.rows - 2) * (grid.cols - 1) + std::min(j, grid.cols - 2); };
+  std::vector<int> vertex_owner(grid.vertex_count()), edge_owner(edges_.size());
+  for (int v = 0; v < grid.vertex_count(); ++v) vertex_owner[v] = owner(row_[v], col_[v]);
+  for (std::size_t e = 0; e < edges_.size(); ++e)
+    edge_owner[e] = owner(std::min(row_[edges_[e][0]], row_[edges_[e][1]]), std::min(col_[edges_[e][0]], col_[edges_[e][1]]));
+  const auto by_owner = [&](const std::vector<int>& owners, std::vector<int>& start, std::vector<int>& items) {
+    start.assign(quads_.size() + 1, 0);
+    for (int q : owners) ++start[q + 1];
+    for (std::size_t q = 0; q < quads_.size(); ++q) start[q + 1] += start[q];
+    items.resize(owners.size());
+    std::vector<int> next(start.begin(), start.end() - 1);
+    for (std::size_t k = 0; k < owners.size(); ++k) items[next[owners[k]]++] = static_cast<int>(k);
+  };
+  by_owner(vertex_owner, quad_vertex_start_, quad_vertices_);
+  by_owner(edge_owner, quad_edge_start_, quad_edges_);
+  far_centre_ = neighbour_centre_ = rest_;
+  find_far_pairs(rest_, far_slack_, far_candidates_);
+  find_neighbour_pairs(rest_, neighbour_slack_, neighbour_candidates_);
+  update_candidates();
 }
 
-bool SelfContactTerm::inside(const VecX& x) const {
+bool SelfContactTerm::within_slack(const VecX& x, const VecX& centre, double slack) const {
   // Distances do not change under a common translation: the vertices' displacements from the
   // centre are measured from their mean, so that a cloth falling as a whole stays inside.
   const int n = grid_.vertex_count();
   Vec3 mean = Vec3::Zero();
-  for (int v = 0; v < n; ++v) mean += x.segment<3>(3 * v) - centre_.segment<3>(3 * v);
+  for (int v = 0; v < n; ++v) mean += x.segment<3>(3 * v) - centre.segment<3>(3 * v);
   mean /= static_cast<double>(n);
-  const double r2 = slack_ * slack_;
+  const double r2 = slack * slack;
   for (int v = 0; v < n; ++v)
-    if (!((x.segment<3>(3 * v) - centre_.segment<3>(3 * v) - mean).squaredNorm() <= r2)) return false;
+    if (!((x.segment<3>(3 * v) - centre.segment<3>(3 * v) - mean).squaredNorm() <= r2)) return false;
   return true;
+}
+
+bool SelfContactTerm::inside(const VecX& x) const {
+  return within_slack(x, far_centre_, far_slack_) && within_slack(x, neighbour_centre_, neighbour_slack_);
 }
 
 
@@ -91,67 +121,81 @@ Vec12 SelfContactTerm::gather(const VecX& x, const Pair& pair) const {
 template <class Accept>
 void SelfContactTerm::collect_pairs(const VecX& x, const VecX& y, double grow, Accept&& accept,
                                     std::vector<Pair>& out) const {
-  // Point-triangle: a box hash of the triangles (each the box of its vertices in x and in y, grown),
-  // each vertex's query sorted on its own (the vertex loop orders the rest).
+  // Every primitive belongs to one grid cell (quad) whose box, over x and y and grown, holds its own:
+  // a box hash of the quads (a quarter of the boxes of the triangles and edges, and fewer cells each)
+  // finds the quad pairs whose boxes overlap, and within each the primitives' own boxes decide.
   out.clear();
+  const auto box_of = [&](const auto& vertices) {
+    Box box = primitive_box(x, vertices);
+    box.add(primitive_box(y, vertices));
+    box.grow(grow);
+    return box;
+  };
+  vertex_boxes_.resize(grid_.vertex_count());
+  for (int v = 0; v < grid_.vertex_count(); ++v) vertex_boxes_[v] = box_of(std::array<int, 1>{v});
   triangle_boxes_.resize(triangles_.size());
-  for (std::size_t t = 0; t < triangles_.size(); ++t) {
-    triangle_boxes_[t] = primitive_box(x, triangles_[t]);
-    triangle_boxes_[t].add(primitive_box(y, triangles_[t]));
-    triangle_boxes_[t].grow(grow);
-  }
-  triangle_hash_.build(triangle_boxes_, grid_.spacing);
-  for (int v = 0; v < grid_.vertex_count(); ++v) {
-    const std::array<int, 1> point = {v};
-    Box query = primitive_box(x, point);
-    query.add(primitive_box(y, point));
-    query.grow(grow);
-    const std::size_t first = out.size();
-    const auto skip = [&](int t) {
-      const auto& tri = triangles_[t];
-      return neighbours(v, tri[0]) || neighbours(v, tri[1]) || neighbours(v, tri[2]);
-    };
-    triangle_hash_.for_each_overlap(query, skip, [&](int t) {
-      const auto& tri = triangles_[t];
-      const Pair pair{Kind::PointTriangle, {v, tri[0], tri[1], tri[2]}};
-      if (accept(pair)) out.push_back(pair);
-    });
-    std::sort(out.begin() + first, out.end());
-  }
-  // Edge-edge likewise, each pair once (the second edge after the first, edges_ being sorted).
+  for (std::size_t t = 0; t < triangles_.size(); ++t) triangle_boxes_[t] = box_of(triangles_[t]);
   edge_boxes_.resize(edges_.size());
-  for (std::size_t e = 0; e < edges_.size(); ++e) {
-    edge_boxes_[e] = primitive_box(x, edges_[e]);
-    edge_boxes_[e].add(primitive_box(y, edges_[e]));
-    edge_boxes_[e].grow(grow);
-  }
-  edge_hash_.build(edge_boxes_, grid_.spacing);
-  for (int e = 0; e < static_cast<int>(edges_.size()); ++e) {
-    const std::size_t first = out.size();
-    const auto skip = [&](int f) {
-      const auto &a = edges_[e], &b = edges_[f];
-      return f <= e || neighbours(a[0], b[0]) || neighbours(a[0], b[1]) || neighbours(a[1], b[0]) ||
-             neighbours(a[1], b[1]);
-    };
-    edge_hash_.for_each_overlap(edge_boxes_[e], skip, [&](int f) {
-      const auto &a = edges_[e], &b = edges_[f];
-      const Pair pair{Kind::EdgeEdge, {a[0], a[1], b[0], b[1]}};
-      if (accept(pair)) out.push_back(pair);
+  for (std::size_t e = 0; e < edges_.size(); ++e) edge_boxes_[e] = box_of(edges_[e]);
+  quad_boxes_.resize(quads_.size());
+  for (std::size_t q = 0; q < quads_.size(); ++q) quad_boxes_[q] = box_of(quads_[q]);
+  quad_hash_.build(quad_boxes_, grid_.spacing + 2.0 * grow);
+  const auto point_triangle = [&](int from, int to) {
+    for (int k = quad_vertex_start_[from]; k < quad_vertex_start_[from + 1]; ++k) {
+      const int v = quad_vertices_[k];
+      for (int t = 2 * to; t < 2 * to + 2; ++t) {
+        const auto& tri = triangles_[t];
+        if (neighbours(v, tri[0]) || neighbours(v, tri[1]) || neighbours(v, tri[2]) ||
+            !vertex_boxes_[v].overlaps(triangle_boxes_[t]))
+          continue;
+        const Pair pair{Kind::PointTriangle, {v, tri[0], tri[1], tri[2]}};
+        if (accept(pair)) out.push_back(pair);
+      }
+    }
+  };
+  const auto edge_edge = [&](int e, int f) {
+    const auto &a = edges_[e], &b = edges_[f];
+    if (neighbours(a[0], b[0]) || neighbours(a[0], b[1]) || neighbours(a[1], b[0]) || neighbours(a[1], b[1]) ||
+        !edge_boxes_[e].overlaps(edge_boxes_[f]))
+      return;
+    const Pair pair{Kind::EdgeEdge, {a[0], a[1], b[0], b[1]}};
+    if (accept(pair)) out.push_back(pair);
+  };
+  for (int q = 0; q < static_cast<int>(quads_.size()); ++q)
+    quad_hash_.for_each_overlap(quad_boxes_[q], [&](int r) { return r < q; }, [&](int r) {
+      point_triangle(q, r);
+      if (r != q) point_triangle(r, q);
+      // Each edge pair once, the lower edge first (edges_ is sorted, and so is each quad's list).
+      for (int k = quad_edge_start_[q]; k < quad_edge_start_[q + 1]; ++k)
+        for (int l = r == q ? k + 1 : quad_edge_start_[r]; l < quad_edge_start_[r + 1]; ++l)
+          edge_edge(std::min(quad_edges_[k], quad_edges_[l]), std::max(quad_edges_[k], quad_edges_[l]));
     });
-    std::sort(out.begin() + first, out.end());
-  }
+  std::sort(out.begin(), out.end());
 }
 
-void SelfContactTerm::find_near_pairs(const VecX& centre, double radius, std::vector<Pair>& out) const {
+void SelfContactTerm::find_far_pairs(const VecX& x, double radius, std::vector<Pair>& out) const {
   const double within = params_.thickness + params_.range + 2.0 * radius;
-  collect_pairs(centre, centre, 0.5 * within, [&](const Pair& pair) { return pair_distance(centre, pair) < within; },
-                out);
-  const std::size_t searched = out.size();
-  plane_normals_.compute(centre, triangles_, edges_);
+  collect_pairs(x, x, 0.5 * within, [&](const Pair& pair) { return pair_distance(x, pair) < within; }, out);
+}
+
+void SelfContactTerm::find_neighbour_pairs(const VecX& x, double radius, std::vector<Pair>& out) const {
+  const double within = params_.thickness + params_.range + 2.0 * radius;
+  out.clear();
+  plane_normals_.compute(x, triangles_, edges_);
   for (const NeighbourPair& neighbour : neighbours_)
-    if (neighbour.plane.separation(centre, plane_normals_) < within && pair_distance(centre, neighbour.pair) < within)
+    if (neighbour.plane.separation(x, plane_normals_) < within && pair_distance(x, neighbour.pair) < within)
       out.push_back(neighbour.pair);
-  if (out.size() > searched) std::sort(out.begin(), out.end());
+}
+
+void SelfContactTerm::find_near_pairs(const VecX& x, double radius, std::vector<Pair>& out) const {
+  find_far_pairs(x, radius, far_found_);
+  find_neighbour_pairs(x, radius, neighbour_found_);
+  merge(far_found_, neighbour_found_, out);
+}
+
+void SelfContactTerm::merge(const std::vector<Pair>& a, const std::vector<Pair>& b, std::vector<Pair>& out) {
+  out.clear();
+  std::merge(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
 }
 
 void SelfContactTerm::block_motion(const VecX& x_from, const VecX& x_to) const {
@@ -186,7 +230,7 @@ void SelfContactTerm::block_motion(const VecX& x_from, const VecX& x_to) const {
     }
 }
 
-void SelfContactTerm::find_swept_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const {
+void SelfContactTerm::find_swept_far_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const {
   // Distances do not change under a common translation: in the frame that moves with the mean
   // displacement, a cloth falling as a whole sweeps no volume, and only the pairs whose motion
   // relative to it brings them within the thickness are tried.
@@ -197,15 +241,17 @@ void SelfContactTerm::find_swept_pairs(const VecX& x_from, const VecX& x_to, std
   moved_ = x_to;
   for (Eigen::Index v = 0; v < n; ++v) moved_.segment<3>(3 * v) -= mean;
   collect_pairs(x_from, moved_, 0.5 * params_.thickness, [](const Pair&) { return true; }, out);
+}
+
+void SelfContactTerm::find_swept_neighbour_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const {
   // A neighbour comes no nearer than its plane's clearance at x_from less the largest difference of
   // two of its vertices' displacements, which its first vertex's block bounds.
-  const std::size_t searched = out.size();
+  out.clear();
   plane_normals_.compute(x_from, triangles_, edges_);
   block_motion(x_from, x_to);
   for (const NeighbourPair& neighbour : neighbours_)
     if (neighbour.plane.separation(x_from, plane_normals_) - motion_[neighbour.pair.vertices[0]] < params_.thickness)
       out.push_back(neighbour.pair);
-  if (out.size() > searched) std::sort(out.begin(), out.end());
 }
 
 double SelfContactTerm::pair_distance(const VecX& x, const Pair& pair) const {
@@ -213,10 +259,8 @@ double SelfContactTerm::pair_distance(const VecX& x, const Pair& pair) const {
   return pair.kind == Kind::PointTriangle ? point_triangle_distance(local) : edge_edge_distance(local);
 }
 
-void SelfContactTerm::rebuild(const VecX& x) const {
-  centre_ = x;
-  find_near_pairs(centre_, slack_, candidates_);
-  ++rebuilds_;
+void SelfContactTerm::update_candidates() const {
+  merge(far_candidates_, neighbour_candidates_, candidates_);
   // Keep the pattern while it holds every candidate and friction pair.
   if (pattern_slots(candidates_, pattern_, candidate_slot_) && pattern_slots(friction_pairs_, pattern_, friction_slot_))
     return;
@@ -234,7 +278,7 @@ void SelfContactTerm::rebuild(const VecX& x) const {
 void SelfContactTerm::begin_step(const VecX& x_start, const VecX& x_predicted, double dt) {
   mollifier_.epsilon = params_.friction_velocity * dt;
   freeze_friction(x_start);
-  rebuild(x_predicted);
+  if (!cover(x_predicted)) update_candidates();
 }
 
 bool SelfContactTerm::frozen_entry(const Pair& pair, const Vec12& start, FrictionEntry& entry) const {
@@ -297,13 +341,30 @@ void SelfContactTerm::add_friction_start_product(const VecX& x, const VecX& lamb
   }
 }
 
-void SelfContactTerm::cover(const VecX& x) const {
-  if (!inside(x)) rebuild(x);
+bool SelfContactTerm::cover(const VecX& x) const {
+  const bool far = !within_slack(x, far_centre_, far_slack_);
+  const bool neighbours = !within_slack(x, neighbour_centre_, neighbour_slack_);
+  if (far) {
+    far_centre_ = x;
+    find_far_pairs(x, far_slack_, far_candidates_);
+  }
+  if (neighbours) {
+    neighbour_centre_ = x;
+    find_neighbour_pairs(x, neighbour_slack_, neighbour_candidates_);
+  }
+  if (!far && !neighbours) return false;
+  ++rebuilds_;
+  update_candidates();
+  return true;
 }
 
 const std::vector<SelfContactTerm::Pair>& SelfContactTerm::pairs_at(const VecX& x) const {
-  if (inside(x)) return candidates_;
-  find_near_pairs(x, 0.0, evaluation_pairs_);
+  const bool far = within_slack(x, far_centre_, far_slack_);
+  const bool neighbours = within_slack(x, neighbour_centre_, neighbour_slack_);
+  if (far && neighbours) return candidates_;
+  if (!far) find_far_pairs(x, 0.0, far_found_);
+  if (!neighbours) find_neighbour_pairs(x, 0.0, neighbour_found_);
+  merge(far ? far_candidates_ : far_found_, neighbours ? neighbour_candidates_ : neighbour_found_, evaluation_pairs_);
   return evaluation_pairs_;
 }
 
@@ -381,9 +442,16 @@ double SelfContactTerm::pair_safe_fraction(const Pair& pair, const VecX& x_from,
 }
 
 double SelfContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to, std::vector<Pair>* blocking) const {
+  // Each list where both ends lie inside its region (the straight path between them does too), else
+  // its pairs swept by the move.
+  const bool far = within_slack(x_from, far_centre_, far_slack_) && within_slack(x_to, far_centre_, far_slack_);
+  const bool neighbours = within_slack(x_from, neighbour_centre_, neighbour_slack_) &&
+                          within_slack(x_to, neighbour_centre_, neighbour_slack_);
   const std::vector<Pair>* pairs = &candidates_;
-  if (!inside(x_from) || !inside(x_to)) {
-    find_swept_pairs(x_from, x_to, move_candidates_);
+  if (!far || !neighbours) {
+    if (!far) find_swept_far_pairs(x_from, x_to, far_found_);
+    if (!neighbours) find_swept_neighbour_pairs(x_from, x_to, neighbour_found_);
+    merge(far ? far_candidates_ : far_found_, neighbours ? neighbour_candidates_ : neighbour_found_, move_candidates_);
     pairs = &move_candidates_;
   }
   if (blocking) blocking->clear();

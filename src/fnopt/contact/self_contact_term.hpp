@@ -11,26 +11,33 @@
 // point-triangle pairs per vertex) are not searched for: they are a fixed list, each cleared by a
 // separating plane it had at rest (neighbour_pairs.hpp) unless the cloth creases within a cell.
 //
-// Candidates (the Verlet-list idea). The step keeps a centre x_c, at first the inertial prediction
-// x^ = x_t + dt v_t, and a slack s. Primitives move by at most the largest displacement of their
-// vertices, so the pairs within thickness + dhat + 2s at x_c (a box hash, box_hash.hpp, and the
-// neighbours' planes, then the exact distance) hold every pair within thickness + dhat at any x whose
-// every vertex lies within s of x_c translated by the mean displacement (distances do not change
-// under a common translation, so a cloth falling as a whole stays inside): on those states the
-// energy over the candidates is the exact energy of every pair. At a
-// state outside, the energy takes the pairs within thickness + dhat at that state, found afresh (a
-// line search's far trial costs one search and changes nothing); the gradient's and the Hessian's
-// states become the new centre (cover(), rebuilds() counts them): an optimizer stands there, and
-// the Hessian's pattern must hold the pairs. The energy is
-// one exact function of x for the whole step and no pair is ever missed. s = 0.4 (h/sqrt(2) -
-// thickness - dhat), so a flat cloth has no candidate, and at most 4 (thickness + dhat), so that a
-// coarse grid's folds do not hold pairs far out of range.
-// CCD from x_from to x_to uses the candidates where both ends lie inside (the straight path between
-// them does too: its mean displacement is the same blend of theirs); otherwise the pairs whose boxes, swept in the frame that
-// moves with the mean displacement, come within the thickness (distances do not change under a
-// common translation, so a cloth falling as a whole sweeps nothing there), and the neighbours whose
-// plane's clearance at x_from is less than the thickness plus their vertices' relative motion (the
-// range of the displacements over a 7 x 7 block).
+// Candidates (the Verlet-list idea), in two lists: the far pairs and the neighbours (the fixed list,
+// through their planes). The far pairs are found by a box hash (box_hash.hpp) of the grid's quads,
+// each primitive owned by one quad whose box holds its own: the pairs of quads whose boxes overlap,
+// then the pairs of their primitives whose boxes do (a quarter of the boxes of a hash of triangles and
+// edges, each in fewer cells). Each list keeps a centre x_c, a state
+// the cloth has stood at (at first its rest), and a slack s. Primitives move by at most the largest
+// displacement of their vertices, so the list's pairs within thickness + dhat + 2s at x_c (then the
+// exact distance) hold every one of its pairs within thickness + dhat at any x whose every vertex lies
+// within s of x_c translated by the mean displacement (distances do not change under a common
+// translation, so a cloth falling as a whole stays inside): on the states inside both, the energy over
+// the candidates is the exact energy of every pair. At a state outside one, the energy takes that
+// list's pairs within thickness + dhat at that state, found afresh (a line search's far trial costs
+// one search and changes nothing); the gradient's and the Hessian's states become the new centre of
+// each list they left (cover(), rebuilds() counts them): an optimizer stands there, and the Hessian's
+// pattern must hold the pairs. The energy is one exact function of x for the whole step and no pair is
+// ever missed. The neighbours' s = 0.4 (h/sqrt(2) - thickness - dhat), so a flat cloth has none in its
+// list. The far pairs are 2h or more apart on a flat cloth; theirs is 0.4 (h - thickness - dhat), a
+// larger slack (fewer searches, the hash being the costly part) that still keeps the search's radius
+// below a cell (a search's cost grows fast with its radius). Both are at most 4 (thickness + dhat), so
+// that a coarse grid's folds do not hold pairs far out of range.
+// CCD from x_from to x_to uses a list's candidates where both ends lie inside its region (the straight
+// path between them does too: its mean displacement is the same blend of theirs); otherwise, for the
+// far list, the pairs whose boxes, swept in the frame that moves with the mean displacement, come within
+// the thickness (distances do not change under a common translation, so a cloth falling as a whole
+// sweeps nothing there), and for the neighbours those whose plane's clearance at x_from is less than
+// the thickness plus their vertices' relative motion (the range of the displacements over a 7 x 7
+// block).
 // The Hessian pattern holds the candidates and the friction pairs; it changes (pattern_generation())
 // only when a rebuild finds a pair it lacks.
 // Friction between layers: IPC's lagged friction, as the meshes' (mesh_contact_term.hpp), on the
@@ -62,11 +69,11 @@ class SelfContactTerm final : public EnergyTerm {
   SelfContactTerm(const Grid& grid, const SelfContactParams& params);
 
   // Starts a step of length dt from x_start: freezes the friction pairs there (where friction is on)
-  // and centres the candidates at the prediction x^.
+  // and covers the prediction x^.
   void begin_step(const VecX& x_start, const VecX& x_predicted, double dt);
-  // Grows the regions to hold x (rebuilding the candidates if one grew). The energy, gradient and
-  // CCD do this themselves; the objective calls it before the Hessian, whose pattern it may change.
-  void cover(const VecX& x) const;
+  // Moves the centre of each list whose region does not hold x to x (true where one moved). The
+  // gradient does this itself; the objective calls it before the Hessian, whose pattern it may change.
+  bool cover(const VecX& x) const;
 
   const std::string& name() const override { return name_; }
   double energy(const VecX& x) const override;
@@ -93,31 +100,39 @@ class SelfContactTerm final : public EnergyTerm {
   const std::vector<Pair>& candidates() const { return candidates_; }
   long pattern_generation() const { return generation_; }
   long rebuilds() const { return rebuilds_; }
-  double slack() const { return slack_; }
+  double far_slack() const { return far_slack_; }
+  double neighbour_slack() const { return neighbour_slack_; }
 
  private:
   // Whether vertices a and b are within one grid step of each other (their pairs are neighbours).
   bool neighbours(int a, int b) const {
     return std::abs(row_[a] - row_[b]) <= 1 && std::abs(col_[a] - col_[b]) <= 1;
   }
-  // Whether every vertex of x lies within the slack of the centre translated by their mean
-  // displacement.
+  // Whether every vertex of x lies within `slack` of `centre` translated by their mean displacement.
+  bool within_slack(const VecX& x, const VecX& centre, double slack) const;
+  // Whether x lies inside both lists' regions.
   bool inside(const VecX& x) const;
-  // The pairs of primitives (sharing no vertex) whose boxes over x and y, grown by `grow`, overlap
-  // and that `accept` takes, into `out`, sorted.
+  // The far pairs (primitives sharing no vertex, not neighbours) whose boxes over x and y, grown by
+  // `grow`, overlap and that `accept` takes, into `out`, sorted.
   template <class Accept>
   void collect_pairs(const VecX& x, const VecX& y, double grow, Accept&& accept, std::vector<Pair>& out) const;
-  // The pairs within thickness + dhat + 2 radius at x.
+  // The far pairs, the neighbours, and all pairs within thickness + dhat + 2 radius at x, sorted.
+  void find_far_pairs(const VecX& x, double radius, std::vector<Pair>& out) const;
+  void find_neighbour_pairs(const VecX& x, double radius, std::vector<Pair>& out) const;
   void find_near_pairs(const VecX& x, double radius, std::vector<Pair>& out) const;
-  // The pairs that may come within the thickness on the move from x_from to x_to (see above).
-  void find_swept_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const;
+  // The far pairs and the neighbours that may come within the thickness on the move from x_from to
+  // x_to (see above), sorted.
+  void find_swept_far_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const;
+  void find_swept_neighbour_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const;
+  // out = the sorted union of the sorted, disjoint a and b.
+  static void merge(const std::vector<Pair>& a, const std::vector<Pair>& b, std::vector<Pair>& out);
   double pair_distance(const VecX& x, const Pair& pair) const;
   // motion_[v]: the largest difference of two displacements x_to - x_from within vertex v's 7 x 7
   // block, a bound on how much nearer the move can bring a neighbour pair whose first vertex is v.
   void block_motion(const VecX& x_from, const VecX& x_to) const;
-  // The candidates around x as the new centre, and their slots in the pattern (a new pattern where
-  // one is missing from it).
-  void rebuild(const VecX& x) const;
+  // The candidates as the union of the two lists, and their slots in the pattern (a new pattern
+  // where one of them or a friction pair is missing from it).
+  void update_candidates() const;
   // The pairs the energy at x sums: the candidates inside, else those found at x.
   const std::vector<Pair>& pairs_at(const VecX& x) const;
   Vec12 gather(const VecX& x, const Pair& pair) const;
@@ -145,15 +160,19 @@ class SelfContactTerm final : public EnergyTerm {
   std::string name_ = "self-contact";
   Grid grid_;
   SelfContactParams params_;
-  double slack_;
+  double neighbour_slack_, far_slack_;
   std::vector<std::array<int, 3>> triangles_;
   std::vector<std::array<int, 2>> edges_;
+  std::vector<std::array<int, 4>> quads_;  // the grid's cells, by corner (i, j) row-major
+  // the vertices and edges each quad owns (CSR, ascending)
+  std::vector<int> quad_vertex_start_, quad_vertices_, quad_edge_start_, quad_edges_;
   VecX rest_;  // the rest pose, for the edge-edge mollifier's threshold
   std::vector<NeighbourPair> neighbours_;
   std::vector<int> row_, col_;  // per vertex, its (i, j)
 
-  mutable VecX centre_;
-  mutable std::vector<Pair> candidates_;     // sorted
+  mutable VecX far_centre_, neighbour_centre_;
+  mutable std::vector<Pair> far_candidates_, neighbour_candidates_;  // sorted
+  mutable std::vector<Pair> candidates_;     // their union, sorted
   mutable std::vector<int> candidate_slot_;  // index of each candidate in pattern_
   std::vector<FrictionEntry> friction_;      // sorted by pair
   std::vector<Pair> friction_pairs_;         // their pairs
@@ -167,10 +186,10 @@ class SelfContactTerm final : public EnergyTerm {
   mutable VecX moved_;
   mutable PlaneNormals plane_normals_;
   mutable VecX low_, high_, scratch_low_, scratch_high_, motion_;
-  mutable std::vector<Pair> evaluation_pairs_;
+  mutable std::vector<Pair> evaluation_pairs_, far_found_, neighbour_found_;
   mutable std::vector<Pair> move_candidates_;
-  mutable std::vector<Box> triangle_boxes_, edge_boxes_;
-  mutable BoxHash triangle_hash_, edge_hash_;
+  mutable std::vector<Box> vertex_boxes_, triangle_boxes_, edge_boxes_, quad_boxes_;
+  mutable BoxHash quad_hash_;
 };
 
 }  // namespace fnopt
