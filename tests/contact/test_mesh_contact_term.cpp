@@ -1,7 +1,8 @@
 // The mesh contact term: the energy on its candidates equal to the energy summed over every pair of
 // cloth and mesh primitives, its gradient and Hessian (friction included) against finite
 // differences, CCD that stops the cloth before a mesh's corner pokes through a triangle or its
-// ridge cuts between two vertices, the start carried by a moving mesh, and the winding-number test
+// ridge cuts between two vertices, the start carried by a moving mesh (over a vertex, a corner through
+// a triangle, a ridge through edges), and the winding-number test
 // of a vertex inside a closed mesh.
 #include <gtest/gtest.h>
 
@@ -192,6 +193,32 @@ TEST(MeshContactTerm, AThinCornerSweepingThroughAClothTriangleCarriesIt) {
   for (const auto& [i, j] : {std::pair{3, 3}, std::pair{4, 4}, std::pair{3, 4}})
     EXPECT_NEAR(safe[3 * grid.index(i, j) + 1], 0.02, 1e-12) << i << "," << j;  // the triangle, carried
   EXPECT_EQ(safe[3 * grid.index(0, 0) + 1], 0.0);                               // the rest stays
+}
+
+// A blade 1 mm thick whose ridge, 5 mm behind the cloth and along x between rows 3 and 4, passes
+// through the cloth within the step: its faces sweep over no cloth vertex and its ends lie beyond the
+// cloth, so only the ridge cuts the edges between the two rows, and they are carried with it.
+TEST(MeshContactTerm, ARidgeSweepingThroughClothEdgesCarriesThem) {
+  const Grid grid = test_grid();
+  const double z = -3.5 * grid.spacing;
+  TriangleMesh blade;
+  blade.vertices = {{-0.02, -0.005, z}, {0.12, -0.005, z}, {-0.02, -0.055, z - 0.0005}, {0.12, -0.055, z - 0.0005},
+                    {-0.02, -0.055, z + 0.0005}, {0.12, -0.055, z + 0.0005}};
+  blade.triangles = {{0, 1, 3}, {0, 3, 2}, {0, 4, 5}, {0, 5, 1}, {2, 3, 5}, {2, 5, 4}, {0, 2, 4}, {1, 5, 3}};
+  MeshContactTerm term(grid, {mesh_obstacle(blade)}, {});
+  ObstacleOffsets offsets{{Vec3::Zero()}, {Vec3(0.0, 0.02, 0.0)}};
+  const VecX rest = grid.rest_positions();
+  term.begin_step(rest, rest, 0.0, 0.01, &offsets);
+  MeshContactPair pair;
+  ASSERT_LT(term.closest_pair(rest, pair), term.params().thickness) << "the blade's end pose cuts the cloth";
+  VecX safe;
+  term.safe_start_positions(rest, safe);
+  EXPECT_GE(term.closest_pair(safe, pair), term.params().thickness);
+  for (int j = 0; j < grid.cols; ++j) {
+    EXPECT_NEAR(safe[3 * grid.index(3, j) + 1], 0.02, 1e-12) << j;  // the cut edges' ends, carried
+    EXPECT_NEAR(safe[3 * grid.index(4, j) + 1], 0.02, 1e-12) << j;
+    EXPECT_EQ(safe[3 * grid.index(0, j) + 1], 0.0) << j;  // the rest stays
+  }
 }
 
 TEST(MeshContactTerm, AFarMeshHasNoCandidateAndCostsABoxTest) {

@@ -560,35 +560,90 @@ void MeshContactTerm::safe_start_positions(const VecX& x_start, VecX& x_safe) co
     });
     if (first < 1.0) x_safe.segment<3>(3 * v) = p + carried;
   }
-  carry_swept_triangles(x_start, x_safe);
+  carry_swept_cloth(x_start, x_safe);
+  clear_carried_start(x_safe);
 }
 
-void MeshContactTerm::carry_swept_triangles(const VecX& x_start, VecX& x_safe) const {
-  // A mesh vertex may sweep through a cloth triangle between its vertices (a thin corner passing
-  // through a face). Its triangle's vertices are then carried by the mesh vertex's motion, which
-  // keeps the vertex where it was relative to them, unless one was carried farther already.
-  std::vector<Box> boxes(cloth_triangles_.size());
-  for (std::size_t t = 0; t < cloth_triangles_.size(); ++t) {
-    for (const int v : cloth_triangles_[t]) boxes[t].add(vertex_of(x_start, v));
-    boxes[t].grow(params_.thickness);
+void MeshContactTerm::clear_carried_start(VecX& x_safe) const {
+  // The carries keep a pair where it was relative to the mesh only to first order (a turning mesh, a
+  // vertex that two motions carry): a pair they leave within the clearance at the end pose, its
+  // barrier infinite or nearly, has its cloth vertices pushed straight away from the mesh's closest
+  // point to the clearance, round after round while one is left.
+  const double clearance = params_.thickness + kClearance * kernel_.range;
+  std::vector<Pair> near;
+  std::array<int, 3> slots, vertices;
+  for (int round = 0; round < kClearRounds; ++round) {
+    find_near_pairs(x_safe, clearance, near);
+    if (near.empty()) return;
+    for (const Pair& pair : near) {
+      const Vec12 local = gather(x_safe, end_vertices_, pair);
+      const Eigen::Vector4d w = pair.kind == Kind::ClothEdgeMeshEdge
+                                    ? edge_edge_closest_weights(local, edge_edge_distance_type(local))
+                                    : point_triangle_closest_weights(local, point_triangle_distance_type(local));
+      // sum_k w_k x_k runs from the second primitive's closest point to the first's; the cloth's is the
+      // first but for a mesh point over a cloth triangle.
+      Vec3 apart = Vec3::Zero();
+      for (int k = 0; k < 4; ++k) apart += w[k] * local.segment<3>(3 * k);
+      if (pair.kind == Kind::MeshPointClothTriangle) apart = -apart;
+      const double distance = apart.norm();
+      if (!(distance > 0.0 && distance < clearance)) continue;
+      const Vec3 push = (clearance - distance) / distance * apart;
+      const int count = cloth_slots(pair, slots, vertices);
+      for (int k = 0; k < count; ++k) x_safe.segment<3>(3 * vertices[k]) += push;
+    }
   }
-  BoxTree tree;
-  tree.build(boxes);
+}
+
+void MeshContactTerm::carry_swept_cloth(const VecX& x_start, VecX& x_safe) const {
+  // A mesh vertex may sweep through a cloth triangle between its vertices (a thin corner passing
+  // through a face), and a mesh edge through a cloth edge between its vertices (a ridge passing
+  // between two cloth vertices). The cloth primitive's vertices are then carried by the motion of
+  // the mesh vertex, or of the mesh edge's point nearest the cloth edge at the start, which keeps
+  // them where they were relative to it, unless one was carried farther already.
+  const auto carry = [&](const auto& vertices, const Vec3& motion) {
+    for (const int v : vertices)
+      if ((vertex_of(x_safe, v) - vertex_of(x_start, v)).squaredNorm() < motion.squaredNorm())
+        x_safe.segment<3>(3 * v) = vertex_of(x_start, v) + motion;
+  };
+  const auto tree_of = [&](const auto& primitives, BoxTree& tree) {
+    std::vector<Box> boxes(primitives.size());
+    for (std::size_t k = 0; k < primitives.size(); ++k) {
+      for (const int v : primitives[k]) boxes[k].add(vertex_of(x_start, v));
+      boxes[k].grow(params_.thickness);
+    }
+    tree.build(boxes);
+  };
+  BoxTree triangles, edges;
+  tree_of(cloth_triangles_, triangles);
+  tree_of(cloth_edges_, edges);
   for (std::size_t m = 0; m < start_vertices_.size(); ++m) {
     const Vec3 motion = end_vertices_[m] - start_vertices_[m];
     if (motion.isZero()) continue;
     Box swept;
     swept.add(start_vertices_[m]);
     swept.add(end_vertices_[m]);
-    tree.for_each_overlap(swept, [&](int t) {
+    triangles.for_each_overlap(swept, [&](int t) {
       const auto& tri = cloth_triangles_[t];
       const Vec3 a = vertex_of(x_start, tri[0]), b = vertex_of(x_start, tri[1]), c = vertex_of(x_start, tri[2]);
-      if (!(point_triangle_safe_fraction(start_vertices_[m], a, b, c, end_vertices_[m], a, b, c, params_.thickness) <
-            1.0))
+      if (point_triangle_safe_fraction(start_vertices_[m], a, b, c, end_vertices_[m], a, b, c, params_.thickness) < 1.0)
+        carry(tri, motion);
+    });
+  }
+  for (const auto& [m0, m1] : mesh_edges_) {
+    if (end_vertices_[m0] == start_vertices_[m0] && end_vertices_[m1] == start_vertices_[m1]) continue;
+    Box swept;
+    for (const int m : {m0, m1}) swept.add(start_vertices_[m]), swept.add(end_vertices_[m]);
+    edges.for_each_overlap(swept, [&](int e) {
+      const Vec3 a = vertex_of(x_start, cloth_edges_[e][0]), b = vertex_of(x_start, cloth_edges_[e][1]);
+      if (!(edge_edge_safe_fraction(a, b, start_vertices_[m0], start_vertices_[m1], a, b, end_vertices_[m0],
+                                    end_vertices_[m1], params_.thickness) < 1.0))
         return;
-      for (const int v : tri)
-        if ((vertex_of(x_safe, v) - vertex_of(x_start, v)).squaredNorm() < motion.squaredNorm())
-          x_safe.segment<3>(3 * v) = vertex_of(x_start, v) + motion;
+      Vec12 local;
+      local << a, b, start_vertices_[m0], start_vertices_[m1];
+      // The mesh edge's closest point's weights are the last two, negated (primitive_distance.hpp).
+      const Eigen::Vector4d w = edge_edge_closest_weights(local, edge_edge_distance_type(local));
+      carry(cloth_edges_[e], -w[2] * (end_vertices_[m0] - start_vertices_[m0]) -
+                                 w[3] * (end_vertices_[m1] - start_vertices_[m1]));
     });
   }
 }

@@ -104,7 +104,7 @@ class MeshContactTerm final : public EnergyTerm {
   // Whether some mesh at the step's end may come within the thickness of a point in the box.
   bool may_touch(const Vec3& lower, const Vec3& upper) const;
   // x_t, with the vertices a moving mesh would sweep over during the step carried along (see above),
-  // and those of the cloth triangles a mesh vertex would sweep through.
+  // and those of the cloth triangles a mesh vertex and the cloth edges a mesh edge would sweep through.
   void safe_start_positions(const VecX& x_start, VecX& x_safe) const;
   // The smallest distance of a pair at x (the meshes at the step's end pose), and that pair;
   // thickness + range where none is closer.
@@ -197,8 +197,14 @@ class MeshContactTerm final : public EnergyTerm {
   int owner(const Pair& pair) const;
   void refit_trees();
   // safe_start_positions' second part: the vertices of cloth triangles that a mesh vertex sweeps
-  // through are carried by its motion.
-  void carry_swept_triangles(const VecX& x_start, VecX& x_safe) const;
+  // through are carried by its motion, and those of cloth edges that a mesh edge sweeps through by
+  // the motion of its point nearest them.
+  void carry_swept_cloth(const VecX& x_start, VecX& x_safe) const;
+  // safe_start_positions' last part: the pairs left within the thickness plus kClearance of the range
+  // are pushed apart to that clearance, for at most kClearRounds rounds.
+  void clear_carried_start(VecX& x_safe) const;
+  static constexpr double kClearance = 0.01;
+  static constexpr int kClearRounds = 8;
 
   std::string name_ = "mesh-contact";
   Grid grid_;
