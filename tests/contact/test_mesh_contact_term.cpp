@@ -156,20 +156,33 @@ TEST(MeshContactTerm, CcdStopsTheClothBeforeACornerOrARidgeGoesThrough) {
   }
 }
 
+// The start of a step over which `mesh` moves 2 cm up (+y) through the resting test cloth, carried:
+// the mesh's end pose must cross the cloth at rest (exact crossings), and the carried start must
+// cross nothing and be clear of it by the thickness.
+VecX carried_start(const Grid& grid, const TriangleMesh& mesh) {
+  MeshContactTerm term(grid, {mesh_obstacle(mesh)}, {});
+  ObstacleOffsets offsets{{Vec3::Zero()}, {Vec3(0.0, 0.02, 0.0)}};
+  const VecX rest = grid.rest_positions();
+  term.begin_step(rest, rest, 0.0, 0.01, &offsets);
+  std::vector<Vec3> end_pose = mesh.vertices;
+  for (Vec3& p : end_pose) p.y() += 0.02;
+  std::vector<Eigen::Vector3i> triangles;
+  for (const auto& f : mesh.triangles) triangles.emplace_back(f[0], f[1], f[2]);
+  EXPECT_GT(count_mesh_intersections(rest.cast<float>(), grid.rows, grid.cols, end_pose, triangles), 0)
+      << "the mesh's end pose goes through the cloth";
+  VecX safe;
+  term.safe_start_positions(rest, safe);
+  MeshContactPair pair;
+  EXPECT_GE(term.closest_pair(safe, pair), term.params().thickness);
+  EXPECT_EQ(count_mesh_intersections(safe.cast<float>(), grid.rows, grid.cols, end_pose, triangles), 0);
+  return safe;
+}
+
 // A pyramid moving up through the resting cloth over the step: the start carries the vertices it
 // would sweep over, and the carried start is outside the mesh's end pose.
 TEST(MeshContactTerm, TheStartIsCarriedByAMovingMesh) {
   const Grid grid = test_grid();
-  MeshContactTerm term(grid, {mesh_obstacle(pyramid(grid, 0.01))}, {});
-  ObstacleOffsets offsets{{Vec3::Zero()}, {Vec3(0.0, 0.02, 0.0)}};
-  const VecX rest = grid.rest_positions();
-  term.begin_step(rest, rest, 0.0, 0.01, &offsets);
-  MeshContactPair pair;
-  ASSERT_LT(term.closest_pair(rest, pair), term.params().thickness) << "the mesh's end pose goes through the cloth";
-  VecX safe;
-  term.safe_start_positions(rest, safe);
-  EXPECT_GT((safe - rest).norm(), 0.0);
-  EXPECT_GE(term.closest_pair(safe, pair), term.params().thickness);
+  EXPECT_GT((carried_start(grid, pyramid(grid, 0.01)) - grid.rest_positions()).norm(), 0.0);
 }
 
 // A needle 1 mm thick whose tip, 5 mm behind the cloth, passes through a cloth triangle's middle
@@ -182,14 +195,7 @@ TEST(MeshContactTerm, AThinCornerSweepingThroughAClothTriangleCarriesIt) {
   needle.vertices = {tip, tip + Vec3(-0.0005, -0.05, 0.0005), tip + Vec3(0.0005, -0.05, 0.0005),
                      tip + Vec3(0.0, -0.05, -0.0005)};
   needle.triangles = {{0, 2, 1}, {0, 3, 2}, {0, 1, 3}, {1, 2, 3}};
-  MeshContactTerm term(grid, {mesh_obstacle(needle)}, {});
-  ObstacleOffsets offsets{{Vec3::Zero()}, {Vec3(0.0, 0.02, 0.0)}};
-  const VecX rest = grid.rest_positions();
-  term.begin_step(rest, rest, 0.0, 0.01, &offsets);
-  VecX safe;
-  term.safe_start_positions(rest, safe);
-  MeshContactPair pair;
-  EXPECT_GE(term.closest_pair(safe, pair), term.params().thickness);
+  const VecX safe = carried_start(grid, needle);
   for (const auto& [i, j] : {std::pair{3, 3}, std::pair{4, 4}, std::pair{3, 4}})
     EXPECT_NEAR(safe[3 * grid.index(i, j) + 1], 0.02, 1e-12) << i << "," << j;  // the triangle, carried
   EXPECT_EQ(safe[3 * grid.index(0, 0) + 1], 0.0);                               // the rest stays
@@ -205,15 +211,7 @@ TEST(MeshContactTerm, ARidgeSweepingThroughClothEdgesCarriesThem) {
   blade.vertices = {{-0.02, -0.005, z}, {0.12, -0.005, z}, {-0.02, -0.055, z - 0.0005}, {0.12, -0.055, z - 0.0005},
                     {-0.02, -0.055, z + 0.0005}, {0.12, -0.055, z + 0.0005}};
   blade.triangles = {{0, 1, 3}, {0, 3, 2}, {0, 4, 5}, {0, 5, 1}, {2, 3, 5}, {2, 5, 4}, {0, 2, 4}, {1, 5, 3}};
-  MeshContactTerm term(grid, {mesh_obstacle(blade)}, {});
-  ObstacleOffsets offsets{{Vec3::Zero()}, {Vec3(0.0, 0.02, 0.0)}};
-  const VecX rest = grid.rest_positions();
-  term.begin_step(rest, rest, 0.0, 0.01, &offsets);
-  MeshContactPair pair;
-  ASSERT_LT(term.closest_pair(rest, pair), term.params().thickness) << "the blade's end pose cuts the cloth";
-  VecX safe;
-  term.safe_start_positions(rest, safe);
-  EXPECT_GE(term.closest_pair(safe, pair), term.params().thickness);
+  const VecX safe = carried_start(grid, blade);
   for (int j = 0; j < grid.cols; ++j) {
     EXPECT_NEAR(safe[3 * grid.index(3, j) + 1], 0.02, 1e-12) << j;  // the cut edges' ends, carried
     EXPECT_NEAR(safe[3 * grid.index(4, j) + 1], 0.02, 1e-12) << j;
