@@ -1,6 +1,9 @@
 // fnopt gradcheck: the adjoint of a rollout against central differences of the rollout itself
 // (adjoint/gradient_check.hpp, docs/design.md §15), a line per parameter kind and the largest
-// relative error last. A check, not a test: it exits 0 whatever the error, so that a user reads it.
+// relative error last, and a line `unreliable: KIND: REASON` for each kind whose differences did not
+// settle as the step shrank or settled away from the adjoint. A check, not a test: it exits 0
+// whatever the error, so that a user reads it.
+#include <cmath>
 #include <cstdio>
 
 #include <fnopt/adjoint/gradient_check.hpp>
@@ -44,16 +47,23 @@ void run_gradcheck(const GradcheckFlags& flags) {
   const ResolvedScene scene = flags.scene.scene_of_steps(kDefaultResolution, kDefaultSteps, kDefaultSpeed);
   std::printf(
       "adjoint against central differences: %dx%d, %d steps of %s s, motion %s x %s, handles %s; material in %s "
-      "coordinates; %d thread%s\n",
+      "coordinates; each difference at steps of %s to %s (material) and %s to %s (vectors), settled where two "
+      "neighbours agree within %s; %d thread%s\n",
       scene.grid.rows, scene.grid.cols, scene.scene.frames - 1, number_text(scene.scene.dt).c_str(),
       scene.scene.motion.c_str(), number_text(scene.scene.speed).c_str(), scene.scene.handles.c_str(),
-      flags.plain ? "plain" : "log", threads, threads == 1 ? "" : "s");
+      flags.plain ? "plain" : "log", number_text(params.material_step * std::pow(10.0, params.sweep_decades)).c_str(),
+      number_text(params.material_step * std::pow(10.0, -params.sweep_decades)).c_str(),
+      number_text(params.vector_step * std::pow(10.0, params.sweep_decades)).c_str(),
+      number_text(params.vector_step * std::pow(10.0, -params.sweep_decades)).c_str(),
+      number_text(params.settle_tolerance).c_str(), threads, threads == 1 ? "" : "s");
   std::fflush(stdout);
   const GradientCheckResult result = gradient_check(scene, params);
   std::printf("%-20s %6s %14s %14s %12s\n", "parameter", "checks", "|adjoint|", "|difference|", "rel. error");
   for (const GradientCheckRow& row : result.rows)
     std::printf("%-20s %6d %14.6e %14.6e %12.3e\n", to_string(row.parameter), row.comparisons, row.adjoint_norm,
                 row.finite_difference_norm, row.max_relative_error);
+  for (const GradientCheckRow& row : result.rows)
+    if (!row.unreliable.empty()) std::printf("unreliable: %s: %s\n", to_string(row.parameter), row.unreliable.c_str());
   std::printf("backward pass: %s", to_string(result.status));
   if (result.saddle_steps > 0) std::printf(", %d steps at saddles", result.saddle_steps);
   std::printf("; forward %.1f ms, backward %.1f ms\n", result.forward_ms, result.backward_ms);

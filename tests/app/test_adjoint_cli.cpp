@@ -1,5 +1,6 @@
 // The adjoint's commands as a user runs them (docs/design.md §15): gradcheck's table and its last
-// line, its bad --params, and bench adjoint's table at a tiny size.
+// line, its unreliable lines on a buckling cloth, its bad --params, and bench adjoint's table at a
+// tiny size.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -25,11 +26,24 @@ TEST(GradcheckCli, EveryKindOnTheDefaultSceneAgreesWithDifferences) {
     EXPECT_TRUE(std::regex_search(check.output, std::regex(std::string("\n") + kind + " +[0-9]+ "))) << kind << "\n"
                                                                                                      << check.output;
   EXPECT_NE(check.output.find("10x10, 30 steps"), std::string::npos) << check.output;
+  EXPECT_EQ(check.output.find("unreliable:"), std::string::npos) << check.output;
   // The last line, and the error it gives: the adjoint is exact up to the differences' own error.
   const std::string last = "max relative error = ";
   ASSERT_NE(check.output.rfind(last), std::string::npos) << check.output;
   EXPECT_EQ(check.output.find('\n', check.output.rfind(last)), check.output.size() - 1) << check.output;
   EXPECT_LT(number_after(check.output, last), 1e-4) << check.output;
+}
+
+// At 12² the cloth buckles: the start state's differences do not settle as the step shrinks, and
+// the check says so in a line of its own, naming the kind.
+TEST(GradcheckCli, ABucklingClothGetsAnUnreliableLine) {
+  const CommandResult check = run_fnopt("gradcheck --res 12 --params bend,initial-positions --threads 1");
+  ASSERT_EQ(check.status, 0) << check.output;
+  EXPECT_NE(check.output.find("\nunreliable: initial-positions: central differences do not settle as the step "
+                              "shrinks ("),
+            std::string::npos)
+      << check.output;
+  EXPECT_EQ(check.output.find("unreliable: bend"), std::string::npos) << check.output;
 }
 
 TEST(GradcheckCli, ChosenKindsOnAChosenSceneAndBadNames) {

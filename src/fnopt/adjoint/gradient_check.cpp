@@ -7,6 +7,7 @@
 #include <random>
 
 #include <fnopt/util/error.hpp>
+#include <fnopt/util/parse_text.hpp>
 
 namespace fnopt {
 namespace {
@@ -61,12 +62,55 @@ std::vector<std::vector<Vec3>> unflatten(const VecX& values, const std::vector<s
   return rows;
 }
 
-void add_comparison(GradientCheckRow& row, double adjoint, double difference) {
+double relative_distance(double a, double b) {
+  const double scale = std::max(std::abs(a), std::abs(b));
+  return scale > 0.0 ? std::abs(a - b) / scale : 0.0;
+}
+
+// The central differences of one comparison at its steps, largest first.
+struct Sweep {
+  std::vector<double> steps, differences;
+
+  // The index of the difference the comparison takes: of the neighbouring pair that agrees best, the
+  // smaller step's (the only one without a sweep); and whether that pair agrees within `tolerance`.
+  std::size_t settled(double tolerance, bool& settles) const {
+    settles = true;
+    if (differences.size() < 2) return 0;
+    std::size_t best = 1;
+    for (std::size_t k = 1; k < differences.size(); ++k)
+      if (relative_distance(differences[k - 1], differences[k]) <
+          relative_distance(differences[best - 1], differences[best]))
+        best = k;
+    settles = relative_distance(differences[best - 1], differences[best]) <= tolerance;
+    return best;
+  }
+
+  std::string text() const {
+    std::string out;
+    for (std::size_t k = 0; k < steps.size(); ++k)
+      out += (k ? ", " : "") + number_text(differences[k]) + " at " + number_text(steps[k]);
+    return out;
+  }
+};
+
+// Adds one comparison's adjoint value and its sweep to the row; the row keeps, as its verdict, the
+// first unsettled sweep or else the largest disagreement.
+void add_comparison(GradientCheckRow& row, double adjoint, const Sweep& sweep, const GradientCheckParams& params) {
   ++row.comparisons;
+  bool settles = true;
+  const double difference = sweep.differences[sweep.settled(params.settle_tolerance, settles)];
   row.adjoint_norm = std::hypot(row.adjoint_norm, adjoint);
   row.finite_difference_norm = std::hypot(row.finite_difference_norm, difference);
-  const double scale = std::max(std::abs(adjoint), std::abs(difference));
-  if (scale > 0.0) row.max_relative_error = std::max(row.max_relative_error, std::abs(adjoint - difference) / scale);
+  const double error = relative_distance(adjoint, difference);
+  const bool unsettled_before = row.unreliable.rfind("central differences", 0) == 0;
+  if (!settles && !unsettled_before)
+    row.unreliable = "central differences do not settle as the step shrinks (" + sweep.text() + "; the adjoint " +
+                     number_text(adjoint) + ")";
+  else if (settles && !unsettled_before && error > params.agreement && error > row.max_relative_error)
+    row.unreliable = "the adjoint's " + number_text(adjoint) + " against central differences' " +
+                     number_text(difference) + (sweep.steps.size() > 1 ? ", where they settled" : "") +
+                     " (relative error " + number_text(error) + ")";
+  row.max_relative_error = std::max(row.max_relative_error, error);
 }
 
 }  // namespace
@@ -75,6 +119,9 @@ void GradientCheckParams::validate() const {
   require(std::isfinite(material_step) && material_step > 0.0, "material_step", "must be positive");
   require(std::isfinite(vector_step) && vector_step > 0.0, "vector_step", "must be positive");
   require(directions >= 1, "directions", "must be at least 1");
+  require(sweep_decades >= 0 && sweep_decades <= 6, "sweep_decades", "must be in 0..6");
+  require(std::isfinite(settle_tolerance) && settle_tolerance > 0.0, "settle_tolerance", "must be positive");
+  require(std::isfinite(agreement) && agreement > 0.0, "agreement", "must be positive");
   record.validate();
   require(record.checkpoint_interval == 0, "record.checkpoint_interval",
           "must be 0: the perturbed rollouts start from the base's accelerations, which checkpoints do not keep");
@@ -122,9 +169,9 @@ class GradientChecker {
     const VectorKind kind = vector_kind(parameter);
     for (int d = 0; d < params_.directions; ++d) {
       const VecX direction = tilted_direction(kind.adjoint, random_);
-      const VecX step = params_.vector_step * direction;
-      const double difference = (kind.loss_along(step) - kind.loss_along(-step)) / (2.0 * params_.vector_step);
-      add_comparison(row, kind.adjoint.dot(direction), difference);
+      add_comparison(row, kind.adjoint.dot(direction), sweep(params_.vector_step, [&](double e) {
+                       return (kind.loss_along(e * direction) - kind.loss_along(-e * direction)) / (2.0 * e);
+                     }), params_);
     }
     return row;
   }
@@ -142,18 +189,32 @@ class GradientChecker {
     return loss_.value(record_rollout(perturbed, perturbed_record_, on_branch));
   }
 
+  // The central difference `at(e)` at the steps base 10^k, k = sweep_decades .. -sweep_decades.
+  template <class Difference>
+  Sweep sweep(double base, Difference&& at) const {
+    Sweep s;
+    for (int k = params_.sweep_decades; k >= -params_.sweep_decades; --k) {
+      s.steps.push_back(base * std::pow(10.0, k));
+      s.differences.push_back(at(s.steps.back()));
+    }
+    return s;
+  }
+
   // Central differences in k (or ln k) against the adjoint, both in log units (k dL/dk) so that the
   // plain form's difference needs no division by k.
   void check_material(AdjointParameter parameter, GradientCheckRow& row) const {
-    const double e = params_.material_step;
-    ResolvedScene plus = scene_, minus = scene_;
-    const double k = material_coefficient(plus.scene.material, parameter);
-    material_coefficient(plus.scene.material, parameter) = params_.log_coordinates ? k * std::exp(e) : k * (1.0 + e);
-    material_coefficient(minus.scene.material, parameter) = params_.log_coordinates ? k * std::exp(-e) : k * (1.0 - e);
-    const double difference = (loss_at(plus, inputs_) - loss_at(minus, inputs_)) / (2.0 * e);
+    Material material = scene_.scene.material;
+    const double k = material_coefficient(material, parameter);
+    const Sweep differences = sweep(params_.material_step, [&](double e) {
+      ResolvedScene plus = scene_, minus = scene_;
+      material_coefficient(plus.scene.material, parameter) = params_.log_coordinates ? k * std::exp(e) : k * (1.0 + e);
+      material_coefficient(minus.scene.material, parameter) =
+          params_.log_coordinates ? k * std::exp(-e) : k * (1.0 - e);
+      return (loss_at(plus, inputs_) - loss_at(minus, inputs_)) / (2.0 * e);
+    });
     const double adjoint = params_.log_coordinates ? gradient_.log_material.coefficient(parameter)
                                                    : k * gradient_.material.coefficient(parameter);
-    add_comparison(row, adjoint, difference);
+    add_comparison(row, adjoint, differences, params_);
   }
 
   VectorKind vector_kind(AdjointParameter parameter) const {

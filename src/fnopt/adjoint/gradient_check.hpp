@@ -17,7 +17,16 @@
 //    d.g >= |g|/3 and no derivative is small by chance), <g, d> against
 //    (L(p + e d) - L(p - e d)) / (2 e), e = vector_step.
 // The relative error of a comparison is |adjoint - difference| / max(|adjoint|, |difference|).
+//
+// Where the rollout is nearly chaotic (a buckling cloth), its exact derivative holds only for
+// perturbations far below any step a difference can take, and the differences do not settle as the
+// step shrinks. So each comparison sweeps the step over e 10^k, k = sweep_decades .. -sweep_decades:
+// the differences have settled where two at neighbouring steps agree within settle_tolerance, and the
+// comparison takes the pair that agrees best (its smaller step's difference). A kind is unreliable
+// where one of its comparisons did not settle, or settled away from the adjoint by more than
+// `agreement`; its row says why (docs/design.md §15).
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <fnopt/adjoint/adjoint_parameter.hpp>
@@ -38,6 +47,9 @@ struct GradientCheckParams {
   double material_step = 1e-5;   // e: relative, or additive in log k
   double vector_step = 1e-7;     // e along a unit direction, in the parameter's unit (m, m/s, m/s^2)
   int directions = 2;            // random directions per vector kind
+  int sweep_decades = 2;         // steps e 10^k, |k| <= sweep_decades (0: e alone, no settling verdict)
+  double settle_tolerance = 1e-4;  // relative: two neighbouring steps' differences that agree have settled
+  double agreement = 1e-4;       // relative: the largest error of a reliable kind
   std::uint64_t seed = 1;        // of the loss's weights and the directions
   RecordOptions record;          // every rollout's, the base's and the perturbed ones (no checkpoints)
   HandlePathParams path;         // the handle path's basis (the HandlePath kind), offsets from zero
@@ -50,7 +62,10 @@ struct GradientCheckRow {
   int comparisons = 0;
   double adjoint_norm = 0.0;            // of the compared adjoint values
   double finite_difference_norm = 0.0;  // of the central differences
-  double max_relative_error = 0.0;
+  double max_relative_error = 0.0;      // against each comparison's settled (or only) difference
+  // Empty where the kind agrees; else why it is unreliable: its differences did not settle (with the
+  // sweep of its first such comparison), or they settled away from the adjoint (its largest error).
+  std::string unreliable;
 };
 
 struct GradientCheckResult {
