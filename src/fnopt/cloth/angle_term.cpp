@@ -38,14 +38,17 @@ AngleTerm::AngleTerm(std::string name, AngleKernel kernel, std::vector<Stencil> 
 double AngleTerm::energy(const VecX& x) const {
   if (level_ == SimdLevel::Scalar) return scalar_.energy(x);
   const int width = kernels_.width;
-  double out[kChunk * kAngleBatchMaxWidth];
+  const std::vector<Stencil>& stencils = scalar_.stencils();
   double total = 0.0;
+  // As StencilTerm's energy: in parallel above its threshold, each thread summing its chunks.
+#pragma omp parallel for reduction(+ : total) schedule(static) if (static_cast<long>(stencils.size()) >= \
+                                                                       StencilTerm<AngleKernel>::kParallelThreshold)
   for (long b = 0; b < batches(); b += kChunk) {
+    double out[kChunk * kAngleBatchMaxWidth];
     const long count = std::min(kChunk, batches() - b);
     kernels_.energies(params_, x.data(), offsets_.data() + 3 * width * b, count, out);
     for (long k = 0; k < count * width; ++k) total += out[k];
   }
-  const std::vector<Stencil>& stencils = scalar_.stencils();
   for (auto s = stencils.begin() + batches() * width; s != stencils.end(); ++s) {
     total += scalar_.kernel().energy(gather(x, *s));
   }
