@@ -3,7 +3,9 @@
 namespace fnopt {
 
 bool simd_level_supported(SimdLevel level) {
-  // libgcc's CPU check includes the OS's saving of the wider registers (XGETBV).
+  // libgcc's CPU check includes the OS's saving of the wider registers (XGETBV). Its data are
+  // filled by a constructor; the explicit call covers a use from another static constructor.
+  __builtin_cpu_init();
   switch (level) {
     case SimdLevel::Scalar:
       return true;
