@@ -65,10 +65,10 @@ void angle_gradient_batch(const AngleBatchParams& params, const double* x, const
     // grad_u E = dE/dc (w^ - c u^)/|u|, grad_w E = dE/dc (u^ - c w^)/|w|.
     const V gu = dE_dc * ((wh.c[c] - cos * uh.c[c]) * inv_u);
     const V gw = dE_dc * ((uh.c[c] - cos * wh.c[c]) * inv_w);
-    if (params.corner) {  // x0 = -u - w, x1 = u, x2 = w
+    if (params.corner) {  // u = x1 - x0, w = x2 - x0: g0 = -gu - gw, g1 = gu, g2 = gw
       (-gu - gw).store(out + c * W);
       gu.store(out + (3 + c) * W);
-    } else {  // x0 = -u, x1 = u - w, x2 = w
+    } else {  // u = x1 - x0, w = x2 - x1: g0 = -gu, g1 = gu - gw, g2 = gw
       (-gu).store(out + c * W);
       (gu - gw).store(out + (3 + c) * W);
     }

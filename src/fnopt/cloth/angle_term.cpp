@@ -39,19 +39,19 @@ double AngleTerm::energy(const VecX& x) const {
   if (level_ == SimdLevel::Scalar) return scalar_.energy(x);
   const int width = kernels_.width;
   const std::vector<Stencil>& stencils = scalar_.stencils();
+  const long batch_count = batches();
   double total = 0.0;
   // As StencilTerm's energy: in parallel above its threshold, each thread summing its chunks.
 #pragma omp parallel for reduction(+ : total) schedule(static) if (static_cast<long>(stencils.size()) >= \
                                                                        StencilTerm<AngleKernel>::kParallelThreshold)
-  for (long b = 0; b < batches(); b += kChunk) {
+  for (long b = 0; b < batch_count; b += kChunk) {
     double out[kChunk * kAngleBatchMaxWidth];
-    const long count = std::min(kChunk, batches() - b);
+    const long count = std::min(kChunk, batch_count - b);
     kernels_.energies(params_, x.data(), offsets_.data() + 3 * width * b, count, out);
     for (long k = 0; k < count * width; ++k) total += out[k];
   }
-  for (auto s = stencils.begin() + batches() * width; s != stencils.end(); ++s) {
+  for (auto s = stencils.begin() + batches() * width; s != stencils.end(); ++s)
     total += scalar_.kernel().energy(gather(x, *s));
-  }
   return total;
 }
 
@@ -72,22 +72,23 @@ double AngleTerm::add_batches(long first, long count, const double* out, VecX& g
 double AngleTerm::accumulate_gradient(const VecX& x, VecX& grad) const {
   if (level_ == SimdLevel::Scalar) return scalar_.accumulate_gradient(x, grad);
   const int width = kernels_.width;
-  const long stencil_count = static_cast<long>(scalar_.stencils().size());
+  const long stencil_count = static_cast<long>(scalar_.stencils().size()), batch_count = batches();
   double total = 0.0;
+  // Serial where StencilTerm is: below its threshold or on one thread.
   if (stencil_count < StencilTerm<AngleKernel>::kParallelThreshold || omp_get_max_threads() == 1) {
     double out[kChunk * 10 * kAngleBatchMaxWidth];
-    for (long b = 0; b < batches(); b += kChunk) {
-      const long count = std::min(kChunk, batches() - b);
+    for (long b = 0; b < batch_count; b += kChunk) {
+      const long count = std::min(kChunk, batch_count - b);
       kernels_.gradients(params_, x.data(), offsets_.data() + 3 * width * b, count, out);
       total += add_batches(b, count, out, grad);
     }
   } else {
-    batch_out_.resize(10 * width * batches());
+    batch_out_.resize(10 * width * batch_count);
 #pragma omp parallel for schedule(static)
-    for (long b = 0; b < batches(); b += kChunk)
-      kernels_.gradients(params_, x.data(), offsets_.data() + 3 * width * b, std::min(kChunk, batches() - b),
+    for (long b = 0; b < batch_count; b += kChunk)
+      kernels_.gradients(params_, x.data(), offsets_.data() + 3 * width * b, std::min(kChunk, batch_count - b),
                          batch_out_.data() + 10 * width * b);
-    total += add_batches(0, batches(), batch_out_.data(), grad);
+    total += add_batches(0, batch_count, batch_out_.data(), grad);
   }
   const std::vector<Stencil>& stencils = scalar_.stencils();
   for (auto s = stencils.begin() + batches() * width; s != stencils.end(); ++s) {
