@@ -5,7 +5,7 @@
 // theta - theta0 cancels (a shear corner near its right angle) the gradient's error is relative to
 // the gradient a spring of rest angle 0 would have on the same stencil. So the bound, per stencil:
 //   |g_batch - g_scalar| <= 1e-13 (|g_scalar| + |g_scalar at theta0 = 0|),
-// and the same for the energy.
+// and the same for the energy and (with the Frobenius norm) the unprojected Hessian.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -99,9 +99,10 @@ void check_gradients(const AngleKernel& kernel, SimdLevel level, int seed) {
   ASSERT_EQ(static_cast<long>(stencils.local.size()), batches * width);
   const std::vector<int> offsets = batch_offsets(batches * width, width);
   const AngleBatchParams params{kernel.stiffness, kernel.rest_angle, kernel.layout == AngleKernel::Layout::Corner};
-  std::vector<double> out(10 * width * batches), energies(width * batches);
+  std::vector<double> out(10 * width * batches), energies(width * batches), hessians(81 * width * batches);
   batch.gradients(params, stencils.x.data(), offsets.data(), batches, out.data());
   batch.energies(params, stencils.x.data(), offsets.data(), batches, energies.data());
+  batch.hessians(params, stencils.x.data(), offsets.data(), batches, hessians.data());
   int identical = 0;
   for (long s = 0; s < batches * width; ++s) {
     const double* lanes = out.data() + 10 * width * (s / width) + s % width;
@@ -116,6 +117,11 @@ void check_gradients(const AngleKernel& kernel, SimdLevel level, int seed) {
     EXPECT_LE(std::fabs(energies[s] - kernel.energy(stencils.local[s])), kTolerance * (energy + energy_scale))
         << "stencil " << s;
     identical += g_batch == g;
+    AngleKernel::Mat H, H_scale, H_batch;
+    kernel.hessian(stencils.local[s], H, false);
+    at_rest_angle_zero(kernel).hessian(stencils.local[s], H_scale, false);
+    for (int k = 0; k < 81; ++k) H_batch.data()[k] = hessians[81 * width * (s / width) + k * width + s % width];
+    EXPECT_LE((H_batch - H).norm(), kTolerance * (H.norm() + H_scale.norm())) << "stencil " << s;
   }
   // Most stencils' atan2 is the same double, and then every coordinate is.
   EXPECT_GT(identical, batches * width / 2);
@@ -130,23 +136,28 @@ TEST(AngleBatch, Avx2AndAvx512GiveTheSameBits) {
     const Stencils stencils = test_stencils(kernel, 5);
     const long count = static_cast<long>(stencils.local.size());
     const AngleBatchParams params{kernel.stiffness, kernel.rest_angle, kernel.layout == AngleKernel::Layout::Corner};
-    std::vector<double> gradients[2], energies[2];
+    std::vector<double> gradients[2], energies[2], hessians[2];
     int k = 0;
     for (SimdLevel level : {SimdLevel::Avx2, SimdLevel::Avx512}) {
       const AngleBatchKernels batch = angle_batch_kernels(level);
       const std::vector<int> offsets = batch_offsets(count, batch.width);
       const long batches = count / batch.width;
-      std::vector<double> out(10 * batch.width * batches);
+      std::vector<double> out(10 * batch.width * batches), hessian(81 * batch.width * batches);
       energies[k].resize(count);
       batch.gradients(params, stencils.x.data(), offsets.data(), batches, out.data());
       batch.energies(params, stencils.x.data(), offsets.data(), batches, energies[k].data());
-      for (long s = 0; s < count; ++s)  // stencil by stencil: 10 values
+      batch.hessians(params, stencils.x.data(), offsets.data(), batches, hessian.data());
+      for (long s = 0; s < count; ++s) {  // stencil by stencil: 10 values, then 81
         for (int row = 0; row < 10; ++row)
           gradients[k].push_back(out[10 * batch.width * (s / batch.width) + row * batch.width + s % batch.width]);
+        for (int row = 0; row < 81; ++row)
+          hessians[k].push_back(hessian[81 * batch.width * (s / batch.width) + row * batch.width + s % batch.width]);
+      }
       ++k;
     }
     EXPECT_EQ(gradients[0], gradients[1]);
     EXPECT_EQ(energies[0], energies[1]);
+    EXPECT_EQ(hessians[0], hessians[1]);
   }
 }
 

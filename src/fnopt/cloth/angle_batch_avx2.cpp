@@ -6,7 +6,7 @@ namespace fnopt {
 
 AngleBatchKernels angle_batch_kernels_avx2() {
   using V = simd::Lanes4;
-  return {V::kWidth, simd::angle_gradient_batches<V>, simd::angle_energy_batches<V>};
+  return {V::kWidth, simd::angle_gradient_batches<V>, simd::angle_energy_batches<V>, simd::angle_hessian_batches<V>};
 }
 
 }  // namespace fnopt

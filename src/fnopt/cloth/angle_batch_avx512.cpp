@@ -6,7 +6,7 @@ namespace fnopt {
 
 AngleBatchKernels angle_batch_kernels_avx512() {
   using V = simd::Lanes8;
-  return {V::kWidth, simd::angle_gradient_batches<V>, simd::angle_energy_batches<V>};
+  return {V::kWidth, simd::angle_gradient_batches<V>, simd::angle_energy_batches<V>, simd::angle_hessian_batches<V>};
 }
 
 }  // namespace fnopt

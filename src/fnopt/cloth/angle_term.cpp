@@ -69,34 +69,99 @@ double AngleTerm::add_batches(long first, long count, const double* out, VecX& g
   return total;
 }
 
-double AngleTerm::accumulate_gradient(const VecX& x, VecX& grad) const {
-  if (level_ == SimdLevel::Scalar) return scalar_.accumulate_gradient(x, grad);
+bool AngleTerm::serial() const {
+  return static_cast<long>(scalar_.stencils().size()) < StencilTerm<AngleKernel>::kParallelThreshold ||
+         omp_get_max_threads() == 1;
+}
+
+template <class AfterChunk, class Add>
+void AngleTerm::evaluate_and_add(AngleBatchFunction kernel, int rows, const VecX& x, AfterChunk after_chunk,
+                                 Add add) const {
   const int width = kernels_.width;
-  const long stencil_count = static_cast<long>(scalar_.stencils().size()), batch_count = batches();
-  double total = 0.0;
-  // Serial where StencilTerm is: below its threshold or on one thread.
-  if (stencil_count < StencilTerm<AngleKernel>::kParallelThreshold || omp_get_max_threads() == 1) {
-    double out[kChunk * 10 * kAngleBatchMaxWidth];
+  const long batch_count = batches();
+  if (serial()) {
+    const long chunk_size = rows * width * kChunk;
+    if (static_cast<long>(batch_out_.size()) < chunk_size) batch_out_.resize(chunk_size);
     for (long b = 0; b < batch_count; b += kChunk) {
       const long count = std::min(kChunk, batch_count - b);
-      kernels_.gradients(params_, x.data(), offsets_.data() + 3 * width * b, count, out);
-      total += add_batches(b, count, out, grad);
+      kernel(params_, x.data(), offsets_.data() + 3 * width * b, count, batch_out_.data());
+      after_chunk(b, count);
+      add(b, count, batch_out_.data());
     }
-  } else {
-    batch_out_.resize(10 * width * batch_count);
-#pragma omp parallel for schedule(static)
-    for (long b = 0; b < batch_count; b += kChunk)
-      kernels_.gradients(params_, x.data(), offsets_.data() + 3 * width * b, std::min(kChunk, batch_count - b),
-                         batch_out_.data() + 10 * width * b);
-    total += add_batches(0, batch_count, batch_out_.data(), grad);
+    return;
   }
+  if (static_cast<long>(batch_out_.size()) < rows * width * batch_count) batch_out_.resize(rows * width * batch_count);
+#pragma omp parallel for schedule(static)
+  for (long b = 0; b < batch_count; b += kChunk) {
+    const long count = std::min(kChunk, batch_count - b);
+    kernel(params_, x.data(), offsets_.data() + 3 * width * b, count, batch_out_.data() + rows * width * b);
+    after_chunk(b, count);
+  }
+  add(0, batch_count, batch_out_.data());
+}
+
+double AngleTerm::accumulate_gradient(const VecX& x, VecX& grad) const {
+  if (level_ == SimdLevel::Scalar) return scalar_.accumulate_gradient(x, grad);
+  double total = 0.0;
+  evaluate_and_add(
+      kernels_.gradients, 10, x, [](long, long) {},
+      [&](long first, long count, const double* out) { total += add_batches(first, count, out, grad); });
   const std::vector<Stencil>& stencils = scalar_.stencils();
-  for (auto s = stencils.begin() + batches() * width; s != stencils.end(); ++s) {
+  for (auto s = stencils.begin() + batches() * kernels_.width; s != stencils.end(); ++s) {
     AngleKernel::Vec g;
     total += scalar_.kernel().gradient(gather(x, *s), g);
     for (int i = 0; i < 3; ++i) grad.segment<3>(3 * (*s)[i]) += g.segment<3>(3 * i);
   }
   return total;
+}
+
+void AngleTerm::accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly, int handle) const {
+  if (level_ == SimdLevel::Scalar || project) return scalar_.accumulate_hessian(x, project, assembly, handle);
+  const int width = kernels_.width;
+  evaluate_and_add(kernels_.hessians, 81, x, [](long, long) {}, [&](long first, long count, const double* out) {
+    AngleKernel::Mat local;
+    for (long b = 0; b < count; ++b, out += 81 * width)
+      for (int l = 0; l < width; ++l) {
+        for (int k = 0; k < 81; ++k) local.data()[k] = out[k * width + l];
+        assembly.scatter<3>(handle, (first + b) * width + l, local);
+      }
+  });
+  const std::vector<Stencil>& stencils = scalar_.stencils();
+  for (long s = batches() * width; s < static_cast<long>(stencils.size()); ++s) {
+    AngleKernel::Mat local;
+    scalar_.kernel().hessian(gather(x, stencils[s]), local, false);
+    assembly.scatter<3>(handle, s, local);
+  }
+}
+
+void AngleTerm::accumulate_hessian_pair(const VecX& x, HessianAssembly& assembly, int handle) const {
+  if (level_ == SimdLevel::Scalar) return scalar_.accumulate_hessian_pair(x, assembly, handle);
+  const int width = kernels_.width;
+  const std::vector<Stencil>& stencils = scalar_.stencils();
+  const AngleKernel& kernel = scalar_.kernel();
+  // In parallel the projected Hessians are evaluated with their chunk's batches, into a buffer;
+  // serially each as it is added.
+  const bool buffered = !serial();
+  if (buffered) projected_.resize(stencils.size());
+  auto project_chunk = [&](long first, long count) {
+    if (!buffered) return;
+    for (long s = first * width; s < (first + count) * width; ++s) kernel.hessian(gather(x, stencils[s]), projected_[s], true);
+  };
+  evaluate_and_add(kernels_.hessians, 81, x, project_chunk, [&](long first, long count, const double* out) {
+    AngleKernel::Mat exact, projected;
+    for (long b = 0; b < count; ++b, out += 81 * width)
+      for (int l = 0; l < width; ++l) {
+        const long s = (first + b) * width + l;
+        for (int k = 0; k < 81; ++k) exact.data()[k] = out[k * width + l];
+        if (!buffered) kernel.hessian(gather(x, stencils[s]), projected, true);
+        assembly.scatter_pair<3>(handle, s, exact, buffered ? projected_[s] : projected);
+      }
+  });
+  for (long s = batches() * width; s < static_cast<long>(stencils.size()); ++s) {
+    AngleKernel::Mat exact, projected;
+    kernel.hessian_pair(gather(x, stencils[s]), exact, projected);
+    assembly.scatter_pair<3>(handle, s, exact, projected);
+  }
 }
 
 }  // namespace fnopt
