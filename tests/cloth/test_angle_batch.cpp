@@ -66,12 +66,14 @@ Stencils test_stencils(const AngleKernel& kernel, int seed) {
   for (int k = 0; k < 16; ++k) stencils.add(with_angle(kernel, rest - 1e-9 * uniform(rng), random_axis()));
   for (int k = 0; k < 16; ++k)  // near pi and near 0
     stencils.add(with_angle(kernel, M_PI - std::pow(10.0, -7.0 + 6.0 * uniform(rng)), random_axis()));
-  for (int k = 0; k < 16; ++k) stencils.add(with_angle(kernel, std::pow(10.0, -7.0 + 6.0 * uniform(rng)), random_axis()));
+  for (int k = 0; k < 16; ++k)
+    stencils.add(with_angle(kernel, std::pow(10.0, -7.0 + 6.0 * uniform(rng)), random_axis()));
   // Exactly collinear: theta = 0 and pi with sin = 0.
   const Eigen::Vector3d a(0, 0, 0), b(kH, 0, 0), c(2 * kH, 0, 0), d(-kH, 0, 0);
   const bool corner = kernel.layout == AngleKernel::Layout::Corner;
-  for (const AngleKernel::Vec& x : corner ? std::vector{points(a, b, c), points(a, b, d), points(b, a, c), points(a, c, b)}
-                                          : std::vector{points(a, b, c), points(a, b, a), points(c, b, a), points(b, a, b)})
+  for (const AngleKernel::Vec& x :
+       corner ? std::vector{points(a, b, c), points(a, b, d), points(b, a, c), points(a, c, b)}
+              : std::vector{points(a, b, c), points(a, b, a), points(c, b, a), points(b, a, b)})
     stencils.add(x);
   return stencils;
 }
@@ -111,8 +113,9 @@ void check_gradients(const AngleKernel& kernel, SimdLevel level, int seed) {
     const double energy_scale = at_rest_angle_zero(kernel).gradient(stencils.local[s], g_scale);
     for (int k = 0; k < 9; ++k) g_batch[k] = lanes[k * width];
     const double scale = g.norm() + g_scale.norm();
-    EXPECT_LE((g_batch - g).norm(), kTolerance * scale) << "stencil " << s << "\n" << g.transpose() << "\n"
-                                                          << g_batch.transpose();
+    EXPECT_LE((g_batch - g).norm(), kTolerance * scale) << "stencil " << s << "\n"
+                                                        << g.transpose() << "\n"
+                                                        << g_batch.transpose();
     EXPECT_LE(std::fabs(lanes[9 * width] - energy), kTolerance * (energy + energy_scale)) << "stencil " << s;
     EXPECT_LE(std::fabs(energies[s] - kernel.energy(stencils.local[s])), kTolerance * (energy + energy_scale))
         << "stencil " << s;

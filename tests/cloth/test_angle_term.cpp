@@ -59,7 +59,8 @@ void expect_same_as_scalar(const AngleTerm& batched, const AngleTerm& scalar, co
   EXPECT_LE(std::abs(e - e_scalar), 1e-13 * e_scalar);
   EXPECT_LE((g - g_scalar).norm(), 1e-13 * g_scalar.norm());
   EXPECT_LE(std::abs(batched.energy(x) - scalar.energy(x)), 1e-13 * e_scalar);
-  const Eigen::SparseMatrix<double> H = assembled_hessian(batched, x, false), H_scalar = assembled_hessian(scalar, x, false);
+  const Eigen::SparseMatrix<double> H = assembled_hessian(batched, x, false),
+                                    H_scalar = assembled_hessian(scalar, x, false);
   EXPECT_LE((H - H_scalar).norm(), 1e-13 * H_scalar.norm());
   // The projected Hessian is the scalar term's.
   EXPECT_EQ((assembled_hessian(batched, x, true) - assembled_hessian(scalar, x, true)).norm(), 0.0);
@@ -91,7 +92,8 @@ TEST(AngleTerm, Avx512MatchesScalarTerm) { check_level(SimdLevel::Avx512); }
 TEST(AngleTerm, ScalarLevelIsTheStencilTerm) {
   const DeformedCloth s = deformed_cloth(9, 7, 0.2, 3);
   const AngleTerm term = shear_term(s.grid, SimdLevel::Scalar);
-  const StencilTerm<AngleKernel> reference("shear", AngleKernel::shear(3.0, s.grid.spacing), grid_shear_corners(s.grid));
+  const StencilTerm<AngleKernel> reference("shear", AngleKernel::shear(3.0, s.grid.spacing),
+                                           grid_shear_corners(s.grid));
   VecX g = VecX::Zero(s.x.size()), g_reference = VecX::Zero(s.x.size());
   EXPECT_EQ(term.accumulate_gradient(s.x, g), reference.accumulate_gradient(s.x, g_reference));
   EXPECT_EQ(g, g_reference);

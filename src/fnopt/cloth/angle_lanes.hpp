@@ -124,7 +124,8 @@ void angle_hessian_batch(const AngleBatchParams& params, const double* x, const 
                  ku * (three_c * uh.c[p] * uh.c[q] - wh.c[p] * uh.c[q] - uh.c[p] * wh.c[q] - c * id);
       ww[p][q] = d2E_dc2 * dc_dw.c[p] * dc_dw.c[q] +
                  kw * (three_c * wh.c[p] * wh.c[q] - uh.c[p] * wh.c[q] - wh.c[p] * uh.c[q] - c * id);
-      uw[p][q] = d2E_dc2 * dc_du.c[p] * dc_dw.c[q] + kuw * (id - uh.c[p] * uh.c[q] - wh.c[p] * wh.c[q] + c * uh.c[p] * wh.c[q]);
+      uw[p][q] = d2E_dc2 * dc_du.c[p] * dc_dw.c[q] +
+                 kuw * (id - uh.c[p] * uh.c[q] - wh.c[p] * wh.c[q] + c * uh.c[p] * wh.c[q]);
     }
   // Block (i, j) of the 9x9 and its transpose (j, i).
   auto set = [&](int i, int j, int p, int q, V value) {
@@ -178,8 +179,7 @@ void angle_hessian_batches(const AngleBatchParams& params, const double* x, cons
 template <class V>
 void angle_energy_batches(const AngleBatchParams& params, const double* x, const int* offsets, long batches,
                           double* out) {
-  for (long b = 0; b < batches; ++b)
-    angle_energy_batch<V>(params, x, offsets + b * 3 * V::kWidth, out + b * V::kWidth);
+  for (long b = 0; b < batches; ++b) angle_energy_batch<V>(params, x, offsets + b * 3 * V::kWidth, out + b * V::kWidth);
 }
 
 }  // namespace fnopt::simd

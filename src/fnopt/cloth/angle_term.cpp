@@ -118,14 +118,16 @@ double AngleTerm::accumulate_gradient(const VecX& x, VecX& grad) const {
 void AngleTerm::accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly, int handle) const {
   if (level_ == SimdLevel::Scalar || project) return scalar_.accumulate_hessian(x, project, assembly, handle);
   const int width = kernels_.width;
-  evaluate_and_add(kernels_.hessians, 81, x, [](long, long) {}, [&](long first, long count, const double* out) {
-    AngleKernel::Mat local;
-    for (long b = 0; b < count; ++b, out += 81 * width)
-      for (int l = 0; l < width; ++l) {
-        for (int k = 0; k < 81; ++k) local.data()[k] = out[k * width + l];
-        assembly.scatter<3>(handle, (first + b) * width + l, local);
-      }
-  });
+  evaluate_and_add(
+      kernels_.hessians, 81, x, [](long, long) {},
+      [&](long first, long count, const double* out) {
+        AngleKernel::Mat local;
+        for (long b = 0; b < count; ++b, out += 81 * width)
+          for (int l = 0; l < width; ++l) {
+            for (int k = 0; k < 81; ++k) local.data()[k] = out[k * width + l];
+            assembly.scatter<3>(handle, (first + b) * width + l, local);
+          }
+      });
   const std::vector<Stencil>& stencils = scalar_.stencils();
   for (long s = batches() * width; s < static_cast<long>(stencils.size()); ++s) {
     AngleKernel::Mat local;
@@ -145,7 +147,8 @@ void AngleTerm::accumulate_hessian_pair(const VecX& x, HessianAssembly& assembly
   if (buffered) projected_.resize(stencils.size());
   auto project_chunk = [&](long first, long count) {
     if (!buffered) return;
-    for (long s = first * width; s < (first + count) * width; ++s) kernel.hessian(gather(x, stencils[s]), projected_[s], true);
+    for (long s = first * width; s < (first + count) * width; ++s)
+      kernel.hessian(gather(x, stencils[s]), projected_[s], true);
   };
   evaluate_and_add(kernels_.hessians, 81, x, project_chunk, [&](long first, long count, const double* out) {
     AngleKernel::Mat exact, projected;

@@ -22,8 +22,7 @@ class AngleTerm final : public EnergyTerm {
   using Stencil = std::array<int, 3>;
 
   // `level` must be supported by the CPU (simd_level_supported).
-  AngleTerm(std::string name, AngleKernel kernel, std::vector<Stencil> stencils,
-            SimdLevel level = best_simd_level());
+  AngleTerm(std::string name, AngleKernel kernel, std::vector<Stencil> stencils, SimdLevel level = best_simd_level());
 
   const std::string& name() const override { return scalar_.name(); }
   SimdLevel simd_level() const { return level_; }
@@ -58,8 +57,8 @@ class AngleTerm final : public EnergyTerm {
   SimdLevel level_;
   AngleBatchParams params_;
   AngleBatchKernels kernels_;
-  std::vector<int> offsets_;               // the batches' coordinate offsets (angle_batch.hpp)
-  mutable std::vector<double> batch_out_;  // a chunk's results serially, all in parallel; grown at first use
+  std::vector<int> offsets_;                         // the batches' coordinate offsets (angle_batch.hpp)
+  mutable std::vector<double> batch_out_;            // a chunk's results serially, all in parallel; grown at first use
   mutable std::vector<AngleKernel::Mat> projected_;  // accumulate_hessian_pair's projected Hessians in parallel
 };
 

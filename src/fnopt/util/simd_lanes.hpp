@@ -104,9 +104,7 @@ struct Lanes8 {
                                                _mm512_and_si512(sign, _mm512_castpd_si512(b.v))));
   }
   // Lanes whose sign bit is set (-0.0 included).
-  friend Mask signbit(Lanes8 a) {
-    return {_mm512_cmplt_epi64_mask(_mm512_castpd_si512(a.v), _mm512_setzero_si512())};
-  }
+  friend Mask signbit(Lanes8 a) { return {_mm512_cmplt_epi64_mask(_mm512_castpd_si512(a.v), _mm512_setzero_si512())}; }
   friend Mask operator<(Lanes8 a, Lanes8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_LT_OQ)}; }
   friend Mask operator>(Lanes8 a, Lanes8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_GT_OQ)}; }
   friend Mask operator==(Lanes8 a, Lanes8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_EQ_OQ)}; }

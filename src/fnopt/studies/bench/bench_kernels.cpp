@@ -54,10 +54,11 @@ void bench_kernels_table(const BenchRun& run) {
   std::vector<SimdLevel> levels = {SimdLevel::Scalar};
   for (SimdLevel level : {SimdLevel::Avx2, SimdLevel::Avx512})
     if (simd_level_supported(level)) levels.push_back(level);
-  std::printf("angle springs' gradient (energy and gradient, added to a vector): millions of stencils per second, %d "
-              "thread%s, medians of %d timings of at least %g s; the cloth's rest state moved by a normal of 0.2 "
-              "cells; speed-up: the widest level against scalar\n",
-              run.threads, run.threads == 1 ? "" : "s", kRepeats, kMinSeconds);
+  std::printf(
+      "angle springs' gradient (energy and gradient, added to a vector): millions of stencils per second, %d "
+      "thread%s, medians of %d timings of at least %g s; the cloth's rest state moved by a normal of 0.2 "
+      "cells; speed-up: the widest level against scalar\n",
+      run.threads, run.threads == 1 ? "" : "s", kRepeats, kMinSeconds);
   std::printf("%6s %6s %9s", "res", "term", "stencils");
   for (SimdLevel level : levels) std::printf(" %9s", simd_level_name(level).c_str());
   std::printf(" %8s\n", "speed-up");
