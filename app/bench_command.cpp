@@ -37,12 +37,13 @@ void run_bench_command(BenchFlags& flags) {
 const RegisterCommand kRegister([](CLI::App& app) {
   auto flags = std::make_shared<BenchFlags>();
   CLI::App* command =
-      app.add_subcommand("bench", "timing tables: the Newton step, the FNO passes, a rollout's adjoint, contact's cost");
+      app.add_subcommand("bench", "timing tables: the Newton step, the FNO passes, a rollout's adjoint, contact's cost, the angle "
+                         "kernels");
   command
       ->add_option("what", flags->run.what,
                    "newton, fno, adjoint (a recorded rollout's forward and backward passes), contact (pqn and newton "
-                   "with far obstacles, a far mesh and self-contact, each against the same scene without) or all "
-                   "(newton and fno)")
+                   "with far obstacles, a far mesh and self-contact, each against the same scene without), kernels (the "
+                   "angle springs' gradient, stencils per second, scalar and SIMD) or all (newton and fno)")
       ->capture_default_str();
   command->add_option("--res", flags->resolution_list, "resolutions, comma-separated")->capture_default_str();
   command->add_option("--model", flags->run.model, "fno: the model whose shape is timed (default: the shipped model)");

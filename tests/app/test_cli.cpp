@@ -2,7 +2,10 @@
 // status 2; a small simulation writes a rollout file.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
+#include <sstream>
+#include <tuple>
 
 #include <fnopt/baselines/newton.hpp>
 #include <fnopt/scenes/scene_keys.hpp>
@@ -75,6 +78,36 @@ TEST(Cli, BenchNewtonKeepsTheRolloutItTimed) {
   const CommandResult missing = run_fnopt("bench newton --res 8 --frames 1 --keep " + (dir / "nope").string());
   EXPECT_EQ(missing.status, 2) << missing.output;
   std::filesystem::remove_all(dir);
+}
+
+// bench kernels: a row per resolution and angle term, with the stencil count and a positive rate
+// for scalar and each SIMD level the CPU has.
+TEST(Cli, BenchKernelsPrintsStencilsPerSecondPerLevel) {
+  const CommandResult r = run_fnopt("bench kernels --res 8,10 --threads 1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::size_t header = r.output.find("   res   term  stencils    scalar");
+  ASSERT_NE(header, std::string::npos) << r.output;
+  const std::string header_line = r.output.substr(header, r.output.find('\n', header) - header);
+  std::istringstream header_cells(header_line);
+  int columns = 0;
+  for (std::string cell; header_cells >> cell;) ++columns;
+  ASSERT_GE(columns, 5) << header_line;  // res, term, stencils, scalar, ..., speed-up
+  // n^2 cloth: 4 (n-1)^2 shear corners, 2 n (n-2) bend hinges.
+  for (const auto& [n, term, stencils] : {std::tuple{8, "shear", 196}, std::tuple{8, "bend", 96},
+                                          std::tuple{10, "shear", 324}, std::tuple{10, "bend", 160}}) {
+    const std::string row_start = (n < 10 ? "   " : "  ") + std::to_string(n) + "^2 " +
+                                  std::string(std::strlen(term) == 5 ? " " : "  ") + term;
+    const std::size_t at = r.output.find(row_start);
+    ASSERT_NE(at, std::string::npos) << row_start << "\n" << r.output;
+    std::istringstream cells(r.output.substr(at, r.output.find('\n', at) - at));
+    std::string grid, name;
+    long count = 0;
+    cells >> grid >> name >> count;
+    EXPECT_EQ(count, stencils) << grid << " " << name;
+    int rates = 0;
+    for (double rate; cells >> rate; ++rates) EXPECT_GT(rate, 0.0) << grid << " " << name;
+    EXPECT_EQ(rates, columns - 3) << grid << " " << name;
+  }
 }
 
 // With --repeat the table gives each resolution's median over the runs and the range of ms/frame; on one

@@ -1,6 +1,6 @@
 #include <fnopt/cloth/cloth_terms.hpp>
 
-#include <fnopt/cloth/angle_kernel.hpp>
+#include <fnopt/cloth/angle_term.hpp>
 #include <fnopt/cloth/repulsion_term.hpp>
 #include <fnopt/cloth/stencil_term.hpp>
 #include <fnopt/cloth/stretch_kernel.hpp>
@@ -46,11 +46,10 @@ std::vector<std::unique_ptr<EnergyTerm>> make_cloth_terms(const Grid& grid, cons
     terms.push_back(std::make_unique<StencilTerm<StretchKernel>>(
         "stretch", StretchKernel{material.stretch, grid.spacing}, grid_edges(grid)));
   if (material.shear > 0.0)
-    terms.push_back(std::make_unique<StencilTerm<AngleKernel>>(
-        "shear", AngleKernel::shear(material.shear, grid.spacing), grid_shear_corners(grid)));
-  if (material.bend > 0.0)
     terms.push_back(
-        std::make_unique<StencilTerm<AngleKernel>>("bend", AngleKernel::bend(material.bend), grid_bend_hinges(grid)));
+        std::make_unique<AngleTerm>("shear", AngleKernel::shear(material.shear, grid.spacing), grid_shear_corners(grid)));
+  if (material.bend > 0.0)
+    terms.push_back(std::make_unique<AngleTerm>("bend", AngleKernel::bend(material.bend), grid_bend_hinges(grid)));
   if (material.repulsion) {
     RepulsionParams params;
     params.stiffness = material.repulsion_stiffness;

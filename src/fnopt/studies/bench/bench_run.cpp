@@ -8,6 +8,7 @@
 #include <fnopt/methods/registry.hpp>
 #include <fnopt/studies/bench/bench_adjoint.hpp>
 #include <fnopt/studies/bench/bench_contact.hpp>
+#include <fnopt/studies/bench/bench_kernels.hpp>
 #include <fnopt/studies/bench/bench_newton.hpp>
 #include <fnopt/util/error.hpp>
 
@@ -25,12 +26,14 @@ void bench_fno_table(const BenchRun& run) {
 }  // namespace
 
 void run_bench(const BenchRun& run) {
-  if (run.what != "newton" && run.what != "fno" && run.what != "adjoint" && run.what != "contact" && run.what != "all")
-    throw Error("bench", "unknown benchmark '" + run.what + "' (choose newton, fno, adjoint, contact or all)");
+  if (run.what != "newton" && run.what != "fno" && run.what != "adjoint" && run.what != "contact" &&
+      run.what != "kernels" && run.what != "all")
+    throw Error("bench", "unknown benchmark '" + run.what + "' (choose newton, fno, adjoint, contact, kernels or all)");
   if (run.what == "newton" || run.what == "all") bench_newton_table(run);
   if (run.what == "fno" || run.what == "all") bench_fno_table(run);
   if (run.what == "adjoint") bench_adjoint_table(run);
   if (run.what == "contact") bench_contact_table(run);
+  if (run.what == "kernels") bench_kernels_table(run);
 }
 
 }  // namespace fnopt

@@ -1,15 +1,15 @@
 #pragma once
 // `fnopt bench`: timing tables measured in one run (docs/design.md §9): the Newton reference step
 // at several resolutions (bench_newton.hpp), the FNO's passes (fno/fno_bench.hpp), a rollout's
-// adjoint (bench_adjoint.hpp, §15) and the contact term's cost with far obstacles
-// (bench_contact.hpp, §14). Each prints its table to stdout as it goes, with progress bars.
+// adjoint (bench_adjoint.hpp, §15), the contact term's cost with far obstacles
+// (bench_contact.hpp, §14) and the angle springs' gradient throughput (bench_kernels.hpp). Each prints its table to stdout as it goes, with progress bars.
 #include <string>
 #include <vector>
 
 namespace fnopt {
 
 struct BenchRun {
-  std::string what = "newton";  // newton, fno, adjoint, contact or all (newton and fno)
+  std::string what = "newton";  // newton, fno, adjoint, contact, kernels or all (newton and fno)
   std::vector<int> resolutions = {32, 64, 100};
   int frames = 390;  // per resolution (newton, adjoint, contact)
   int threads = 1;   // the thread count in effect, for the headers
