@@ -41,29 +41,17 @@ AngleTerm bend_term(const Grid& grid, SimdLevel level) {
   return AngleTerm("bend", AngleKernel::bend(2e-5), grid_bend_hinges(grid), level);
 }
 
-// The term's Hessian at x, projected or not, assembled over every vertex.
-Eigen::SparseMatrix<double> assembled_hessian(const AngleTerm& term, const VecX& x, bool project) {
-  std::vector<int> free_index(x.size() / 3);
-  for (std::size_t v = 0; v < free_index.size(); ++v) free_index[v] = static_cast<int>(v);
-  HessianAssembly assembly(free_index);
-  const int handle = term.register_hessian(assembly);
-  assembly.finalize();
-  assembly.set_zero();
-  term.accumulate_hessian(x, project, assembly, handle);
-  return assembly.matrix();
-}
-
 void expect_same_as_scalar(const AngleTerm& batched, const AngleTerm& scalar, const VecX& x) {
   VecX g = VecX::Zero(x.size()), g_scalar = VecX::Zero(x.size());
   const double e = batched.accumulate_gradient(x, g), e_scalar = scalar.accumulate_gradient(x, g_scalar);
   EXPECT_LE(std::abs(e - e_scalar), 1e-13 * e_scalar);
   EXPECT_LE((g - g_scalar).norm(), 1e-13 * g_scalar.norm());
   EXPECT_LE(std::abs(batched.energy(x) - scalar.energy(x)), 1e-13 * e_scalar);
-  const Eigen::SparseMatrix<double> H = assembled_hessian(batched, x, false),
-                                    H_scalar = assembled_hessian(scalar, x, false);
+  const Eigen::SparseMatrix<double> H = testing::assembled_hessian(batched, x, false),
+                                    H_scalar = testing::assembled_hessian(scalar, x, false);
   EXPECT_LE((H - H_scalar).norm(), 1e-13 * H_scalar.norm());
   // The projected Hessian is the scalar term's.
-  EXPECT_EQ((assembled_hessian(batched, x, true) - assembled_hessian(scalar, x, true)).norm(), 0.0);
+  EXPECT_EQ((testing::assembled_hessian(batched, x, true) - testing::assembled_hessian(scalar, x, true)).norm(), 0.0);
 }
 
 void check_level(SimdLevel level) {

@@ -98,7 +98,9 @@ TEST(SelfContactTerm, TheEnergyOnTheCandidatesIsTheEnergyOfEveryPair) {
       VecX x = folded(grid, gap);
       for (Eigen::Index k = 0; k < x.size(); ++k) x[k] += noise(random);
       const double expected = every_pair_energy(grid, params, x);
-      if (gap < 0.002) EXPECT_GT(expected, 0.0) << gap;
+      if (gap < 0.002) {
+        EXPECT_GT(expected, 0.0) << gap;
+      }
       EXPECT_NEAR(term.energy(x), expected, 1e-12 * std::max(1.0, expected)) << gap;
       VecX gradient = VecX::Zero(x.size());
       term.accumulate_gradient(x, gradient);

@@ -70,6 +70,22 @@ V atan2(V y, V x) {
   return copysign(head + (head_error + (signed_tail + lo)), y);
 }
 
+// out[i] = atan2(y[i], x[i]) for i < n on V's lanes, the last, partial lane group through a full one
+// (its unused lanes compute atan2(0, 1)). For a source compiled for V's instruction set.
+template <class V>
+void atan2_lanes(const double* y, const double* x, double* out, long n) {
+  long i = 0;
+  for (; i + V::kWidth <= n; i += V::kWidth) atan2(V::load(y + i), V::load(x + i)).store(out + i);
+  if (i == n) return;
+  double ty[V::kWidth], tx[V::kWidth], tout[V::kWidth];
+  for (int l = 0; l < V::kWidth; ++l) {
+    ty[l] = i + l < n ? y[i + l] : 0.0;
+    tx[l] = i + l < n ? x[i + l] : 1.0;
+  }
+  atan2(V::load(ty), V::load(tx)).store(tout);
+  for (int l = 0; i + l < n; ++l) out[i + l] = tout[l];
+}
+
 // out[i] = atan2(y[i], x[i]) for i < n, on `level`'s lanes (std::atan2 for Scalar); the tests'
 // and benchmarks' entry to the lanes' atan2.
 void atan2_array(SimdLevel level, const double* y, const double* x, double* out, long n);
