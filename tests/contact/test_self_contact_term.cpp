@@ -8,6 +8,7 @@
 #include <random>
 
 #include <fnopt/cloth/hessian_assembly.hpp>
+#include <fnopt/contact/additive_ccd.hpp>
 #include <fnopt/contact/self_contact_kernel.hpp>
 #include <fnopt/contact/self_contact_term.hpp>
 #include <fnopt/metrics/mesh_intersections.hpp>
@@ -63,6 +64,38 @@ double every_pair_energy(const Grid& grid, const SelfContactParams& params, cons
       total += ee.energy(local(x, p[0], p[1], q[0], q[1]));
     }
   return total;
+}
+
+// The CCD fraction of the move from `from` to `to` over every pair of primitives that share no
+// vertex, by brute force.
+double every_pair_safe_fraction(const Grid& grid, const SelfContactParams& params, const VecX& from, const VecX& to) {
+  const auto triangles = grid.triangles();
+  std::vector<std::array<int, 2>> edges;
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = triangles(t, k), b = triangles(t, (k + 1) % 3);
+      edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  auto p = [](const VecX& y, int v) { return Vec3(y.segment<3>(3 * v)); };
+  double fraction = 1.0;
+  for (int v = 0; v < grid.vertex_count(); ++v)
+    for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+      const int a = triangles(t, 0), b = triangles(t, 1), c = triangles(t, 2);
+      if (v == a || v == b || v == c) continue;
+      fraction = std::min(fraction, point_triangle_safe_fraction(p(from, v), p(from, a), p(from, b), p(from, c), p(to, v),
+                                                                 p(to, a), p(to, b), p(to, c), params.thickness));
+    }
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    for (std::size_t f = e + 1; f < edges.size(); ++f) {
+      const auto &a = edges[e], &b = edges[f];
+      if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) continue;
+      fraction = std::min(fraction, edge_edge_safe_fraction(p(from, a[0]), p(from, a[1]), p(from, b[0]), p(from, b[1]),
+                                                            p(to, a[0]), p(to, a[1]), p(to, b[0]), p(to, b[1]),
+                                                            params.thickness));
+    }
+  return fraction;
 }
 
 TEST(SelfContactTerm, AFlatClothHasNoCandidateAtAnyResolution) {
@@ -182,6 +215,32 @@ TEST(SelfContactTerm, FrictionBetweenLayersOpposesTheirSlide) {
   const double without = upper_force(0.0), with = upper_force(0.3) - without, more = upper_force(0.6) - without;
   EXPECT_LT(with, 0.0);
   EXPECT_NEAR(more, 2.0 * with, 1e-9 * std::abs(with));
+}
+
+// Moves that leave the candidates' regions (only a few vertices far, the whole upper sheet, a common
+// translation on top): the term's CCD, on its candidates and the pairs its drifts leave possible, is
+// the CCD of every pair, whether its centres are at the start of the move or elsewhere.
+TEST(SelfContactTerm, CcdOutsideTheRegionsIsTheCcdOfEveryPair) {
+  const Grid grid = Grid::make(8, 8, 0.1);
+  const SelfContactParams params;
+  SelfContactTerm term(grid, params);
+  // The layers 2 cm apart, beyond the candidates' reach: a pair that stops the move is found by the
+  // drifts alone.
+  const VecX from = folded(grid, 0.02);
+  VecX few = from, sheet = folded(grid, -0.004), carried = folded(grid, -0.002);
+  for (const int v : {grid.index(5, 3), grid.index(5, 4), grid.index(6, 4)}) few[3 * v + 1] -= 0.03;
+  for (int v = 0; v < grid.vertex_count(); ++v) carried.segment<3>(3 * v) += Vec3(0.5, 0.2, -0.3);
+  for (const bool centred : {true, false}) {
+    if (centred) {
+      term.begin_step(from, from, 0.01);
+      ASSERT_TRUE(term.candidates().empty());
+    }
+    for (const VecX* to : {&few, &sheet, &carried}) {
+      const double expected = every_pair_safe_fraction(grid, params, from, *to);
+      EXPECT_LT(expected, 1.0);
+      EXPECT_EQ(term.safe_fraction(from, *to), expected) << centred;
+    }
+  }
 }
 
 // Moving the upper sheet straight through the lower one: CCD stops it before the thickness, and

@@ -119,8 +119,8 @@ Vec12 SelfContactTerm::gather(const VecX& x, const Pair& pair) const {
 }
 
 template <class Accept>
-void SelfContactTerm::collect_pairs(const VecX& x, const VecX& y, double grow, Accept&& accept,
-                                    std::vector<Pair>& out) const {
+void SelfContactTerm::collect_pairs(const VecX& x, const VecX& y, double grow, Accept&& accept, std::vector<Pair>& out,
+                                    double window) const {
   // Every primitive belongs to one grid cell (quad) whose box, over x and y and grown, holds its own:
   // a box hash of the quads (a quarter of the boxes of the triangles and edges, and fewer cells each)
   // finds the quad pairs whose boxes overlap, and within each the primitives' own boxes decide.
@@ -161,8 +161,14 @@ void SelfContactTerm::collect_pairs(const VecX& x, const VecX& y, double grow, A
     const Pair pair{Kind::EdgeEdge, {a[0], a[1], b[0], b[1]}};
     if (accept(pair)) out.push_back(pair);
   };
-  for (int q = 0; q < static_cast<int>(quads_.size()); ++q)
-    quad_hash_.for_each_overlap(quad_boxes_[q], [&](int r) { return r < q; }, [&](int r) {
+  // With a window, a pair of quads whose drifts sum below it is skipped, and one of them drifts by
+  // half the window or more: only those query, each pair of them once.
+  const bool all = window <= 0.0;
+  const auto queries = [&](int q) { return all || quad_drift_[q] >= 0.5 * window; };
+  for (int q = 0; q < static_cast<int>(quads_.size()); ++q) {
+    if (!queries(q)) continue;
+    const auto skip = [&](int r) { return (r < q && queries(r)) || (!all && quad_drift_[q] + quad_drift_[r] < window); };
+    quad_hash_.for_each_overlap(quad_boxes_[q], skip, [&](int r) {
       point_triangle(q, r);
       if (r != q) point_triangle(r, q);
       // Each edge pair once, the lower edge first (edges_ is sorted, and so is each quad's list).
@@ -170,6 +176,7 @@ void SelfContactTerm::collect_pairs(const VecX& x, const VecX& y, double grow, A
         for (int l = r == q ? k + 1 : quad_edge_start_[r]; l < quad_edge_start_[r + 1]; ++l)
           edge_edge(std::min(quad_edges_[k], quad_edges_[l]), std::max(quad_edges_[k], quad_edges_[l]));
     });
+  }
   std::sort(out.begin(), out.end());
 }
 
@@ -230,28 +237,91 @@ void SelfContactTerm::block_motion(const VecX& x_from, const VecX& x_to) const {
     }
 }
 
+void SelfContactTerm::drift(const VecX& x_from, const VecX& x_to, const VecX& centre) const {
+  const int n = grid_.vertex_count();
+  Vec3 mean_from = Vec3::Zero(), mean_to = Vec3::Zero();
+  for (int v = 0; v < n; ++v) {
+    mean_from += x_from.segment<3>(3 * v) - centre.segment<3>(3 * v);
+    mean_to += x_to.segment<3>(3 * v) - centre.segment<3>(3 * v);
+  }
+  mean_from /= static_cast<double>(n);
+  mean_to /= static_cast<double>(n);
+  drift_.resize(n);
+  for (int v = 0; v < n; ++v)
+    drift_[v] = std::max((x_from.segment<3>(3 * v) - centre.segment<3>(3 * v) - mean_from).norm(),
+                         (x_to.segment<3>(3 * v) - centre.segment<3>(3 * v) - mean_to).norm());
+}
+
 void SelfContactTerm::find_swept_far_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const {
-  // Distances do not change under a common translation: in the frame that moves with the mean
-  // displacement, a cloth falling as a whole sweeps no volume, and only the pairs whose motion
-  // relative to it brings them within the thickness are tried.
+  // A far pair that is not a candidate was thickness + dhat + 2s or more apart at the centre, and its
+  // primitives come nearer by at most the sum of their vertices' largest drifts from the centre
+  // (translated by the mean displacement) over the move, which the ends bound (the drift of a
+  // straight path is a convex function): only the pairs whose drifts sum to dhat + 2s or more can
+  // come within the thickness. Distances do not change under a common translation either: in the
+  // frame that moves with the move's mean displacement, a cloth falling as a whole sweeps no volume,
+  // and only the pairs whose motion relative to it brings them within the thickness are tried.
+  drift(x_from, x_to, far_centre_);
+  quad_drift_.resize(quads_.size());
+  for (std::size_t q = 0; q < quads_.size(); ++q) {
+    quad_drift_[q] = 0.0;
+    for (const int v : quads_[q]) quad_drift_[q] = std::max(quad_drift_[q], drift_[v]);
+  }
   const Eigen::Index n = grid_.vertex_count();
   Vec3 mean = Vec3::Zero();
   for (Eigen::Index v = 0; v < n; ++v) mean += x_to.segment<3>(3 * v) - x_from.segment<3>(3 * v);
   mean /= static_cast<double>(n);
   moved_ = x_to;
   for (Eigen::Index v = 0; v < n; ++v) moved_.segment<3>(3 * v) -= mean;
-  collect_pairs(x_from, moved_, 0.5 * params_.thickness, [](const Pair&) { return true; }, out);
+  collect_pairs(x_from, moved_, 0.5 * params_.thickness, [](const Pair&) { return true; }, swept_,
+                params_.range + 2.0 * far_slack_);
+  out.clear();
+  std::set_union(swept_.begin(), swept_.end(), far_candidates_.begin(), far_candidates_.end(), std::back_inserter(out));
 }
 
 void SelfContactTerm::find_swept_neighbour_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const {
-  // A neighbour comes no nearer than its plane's clearance at x_from less the largest difference of
-  // two of its vertices' displacements, which its first vertex's block bounds.
+  // As for the far pairs, a neighbour that is not a candidate can come within the thickness only if
+  // its vertices' drifts from the centre sum to dhat + 2s or more; twice the largest drift in its
+  // first vertex's 7 x 7 block bounds that sum. Such a neighbour comes no nearer than its plane's
+  // clearance at x_from less the largest difference of two of its vertices' displacements, which the
+  // same block bounds.
+  drift(x_from, x_to, neighbour_centre_);
+  block_maximum(drift_, block_drift_);
+  const double window = params_.range + 2.0 * neighbour_slack_;
+  swept_.clear();
+  bool prepared = false;
+  for (const NeighbourPair& neighbour : neighbours_) {
+    const int first = neighbour.pair.vertices[0];
+    if (2.0 * block_drift_[first] < window) continue;
+    if (!prepared) {
+      plane_normals_.compute(x_from, triangles_, edges_);
+      block_motion(x_from, x_to);
+      prepared = true;
+    }
+    if (neighbour.plane.separation(x_from, plane_normals_) - motion_[first] < params_.thickness)
+      swept_.push_back(neighbour.pair);
+  }
   out.clear();
-  plane_normals_.compute(x_from, triangles_, edges_);
-  block_motion(x_from, x_to);
-  for (const NeighbourPair& neighbour : neighbours_)
-    if (neighbour.plane.separation(x_from, plane_normals_) - motion_[neighbour.pair.vertices[0]] < params_.thickness)
-      out.push_back(neighbour.pair);
+  std::set_union(swept_.begin(), swept_.end(), neighbour_candidates_.begin(), neighbour_candidates_.end(),
+                 std::back_inserter(out));
+}
+
+void SelfContactTerm::block_maximum(const std::vector<double>& value, std::vector<double>& out) const {
+  // Separable sliding maxima over each vertex's 7 x 7 block (radius 3), as block_motion's ranges.
+  const int rows = grid_.rows, cols = grid_.cols;
+  block_scratch_.resize(value.size());
+  out.resize(value.size());
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < cols; ++j) {
+      double m = value[i * cols + j];
+      for (int k = std::max(0, j - 3); k <= std::min(cols - 1, j + 3); ++k) m = std::max(m, value[i * cols + k]);
+      block_scratch_[i * cols + j] = m;
+    }
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < cols; ++j) {
+      double m = block_scratch_[i * cols + j];
+      for (int k = std::max(0, i - 3); k <= std::min(rows - 1, i + 3); ++k) m = std::max(m, block_scratch_[k * cols + j]);
+      out[i * cols + j] = m;
+    }
 }
 
 double SelfContactTerm::pair_distance(const VecX& x, const Pair& pair) const {

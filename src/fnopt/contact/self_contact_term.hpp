@@ -32,12 +32,14 @@
 // below a cell (a search's cost grows fast with its radius). Both are at most 4 (thickness + dhat), so
 // that a coarse grid's folds do not hold pairs far out of range.
 // CCD from x_from to x_to uses a list's candidates where both ends lie inside its region (the straight
-// path between them does too: its mean displacement is the same blend of theirs); otherwise, for the
-// far list, the pairs whose boxes, swept in the frame that moves with the mean displacement, come within
-// the thickness (distances do not change under a common translation, so a cloth falling as a whole
-// sweeps nothing there), and for the neighbours those whose plane's clearance at x_from is less than
-// the thickness plus their vertices' relative motion (the range of the displacements over a 7 x 7
-// block).
+// path between them does too: its mean displacement is the same blend of theirs); otherwise its
+// candidates and, among its other pairs, those whose vertices' drifts from the centre (translated by
+// the mean displacement, largest at an end of the move) sum to dhat + 2s or more, since no other one
+// can come within the thickness: for the far list, those whose boxes, swept in the frame that moves
+// with the mean displacement, come within the thickness (distances do not change under a common
+// translation, so a cloth falling as a whole sweeps nothing there), and for the neighbours those whose
+// plane's clearance at x_from is less than the thickness plus their vertices' relative motion (the
+// range of the displacements over a 7 x 7 block).
 // The Hessian pattern holds the candidates and the friction pairs; it changes (pattern_generation())
 // only when a rebuild finds a pair it lacks.
 // Friction between layers: IPC's lagged friction, as the meshes' (mesh_contact_term.hpp), on the
@@ -113,15 +115,22 @@ class SelfContactTerm final : public EnergyTerm {
   // Whether x lies inside both lists' regions.
   bool inside(const VecX& x) const;
   // The far pairs (primitives sharing no vertex, not neighbours) whose boxes over x and y, grown by
-  // `grow`, overlap and that `accept` takes, into `out`, sorted.
+  // `grow`, overlap and that `accept` takes, into `out`, sorted. With a positive `window`, only
+  // those whose quads' drifts (quad_drift_) sum to the window or more.
   template <class Accept>
-  void collect_pairs(const VecX& x, const VecX& y, double grow, Accept&& accept, std::vector<Pair>& out) const;
+  void collect_pairs(const VecX& x, const VecX& y, double grow, Accept&& accept, std::vector<Pair>& out,
+                     double window = 0.0) const;
+  // drift_[v]: the larger of vertex v's distances from `centre` translated by the mean displacement,
+  // at x_from and at x_to.
+  void drift(const VecX& x_from, const VecX& x_to, const VecX& centre) const;
+  // out[v]: the largest value over vertex v's 7 x 7 block.
+  void block_maximum(const std::vector<double>& value, std::vector<double>& out) const;
   // The far pairs, the neighbours, and all pairs within thickness + dhat + 2 radius at x, sorted.
   void find_far_pairs(const VecX& x, double radius, std::vector<Pair>& out) const;
   void find_neighbour_pairs(const VecX& x, double radius, std::vector<Pair>& out) const;
   void find_near_pairs(const VecX& x, double radius, std::vector<Pair>& out) const;
   // The far pairs and the neighbours that may come within the thickness on the move from x_from to
-  // x_to (see above), sorted.
+  // x_to (see above), their list's candidates among them, sorted.
   void find_swept_far_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const;
   void find_swept_neighbour_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const;
   // out = the sorted union of the sorted, disjoint a and b.
@@ -186,7 +195,8 @@ class SelfContactTerm final : public EnergyTerm {
   mutable VecX moved_;
   mutable PlaneNormals plane_normals_;
   mutable VecX low_, high_, scratch_low_, scratch_high_, motion_;
-  mutable std::vector<Pair> evaluation_pairs_, far_found_, neighbour_found_;
+  mutable std::vector<Pair> evaluation_pairs_, far_found_, neighbour_found_, swept_;
+  mutable std::vector<double> drift_, quad_drift_, block_drift_, block_scratch_;
   mutable std::vector<Pair> move_candidates_;
   mutable std::vector<Box> vertex_boxes_, triangle_boxes_, edge_boxes_, quad_boxes_;
   mutable BoxHash quad_hash_;
