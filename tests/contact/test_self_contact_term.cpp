@@ -30,8 +30,8 @@ VecX folded(const Grid& grid, double gap) {
   return x;
 }
 
-// The barrier summed over every pair of primitives that share no vertex, by brute force.
-double every_pair_energy(const Grid& grid, const SelfContactParams& params, const VecX& x) {
+// The grid's edges, each once, sorted.
+std::vector<std::array<int, 2>> grid_edges(const Grid& grid) {
   const auto triangles = grid.triangles();
   std::vector<std::array<int, 2>> edges;
   for (Eigen::Index t = 0; t < triangles.rows(); ++t)
@@ -41,6 +41,13 @@ double every_pair_energy(const Grid& grid, const SelfContactParams& params, cons
     }
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
+// The barrier summed over every pair of primitives that share no vertex, by brute force.
+double every_pair_energy(const Grid& grid, const SelfContactParams& params, const VecX& x) {
+  const auto triangles = grid.triangles();
+  const std::vector<std::array<int, 2>> edges = grid_edges(grid);
   const VecX rest = grid.rest_positions();
   auto local = [](const VecX& y, int a, int b, int c, int d) {
     Vec12 s;
@@ -70,14 +77,7 @@ double every_pair_energy(const Grid& grid, const SelfContactParams& params, cons
 // vertex, by brute force.
 double every_pair_safe_fraction(const Grid& grid, const SelfContactParams& params, const VecX& from, const VecX& to) {
   const auto triangles = grid.triangles();
-  std::vector<std::array<int, 2>> edges;
-  for (Eigen::Index t = 0; t < triangles.rows(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = triangles(t, k), b = triangles(t, (k + 1) % 3);
-      edges.push_back({std::min(a, b), std::max(a, b)});
-    }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  const std::vector<std::array<int, 2>> edges = grid_edges(grid);
   auto p = [](const VecX& y, int v) { return Vec3(y.segment<3>(3 * v)); };
   double fraction = 1.0;
   for (int v = 0; v < grid.vertex_count(); ++v)
