@@ -33,6 +33,36 @@ Vec12 stencil(const VecX& x, int a, int b, int c, int d) {
   return local;
 }
 
+// The mean over the vertices of x - y.
+Vec3 mean_difference(const VecX& x, const VecX& y) {
+  const Eigen::Index n = x.size() / 3;
+  Vec3 mean = Vec3::Zero();
+  for (Eigen::Index v = 0; v < n; ++v) mean += x.segment<3>(3 * v) - y.segment<3>(3 * v);
+  mean /= static_cast<double>(n);
+  return mean;
+}
+
+// out[v]: in's values over vertex v's 7 x 7 block (radius 3) folded by `combine` (associative and
+// commutative), separably: along the rows into scratch, then along the columns.
+template <class T, class Combine>
+void block_fold(int rows, int cols, const std::vector<T>& in, std::vector<T>& scratch, std::vector<T>& out,
+                Combine combine) {
+  scratch.resize(in.size());
+  out.resize(in.size());
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < cols; ++j) {
+      T folded = in[i * cols + j];
+      for (int k = std::max(0, j - 3); k <= std::min(cols - 1, j + 3); ++k) folded = combine(folded, in[i * cols + k]);
+      scratch[i * cols + j] = folded;
+    }
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < cols; ++j) {
+      T folded = scratch[i * cols + j];
+      for (int k = std::max(0, i - 3); k <= std::min(rows - 1, i + 3); ++k) folded = combine(folded, scratch[k * cols + j]);
+      out[i * cols + j] = folded;
+    }
+}
+
 double point_triangle_distance(const Vec12& local) {
   return std::sqrt(point_triangle_squared_distance(local, point_triangle_distance_type(local)));
 }
@@ -99,9 +129,7 @@ bool SelfContactTerm::within_slack(const VecX& x, const VecX& centre, double sla
   // Distances do not change under a common translation: the vertices' displacements from the
   // centre are measured from their mean, so that a cloth falling as a whole stays inside.
   const int n = grid_.vertex_count();
-  Vec3 mean = Vec3::Zero();
-  for (int v = 0; v < n; ++v) mean += x.segment<3>(3 * v) - centre.segment<3>(3 * v);
-  mean /= static_cast<double>(n);
+  const Vec3 mean = mean_difference(x, centre);
   const double r2 = slack * slack;
   for (int v = 0; v < n; ++v)
     if (!((x.segment<3>(3 * v) - centre.segment<3>(3 * v) - mean).squaredNorm() <= r2)) return false;
@@ -125,14 +153,18 @@ void SelfContactTerm::collect_pairs(const VecX& x, const VecX& y, double grow, A
   // a box hash of the quads (a quarter of the boxes of the triangles and edges, and fewer cells each)
   // finds the quad pairs whose boxes overlap, and within each the primitives' own boxes decide.
   out.clear();
+  vertex_boxes_.resize(grid_.vertex_count());
+  for (int v = 0; v < grid_.vertex_count(); ++v) {
+    vertex_boxes_[v] = primitive_box(x, std::array<int, 1>{v});
+    vertex_boxes_[v].add(primitive_box(y, std::array<int, 1>{v}));
+    vertex_boxes_[v].grow(grow);
+  }
+  // A primitive's box over x and y, grown, is its vertices' boxes' union.
   const auto box_of = [&](const auto& vertices) {
-    Box box = primitive_box(x, vertices);
-    box.add(primitive_box(y, vertices));
-    box.grow(grow);
+    Box box;
+    for (const int v : vertices) box.add(vertex_boxes_[v]);
     return box;
   };
-  vertex_boxes_.resize(grid_.vertex_count());
-  for (int v = 0; v < grid_.vertex_count(); ++v) vertex_boxes_[v] = box_of(std::array<int, 1>{v});
   triangle_boxes_.resize(triangles_.size());
   for (std::size_t t = 0; t < triangles_.size(); ++t) triangle_boxes_[t] = box_of(triangles_[t]);
   edge_boxes_.resize(edges_.size());
@@ -207,45 +239,24 @@ void SelfContactTerm::merge(const std::vector<Pair>& a, const std::vector<Pair>&
 
 void SelfContactTerm::block_motion(const VecX& x_from, const VecX& x_to) const {
   // Per component, the range of the displacements over each vertex's 7 x 7 block (radius 3: it holds
-  // every vertex of a neighbour pair whose first vertex it is), by separable sliding minima and maxima.
-  const int rows = grid_.rows, cols = grid_.cols;
-  const Eigen::Index n = grid_.vertex_count();
-  low_.resize(3 * n);
-  high_.resize(3 * n);
-  scratch_low_.resize(3 * n);
-  scratch_high_.resize(3 * n);
-  const VecX displacement = x_to - x_from;
-  for (int i = 0; i < rows; ++i)
-    for (int j = 0; j < cols; ++j)
-      for (int c = 0; c < 3; ++c) {
-        double lo = displacement[3 * (i * cols + j) + c], hi = lo;
-        for (int k = std::max(0, j - 3); k <= std::min(cols - 1, j + 3); ++k)
-          lo = std::min(lo, displacement[3 * (i * cols + k) + c]), hi = std::max(hi, displacement[3 * (i * cols + k) + c]);
-        scratch_low_[3 * (i * cols + j) + c] = lo, scratch_high_[3 * (i * cols + j) + c] = hi;
-      }
+  // every vertex of a neighbour pair whose first vertex it is): the block's box of displacements.
+  const int n = grid_.vertex_count();
+  displacement_boxes_.resize(n);
+  for (int v = 0; v < n; ++v) {
+    displacement_boxes_[v] = Box();
+    displacement_boxes_[v].add(Vec3(x_to.segment<3>(3 * v) - x_from.segment<3>(3 * v)));
+  }
+  block_fold(grid_.rows, grid_.cols, displacement_boxes_, box_scratch_, block_boxes_, [](Box a, const Box& b) {
+    a.add(b);
+    return a;
+  });
   motion_.resize(n);
-  for (int i = 0; i < rows; ++i)
-    for (int j = 0; j < cols; ++j) {
-      Vec3 range;
-      for (int c = 0; c < 3; ++c) {
-        double lo = scratch_low_[3 * (i * cols + j) + c], hi = scratch_high_[3 * (i * cols + j) + c];
-        for (int k = std::max(0, i - 3); k <= std::min(rows - 1, i + 3); ++k)
-          lo = std::min(lo, scratch_low_[3 * (k * cols + j) + c]), hi = std::max(hi, scratch_high_[3 * (k * cols + j) + c]);
-        range[c] = hi - lo;
-      }
-      motion_[i * cols + j] = range.norm();
-    }
+  for (int v = 0; v < n; ++v) motion_[v] = (block_boxes_[v].upper - block_boxes_[v].lower).norm();
 }
 
 void SelfContactTerm::drift(const VecX& x_from, const VecX& x_to, const VecX& centre) const {
   const int n = grid_.vertex_count();
-  Vec3 mean_from = Vec3::Zero(), mean_to = Vec3::Zero();
-  for (int v = 0; v < n; ++v) {
-    mean_from += x_from.segment<3>(3 * v) - centre.segment<3>(3 * v);
-    mean_to += x_to.segment<3>(3 * v) - centre.segment<3>(3 * v);
-  }
-  mean_from /= static_cast<double>(n);
-  mean_to /= static_cast<double>(n);
+  const Vec3 mean_from = mean_difference(x_from, centre), mean_to = mean_difference(x_to, centre);
   drift_.resize(n);
   for (int v = 0; v < n; ++v)
     drift_[v] = std::max((x_from.segment<3>(3 * v) - centre.segment<3>(3 * v) - mean_from).norm(),
@@ -266,12 +277,9 @@ void SelfContactTerm::find_swept_far_pairs(const VecX& x_from, const VecX& x_to,
     quad_drift_[q] = 0.0;
     for (const int v : quads_[q]) quad_drift_[q] = std::max(quad_drift_[q], drift_[v]);
   }
-  const Eigen::Index n = grid_.vertex_count();
-  Vec3 mean = Vec3::Zero();
-  for (Eigen::Index v = 0; v < n; ++v) mean += x_to.segment<3>(3 * v) - x_from.segment<3>(3 * v);
-  mean /= static_cast<double>(n);
+  const Vec3 mean = mean_difference(x_to, x_from);
   moved_ = x_to;
-  for (Eigen::Index v = 0; v < n; ++v) moved_.segment<3>(3 * v) -= mean;
+  for (Eigen::Index v = 0; v < grid_.vertex_count(); ++v) moved_.segment<3>(3 * v) -= mean;
   collect_pairs(x_from, moved_, 0.5 * params_.thickness, [](const Pair&) { return true; }, swept_,
                 params_.range + 2.0 * far_slack_);
   out.clear();
@@ -285,7 +293,8 @@ void SelfContactTerm::find_swept_neighbour_pairs(const VecX& x_from, const VecX&
   // clearance at x_from less the largest difference of two of its vertices' displacements, which the
   // same block bounds.
   drift(x_from, x_to, neighbour_centre_);
-  block_maximum(drift_, block_drift_);
+  block_fold(grid_.rows, grid_.cols, drift_, drift_scratch_, block_drift_,
+             [](double a, double b) { return std::max(a, b); });
   const double window = params_.range + 2.0 * neighbour_slack_;
   swept_.clear();
   bool prepared = false;
@@ -303,25 +312,6 @@ void SelfContactTerm::find_swept_neighbour_pairs(const VecX& x_from, const VecX&
   out.clear();
   std::set_union(swept_.begin(), swept_.end(), neighbour_candidates_.begin(), neighbour_candidates_.end(),
                  std::back_inserter(out));
-}
-
-void SelfContactTerm::block_maximum(const std::vector<double>& value, std::vector<double>& out) const {
-  // Separable sliding maxima over each vertex's 7 x 7 block (radius 3), as block_motion's ranges.
-  const int rows = grid_.rows, cols = grid_.cols;
-  block_scratch_.resize(value.size());
-  out.resize(value.size());
-  for (int i = 0; i < rows; ++i)
-    for (int j = 0; j < cols; ++j) {
-      double m = value[i * cols + j];
-      for (int k = std::max(0, j - 3); k <= std::min(cols - 1, j + 3); ++k) m = std::max(m, value[i * cols + k]);
-      block_scratch_[i * cols + j] = m;
-    }
-  for (int i = 0; i < rows; ++i)
-    for (int j = 0; j < cols; ++j) {
-      double m = block_scratch_[i * cols + j];
-      for (int k = std::max(0, i - 3); k <= std::min(rows - 1, i + 3); ++k) m = std::max(m, block_scratch_[k * cols + j]);
-      out[i * cols + j] = m;
-    }
 }
 
 double SelfContactTerm::pair_distance(const VecX& x, const Pair& pair) const {

@@ -123,8 +123,6 @@ class SelfContactTerm final : public EnergyTerm {
   // drift_[v]: the larger of vertex v's distances from `centre` translated by the mean displacement,
   // at x_from and at x_to.
   void drift(const VecX& x_from, const VecX& x_to, const VecX& centre) const;
-  // out[v]: the largest value over vertex v's 7 x 7 block.
-  void block_maximum(const std::vector<double>& value, std::vector<double>& out) const;
   // The far pairs, the neighbours, and all pairs within thickness + dhat + 2 radius at x, sorted.
   void find_far_pairs(const VecX& x, double radius, std::vector<Pair>& out) const;
   void find_neighbour_pairs(const VecX& x, double radius, std::vector<Pair>& out) const;
@@ -194,9 +192,10 @@ class SelfContactTerm final : public EnergyTerm {
   // the searches' scratch
   mutable VecX moved_;
   mutable PlaneNormals plane_normals_;
-  mutable VecX low_, high_, scratch_low_, scratch_high_, motion_;
+  mutable VecX motion_;
+  mutable std::vector<Box> displacement_boxes_, block_boxes_, box_scratch_;
   mutable std::vector<Pair> evaluation_pairs_, far_found_, neighbour_found_, swept_;
-  mutable std::vector<double> drift_, quad_drift_, block_drift_, block_scratch_;
+  mutable std::vector<double> drift_, quad_drift_, block_drift_, drift_scratch_;
   mutable std::vector<Pair> move_candidates_;
   mutable std::vector<Box> vertex_boxes_, triangle_boxes_, edge_boxes_, quad_boxes_;
   mutable BoxHash quad_hash_;
