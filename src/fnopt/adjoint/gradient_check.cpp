@@ -102,14 +102,15 @@ void add_comparison(GradientCheckRow& row, double adjoint, const Sweep& sweep, c
   row.adjoint_norm = std::hypot(row.adjoint_norm, adjoint);
   row.finite_difference_norm = std::hypot(row.finite_difference_norm, difference);
   const double error = relative_distance(adjoint, difference);
-  const bool unsettled_before = row.unreliable.rfind("central differences", 0) == 0;
-  if (!settles && !unsettled_before)
+  if (!settles && row.settled) {
+    row.settled = false;
     row.unreliable = "central differences do not settle as the step shrinks (" + sweep.text() + "; the adjoint " +
                      number_text(adjoint) + ")";
-  else if (settles && !unsettled_before && error > params.agreement && error > row.max_relative_error)
+  } else if (settles && row.settled && error > params.agreement && error > row.max_relative_error) {
     row.unreliable = "the adjoint's " + number_text(adjoint) + " against central differences' " +
                      number_text(difference) + (sweep.steps.size() > 1 ? ", where they settled" : "") +
                      " (relative error " + number_text(error) + ")";
+  }
   row.max_relative_error = std::max(row.max_relative_error, error);
 }
 
@@ -203,8 +204,7 @@ class GradientChecker {
   // Central differences in k (or ln k) against the adjoint, both in log units (k dL/dk) so that the
   // plain form's difference needs no division by k.
   void check_material(AdjointParameter parameter, GradientCheckRow& row) const {
-    Material material = scene_.scene.material;
-    const double k = material_coefficient(material, parameter);
+    const double k = material_coefficient(scene_.scene.material, parameter);
     const Sweep differences = sweep(params_.material_step, [&](double e) {
       ResolvedScene plus = scene_, minus = scene_;
       material_coefficient(plus.scene.material, parameter) = params_.log_coordinates ? k * std::exp(e) : k * (1.0 + e);

@@ -63,6 +63,7 @@ struct GradientCheckRow {
   double adjoint_norm = 0.0;            // of the compared adjoint values
   double finite_difference_norm = 0.0;  // of the central differences
   double max_relative_error = 0.0;      // against each comparison's settled (or only) difference
+  bool settled = true;                  // every comparison's differences settled (always, without a sweep)
   // Empty where the kind agrees; else why it is unreliable: its differences did not settle (with the
   // sweep of its first such comparison), or they settled away from the adjoint (its largest error).
   std::string unreliable;

@@ -45,4 +45,8 @@ double& material_coefficient(Material& material, AdjointParameter parameter) {
   return select<Material, double>(material, parameter);
 }
 
+double material_coefficient(const Material& material, AdjointParameter parameter) {
+  return select<const Material, const double>(material, parameter);
+}
+
 }  // namespace fnopt

@@ -23,5 +23,6 @@ struct MaterialGradient {
 
 // The material's value of a coefficient kind; throws Error("parameter", ...) for another kind.
 double& material_coefficient(Material& material, AdjointParameter parameter);
+double material_coefficient(const Material& material, AdjointParameter parameter);
 
 }  // namespace fnopt

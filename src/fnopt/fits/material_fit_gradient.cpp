@@ -114,8 +114,7 @@ GradientMaterialFitResult fit_material_by_gradient(const std::vector<GradientFit
     const CoefficientRange& range = params.ranges.at(params.fit[i]);
     lower[i] = std::log(range.low);
     upper[i] = std::log(range.high);
-    Material m = start;
-    x0[i] = std::clamp(std::log(material_coefficient(m, params.fit[i])), lower[i], upper[i]);
+    x0[i] = std::clamp(std::log(material_coefficient(start, params.fit[i])), lower[i], upper[i]);
   }
   const auto material_at = [&](const VecX& x) {
     Material m = start;
