@@ -580,10 +580,8 @@ void MeshContactTerm::clear_carried_start(VecX& x_safe) const {
       const Eigen::Vector4d w = pair.kind == Kind::ClothEdgeMeshEdge
                                     ? edge_edge_closest_weights(local, edge_edge_distance_type(local))
                                     : point_triangle_closest_weights(local, point_triangle_distance_type(local));
-      // sum_k w_k x_k runs from the second primitive's closest point to the first's; the cloth's is the
-      // first but for a mesh point over a cloth triangle.
-      Vec3 apart = Vec3::Zero();
-      for (int k = 0; k < 4; ++k) apart += w[k] * local.segment<3>(3 * k);
+      // The cloth's closest point is the first but for a mesh point over a cloth triangle.
+      Vec3 apart = closest_points_difference(local, w);
       if (pair.kind == Kind::MeshPointClothTriangle) apart = -apart;
       const double distance = apart.norm();
       if (!(distance > 0.0 && distance < clearance)) continue;

@@ -375,6 +375,12 @@ Eigen::Vector4d edge_edge_closest_weights(const Vec12& x, EdgeEdgeDistanceType t
   return closest_weights(x, feature_pair(type));
 }
 
+Eigen::Vector3d closest_points_difference(const Vec12& x, const Eigen::Vector4d& w) {
+  Eigen::Vector3d difference = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 4; ++k) difference += w[k] * x.segment<3>(3 * k);
+  return difference;
+}
+
 double edge_edge_mollifier_threshold(const Vec12& x_rest) {
   const double a = (vertex_of(x_rest, 1) - vertex_of(x_rest, 0)).squaredNorm();
   const double b = (vertex_of(x_rest, 3) - vertex_of(x_rest, 2)).squaredNorm();

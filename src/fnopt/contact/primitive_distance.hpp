@@ -74,6 +74,9 @@ int edge_edge_distance_vertices(EdgeEdgeDistanceType type, std::array<int, 4>& v
 // vertices leaves sum_k w_k x_k unchanged.
 Eigen::Vector4d point_triangle_closest_weights(const Vec12& x, PointTriangleDistanceType type);
 Eigen::Vector4d edge_edge_closest_weights(const Vec12& x, EdgeEdgeDistanceType type);
+// sum_k w_k x_k: the vector from the second primitive's closest point to the first's, for weights w
+// of the closest points above.
+Eigen::Vector3d closest_points_difference(const Vec12& x, const Eigen::Vector4d& w);
 
 // eps_x = 1e-3 |ea1 - ea0|^2 |eb1 - eb0|^2 at the rest positions x_rest = (ea0, ea1, eb0, eb1).
 double edge_edge_mollifier_threshold(const Vec12& x_rest);

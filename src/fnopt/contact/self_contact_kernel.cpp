@@ -139,8 +139,7 @@ double edge_edge_barrier(const EdgeEdgeBarrier& k, const Vec12& x, Vec12* grad, 
 // The frame from the closest points' weights w at x; `fallback` is the normal's direction where the
 // closest points coincide.
 ContactTangentFrame tangent_frame(const Vec12& x, const Eigen::Vector4d& w, const Vec3& fallback) {
-  Vec3 n = Vec3::Zero();
-  for (int k = 0; k < 4; ++k) n += w[k] * x.segment<3>(3 * k);
+  Vec3 n = closest_points_difference(x, w);
   if (!(n.squaredNorm() > 0.0)) n = fallback;
   if (!(n.squaredNorm() > 0.0)) n = Vec3::UnitZ();
   n.normalize();
