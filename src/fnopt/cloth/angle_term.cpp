@@ -7,11 +7,8 @@ namespace fnopt {
 
 namespace {
 
-AngleKernel::Vec gather(const VecX& x, const std::array<int, 3>& stencil) {
-  AngleKernel::Vec local;
-  for (int i = 0; i < 3; ++i) local.segment<3>(3 * i) = x.segment<3>(3 * stencil[i]);
-  return local;
-}
+// A stencil's coordinates, as the scalar kernel takes them.
+constexpr auto gather = &StencilTerm<AngleKernel>::gather;
 
 // The level the term runs at: Scalar for a layout the batches do not cover.
 SimdLevel batched_level(const AngleKernel& kernel, SimdLevel level) {
@@ -70,8 +67,7 @@ double AngleTerm::add_batches(long first, long count, const double* out, VecX& g
 }
 
 bool AngleTerm::serial() const {
-  return static_cast<long>(scalar_.stencils().size()) < StencilTerm<AngleKernel>::kParallelThreshold ||
-         omp_get_max_threads() == 1;
+  return StencilTerm<AngleKernel>::serial(static_cast<long>(scalar_.stencils().size()));
 }
 
 template <class AfterChunk, class Add>

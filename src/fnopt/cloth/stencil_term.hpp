@@ -33,6 +33,17 @@ class StencilTerm final : public EnergyTerm {
   const std::vector<Stencil>& stencils() const { return stencils_; }
   const Kernel& kernel() const { return kernel_; }
 
+  // The stencil's coordinates of x, as the kernel takes them.
+  static LocalVec gather(const VecX& x, const Stencil& stencil) {
+    LocalVec local;
+    for (int i = 0; i < N; ++i) local.template segment<3>(3 * i) = x.segment<3>(3 * stencil[i]);
+    return local;
+  }
+  // On one thread each stencil's gradient or matrix is added while it is in registers and L1:
+  // through the per-stencil buffers a fine cloth's angle stencils would write and read back tens
+  // of megabytes per Hessian (docs/design.md §6). The sums run in the same order either way.
+  static bool serial(long count) { return count < kParallelThreshold || omp_get_max_threads() == 1; }
+
   double energy(const VecX& x) const override {
     const long count = static_cast<long>(stencils_.size());
     double total = 0.0;
@@ -76,10 +87,6 @@ class StencilTerm final : public EnergyTerm {
   }
 
  private:
-  // On one thread each stencil's gradient or matrix is added while it is in registers and L1:
-  // through the per-stencil buffers a fine cloth's angle stencils would write and read back tens
-  // of megabytes per Hessian (docs/design.md §6). The sums run in the same order either way.
-  static bool serial(long count) { return count < kParallelThreshold || omp_get_max_threads() == 1; }
 
   // evaluate(s, locals...) fills stencil s's results and returns its energy; add(s, locals...) adds them
   // to the sums, in stencil order. In parallel the results go through the buffers (one per result).
@@ -104,12 +111,6 @@ class StencilTerm final : public EnergyTerm {
     for (long s = 0; s < count; ++s) total += evaluate(s, buffers[s]...);
     for (long s = 0; s < count; ++s) add(s, buffers[s]...);
     return total;
-  }
-
-  static LocalVec gather(const VecX& x, const Stencil& stencil) {
-    LocalVec local;
-    for (int i = 0; i < N; ++i) local.template segment<3>(3 * i) = x.segment<3>(3 * stencil[i]);
-    return local;
   }
 
   std::string name_;
