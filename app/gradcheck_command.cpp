@@ -58,14 +58,23 @@ void run_gradcheck(const GradcheckFlags& flags) {
       number_text(params.settle_tolerance).c_str(), threads, threads == 1 ? "" : "s");
   std::fflush(stdout);
   const GradientCheckResult result = gradient_check(scene, params);
-  std::printf("%-20s %6s %14s %14s %12s\n", "parameter", "checks", "|adjoint|", "|difference|", "rel. error");
+  std::printf("%-20s %6s %14s %14s %12s %12s\n", "parameter", "checks", "|adjoint|", "|difference|", "rel. error",
+              "valid below");
   for (const GradientCheckRow& row : result.rows)
-    std::printf("%-20s %6d %14.6e %14.6e %12.3e\n", to_string(row.parameter), row.comparisons, row.adjoint_norm,
-                row.finite_difference_norm, row.max_relative_error);
+    std::printf("%-20s %6d %14.6e %14.6e %12.3e %12.3e\n", to_string(row.parameter), row.comparisons,
+                row.adjoint_norm, row.finite_difference_norm, row.max_relative_error, row.valid_radius);
   for (const GradientCheckRow& row : result.rows)
     if (!row.unreliable.empty()) std::printf("unreliable: %s: %s\n", to_string(row.parameter), row.unreliable.c_str());
   std::printf("backward pass: %s", to_string(result.status));
   if (result.saddle_steps > 0) std::printf(", %d steps at saddles", result.saddle_steps);
+  const GradientVerdict& verdict = result.verdict;
+  std::printf(", %s", to_string(verdict.conditioning));
+  if (verdict.conditioning != GradientConditioning::NotMeasured)
+    std::printf(
+        " (start positions valid below %.3e m, frame %d binds; a start perturbation grows %.3g-fold; the solves' "
+        "residuals alone move it by %.1e; verdict %.1f ms)",
+        verdict.start_radius, verdict.binding_frame, std::exp(verdict.log_growth), verdict.precision,
+        verdict.measure_ms);
   std::printf("; forward %.1f ms, backward %.1f ms\n", result.forward_ms, result.backward_ms);
   std::printf("max relative error = %.3e\n", result.max_relative_error);
 }

@@ -10,6 +10,8 @@ The forward pass is `fnopt.record_rollout`, the backward pass the rollout's adjo
 (`RecordedRollout.gradients`). Importing this module imports torch (Debian's python3-torch); the
 package `fnopt` itself does not.
 """
+import warnings
+
 import numpy as np
 import torch
 
@@ -51,6 +53,7 @@ class RolloutFunction(torch.autograd.Function):
         for k, frame in enumerate(ctx.frames):
             dL_dX[frame] = dL_dX.get(frame, 0.0) + upstream[k]
         g = ctx.recorded.gradients(dL_dX)
+        warn_unless_well_conditioned(g["verdict"])
         as_tensor = lambda a: torch.as_tensor(np.asarray(a), dtype=grad_output.dtype)
         return (
             as_tensor([g[name] for name in COEFFICIENTS]),
@@ -62,6 +65,21 @@ class RolloutFunction(torch.autograd.Function):
             None,
             None,
         )
+
+
+class GradientWarning(UserWarning):
+    """A rollout's gradient that holds only for small perturbations, or not at all (docs/design.md §15)."""
+
+
+def warn_unless_well_conditioned(verdict):
+    """Warns (GradientWarning) with the backward pass's verdict where it is not 'well-conditioned'."""
+    if verdict["conditioning"] == "well-conditioned":
+        return
+    warnings.warn(
+        "fnopt: rollout gradient %s: valid for start perturbations below %.3g m (a start perturbation grows "
+        "%.3g-fold; the solves' residuals alone move it by %.1e)"
+        % (verdict["conditioning"], verdict["start_radius"], verdict["growth"], verdict["precision"]),
+        GradientWarning, stacklevel=2)
 
 
 def rollout(scene, material, handle_path=None, initial_positions=None, initial_velocities=None, frames=None,

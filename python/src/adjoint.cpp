@@ -5,6 +5,7 @@
 // fnopt.sample_surface give e_CD as such a loss (adjoint/rollout_loss.hpp).
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <optional>
 #include <sstream>
 
@@ -146,6 +147,31 @@ std::vector<FrameGradient> loss_gradient(const PyRecordedRollout& r, const py::h
   return gradient;
 }
 
+// The backward pass's verdict (gradient_verdict.hpp) and each kind's radius (GradientVerdict::radius).
+py::dict verdict_dict(const RolloutGradient& g) {
+  const GradientVerdict& v = g.verdict;
+  py::dict out, valid_below;
+  out["conditioning"] = to_string(v.conditioning);
+  out["start_radius"] = v.start_radius;
+  out["loss_radius"] = v.loss_radius;
+  out["binding_frame"] = v.binding_frame;
+  out["growth"] = std::exp(v.log_growth);
+  out["precision"] = v.precision;
+  const MaterialGradient& m = g.log_material;
+  for (const auto& [name, value] : {std::pair{"stretch", m.stretch}, {"shear", m.shear}, {"bend", m.bend},
+                                    {"density", m.density}, {"damping", m.damping}})
+    valid_below[name] = v.radius(std::abs(value));
+  valid_below["gravity"] = v.radius(m.gravity.norm());
+  double targets = 0.0;
+  for (const auto& step : g.handle_targets)
+    for (const Vec3& t : step) targets += t.squaredNorm();
+  valid_below["handle_targets"] = v.radius(std::sqrt(targets));
+  valid_below["initial_positions"] = v.radius(g.initial_positions.norm());
+  valid_below["initial_velocities"] = v.radius(g.initial_velocities.norm());
+  out["valid_below"] = valid_below;
+  return out;
+}
+
 py::dict gradients(const PyRecordedRollout& r, const py::handle& dL_dX) {
   const std::vector<FrameGradient> loss = loss_gradient(r, dL_dX);
   RolloutGradient g;
@@ -183,6 +209,8 @@ py::dict gradients(const PyRecordedRollout& r, const py::handle& dL_dX) {
   }
   out["initial_positions"] = grid_array(g.initial_positions, rows, cols);
   out["initial_velocities"] = grid_array(g.initial_velocities, rows, cols);
+  out["status"] = to_string(g.status);
+  out["verdict"] = verdict_dict(g);
   return out;
 }
 
@@ -281,7 +309,14 @@ dict
     By name: 'stretch', 'shear', 'bend', 'density', 'damping' (floats, dL/dk) and the same with
     'log_' (dL/dlog k), 'gravity' (3,), 'handle_targets' (steps, handles, 3) for each handle's
     target at frame s + 1, 'handle_path' (handles, K, 3) where the rollout followed a handle
-    path, 'initial_positions' and 'initial_velocities' (rows, cols, 3).)")
+    path, 'initial_positions' and 'initial_velocities' (rows, cols, 3); 'status' (the backward
+    pass's: 'exact', 'through-saddles', 'unconverged'), and 'verdict', how far the gradient holds
+    (docs/design.md §15): 'conditioning' ('well-conditioned', 'ill-conditioned',
+    'below-precision'), 'start_radius' (m: the start positions' perturbation along their gradient
+    below which the linearisation holds), 'loss_radius', 'binding_frame', 'growth' (how much the
+    rollout amplifies a start perturbation), 'precision' (the gradient's relative error from the
+    forward solves' residuals) and 'valid_below', each kind's radius along its gradient (the
+    material's relative, in log k).)")
       .def("chamfer_loss", &chamfer_loss, py::arg("observed"), py::arg("samples") = 10000,
            py::arg("seed") = ChamferOptions{}.seed, R"(e_CD of the rollout against observed points, and its dL/dX.
 

@@ -161,6 +161,15 @@ class GradientChecker {
   const RolloutGradient& gradient() const { return gradient_; }
 
   GradientCheckRow check(AdjointParameter parameter) {
+    GradientCheckRow row = compare(parameter);
+    if (!row.unreliable.empty() && gradient_.verdict.conditioning != GradientConditioning::NotMeasured)
+      row.unreliable += "; the backward pass's verdict: " + std::string(to_string(gradient_.verdict.conditioning)) +
+                        ", valid below " + number_text(row.valid_radius);
+    return row;
+  }
+
+ private:
+  GradientCheckRow compare(AdjointParameter parameter) {
     GradientCheckRow row;
     row.parameter = parameter;
     if (is_material_coefficient(parameter)) {
@@ -168,6 +177,7 @@ class GradientChecker {
       return row;
     }
     const VectorKind kind = vector_kind(parameter);
+    row.valid_radius = gradient_.verdict.radius(kind.adjoint.norm());
     for (int d = 0; d < params_.directions; ++d) {
       const VecX direction = tilted_direction(kind.adjoint, random_);
       add_comparison(row, kind.adjoint.dot(direction), sweep(params_.vector_step, [&](double e) {
@@ -177,7 +187,6 @@ class GradientChecker {
     return row;
   }
 
- private:
   // (adjoint . d, loss at p + e d as a function of e) for a vector kind.
   struct VectorKind {
     VecX adjoint;
@@ -214,6 +223,7 @@ class GradientChecker {
     });
     const double adjoint = params_.log_coordinates ? gradient_.log_material.coefficient(parameter)
                                                    : k * gradient_.material.coefficient(parameter);
+    row.valid_radius = gradient_.verdict.radius(std::abs(adjoint));
     add_comparison(row, adjoint, differences, params_);
   }
 
@@ -274,6 +284,7 @@ GradientCheckResult gradient_check(const ResolvedScene& scene, const GradientChe
   GradientChecker checker(scene, params, inputs);
   GradientCheckResult result;
   result.status = checker.gradient().status;
+  result.verdict = checker.gradient().verdict;
   result.saddle_steps = static_cast<int>(checker.gradient().saddle_steps.size());
   result.forward_ms = checker.base().forward_ms;
   result.backward_ms = checker.gradient().backward_ms;

@@ -64,6 +64,10 @@ struct GradientCheckRow {
   double finite_difference_norm = 0.0;  // of the central differences
   double max_relative_error = 0.0;      // against each comparison's settled (or only) difference
   bool settled = true;                  // every comparison's differences settled (always, without a sweep)
+  // The backward pass's verdict for this kind (GradientVerdict::radius of its gradient): the
+  // perturbation below which the gradient holds, in the kind's step unit (relative for a material
+  // coefficient, the parameter's unit along a unit direction for a vector).
+  double valid_radius = 0.0;
   // Empty where the kind agrees; else why it is unreliable: its differences did not settle (with the
   // sweep of its first such comparison), or they settled away from the adjoint (its largest error).
   std::string unreliable;
@@ -73,6 +77,7 @@ struct GradientCheckResult {
   std::vector<GradientCheckRow> rows;  // in params.parameters' order
   double max_relative_error = 0.0;     // over the rows
   AdjointStatus status = AdjointStatus::Exact;  // the base rollout's backward pass
+  GradientVerdict verdict;                      // and its verdict
   int saddle_steps = 0;
   double forward_ms = 0.0;   // the base rollout's forward pass
   double backward_ms = 0.0;  // its backward pass

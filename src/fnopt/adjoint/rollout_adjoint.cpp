@@ -3,67 +3,11 @@
 #include <algorithm>
 #include <chrono>
 
-#include <fnopt/adjoint/exact_stepper.hpp>
+#include <fnopt/adjoint/step_states.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {
-
-// Each step's (x_s, v_s, a_s) for the backward pass, s descending: the record's, or with
-// checkpoints the segment holding s re-simulated from its checkpoint.
-class StepStates {
- public:
-  explicit StepStates(const RecordedRollout& rollout) : rollout_(&rollout) {}
-
-  void load(int s) {
-    const int interval = rollout_->options.checkpoint_interval;
-    if (interval == 0) {
-      x_ = &rollout_->positions[s];
-      v_ = &rollout_->velocities[s];
-      a_ = &rollout_->accelerations[s];
-      return;
-    }
-    if (begin_ < 0 || s < begin_) resimulate(s / interval * interval, interval);
-    x_ = &x_segment_[s - begin_];
-    v_ = &v_segment_[s - begin_];
-    a_ = &a_segment_[s - begin_];
-  }
-  const VecX& x() const { return *x_; }
-  const VecX& v() const { return *v_; }
-  const VecX& a() const { return *a_; }
-  int resimulated_steps() const { return resimulated_; }
-  double resimulation_error() const { return error_; }
-
- private:
-  void resimulate(int begin, int interval) {
-    const RecordedRollout& r = *rollout_;
-    const int end = std::min(begin + interval, r.step_count());
-    begin_ = begin;
-    x_segment_.assign(1, r.positions[begin]);
-    v_segment_.assign(1, r.velocities[begin]);
-    a_segment_.clear();
-    ExactStepper stepper(r.scene, r.options, r.positions[begin], r.velocities[begin], begin, true);
-    for (int t = begin; t < end; ++t) {
-      VecX a;
-      stepper.step(r.handle_targets[t], nullptr, nullptr, {}, a);
-      require(!stepper.diverged(), "rollout", "a re-simulated segment " + stepper.divergence());
-      a_segment_.push_back(std::move(a));
-      error_ = std::max(error_, (stepper.positions() - r.positions[t + 1]).cwiseAbs().maxCoeff());
-      ++resimulated_;
-      if (t + 1 < end) {
-        x_segment_.push_back(stepper.positions());
-        v_segment_.push_back(stepper.velocities());
-      }
-    }
-  }
-
-  const RecordedRollout* rollout_;
-  const VecX *x_ = nullptr, *v_ = nullptr, *a_ = nullptr;
-  int begin_ = -1;  // the re-simulated segment's first step
-  std::vector<VecX> x_segment_, v_segment_, a_segment_;
-  int resimulated_ = 0;
-  double error_ = 0.0;
-};
 
 // The loss gradient's terms summed per frame (empty where a frame has none). Throws
 // Error("loss", ...) for a frame outside the rollout or a gradient of the wrong size.
@@ -186,6 +130,11 @@ RolloutGradient backpropagate(const RecordedRollout& rollout, const std::vector<
   out.factorizations = step.factorizations();
   out.solves = step.solves();
   out.backward_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
+  if (params.verdict && is_complete(out.status)) {
+    int last_loss_frame = 0;
+    for (const FrameGradient& term : loss_gradient) last_loss_frame = std::max(last_loss_frame, term.frame);
+    out.verdict = gradient_verdict(rollout, out.initial_positions, last_loss_frame);
+  }
   return out;
 }
 

@@ -19,6 +19,7 @@
 // checkpointed record's steps are re-simulated segment by segment from its checkpoints, last first.
 #include <vector>
 
+#include <fnopt/adjoint/gradient_verdict.hpp>
 #include <fnopt/adjoint/recorded_rollout.hpp>
 #include <fnopt/adjoint/step_linearization.hpp>
 
@@ -31,6 +32,9 @@ struct FrameGradient {
 };
 
 struct AdjointParams {
+  // Measure how far the linearisation holds (GradientVerdict): per step an inverse iteration and
+  // two Hessian assemblies beside the solve.
+  bool verdict = true;
   // At a step whose H_FF is indefinite but non-singular (a saddle of the step's energy) the
   // implicit function theorem still holds and the step's branch is differentiable: solve there
   // with the LDL^T factor (the step is listed either way); false stops the backward pass.
@@ -56,6 +60,7 @@ struct RolloutGradient {
   // handle_targets[s][h] = dL/dy_s for handle h's target at frame s + 1.
   std::vector<std::vector<Vec3>> handle_targets;
   VecX initial_positions, initial_velocities;  // dL/dx_0, dL/dv_0
+  GradientVerdict verdict;
   std::vector<int> saddle_steps, unconverged_steps;
   int singular_step = -1;  // the step the pass stopped at, -1 if none
   // With checkpoints (RecordOptions::checkpoint_interval): the steps re-simulated, and the largest

@@ -157,4 +157,20 @@ MaterialGradient StepLinearization::material_gradient(const VecX& lambda) {
   return gradient;
 }
 
+void StepLinearization::third_derivative(const VecX& t, double probe, VecX& out) {
+  const double norm = t.norm();
+  out.setZero(t.size());
+  if (norm == 0.0) return;
+  const double dt2 = objective_.dt() * objective_.dt();
+  const double h = probe;
+  objective_.value_gradient(a_, probe_gradient_);
+  out -= 2.0 * probe_gradient_;
+  for (double sign : {1.0, -1.0}) {
+    probe_a_ = a_ + (sign * h / (norm * dt2)) * t;
+    objective_.value_gradient(probe_a_, probe_gradient_);
+    out += probe_gradient_;
+  }
+  out *= norm * norm / (h * h);
+}
+
 }  // namespace fnopt

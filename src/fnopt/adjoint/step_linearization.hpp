@@ -66,6 +66,12 @@ class StepLinearization {
   // -lambda^T dg_F/dtheta at the linearised step, for lambda zero on the handles.
   MaterialGradient material_gradient(const VecX& lambda);
 
+  // dt^2 d^3P(x)[t, t] over every dof at the linearised step's result x, for a move t of the
+  // positions [m]: the second-order term of g's change along t (every other term of g is linear in
+  // x), by the second difference of grad L along t, its move scaled to `probe` metres:
+  //   |t|^2 (grad L(a + h u) + grad L(a - h u) - 2 grad L(a)) / h^2,   u = t / (|t| dt^2),  h = probe.
+  void third_derivative(const VecX& t, double probe, VecX& out);
+
   // The linearised step's damping-weighted mass of vertex k, dt^2 c m_k, the part of dg/dv_t that
   // is not dt K.
   double damping_weight(int k) const { return objective_.dt() * objective_.dt() * material_.damping * masses_[k]; }
@@ -95,7 +101,7 @@ class StepLinearization {
   long ldlt_pattern_ = -1;  // the pattern ldlt_ analysed last
   bool use_ldlt_ = false;
   int negative_eigenvalues_ = 0;
-  VecX gradient_buffer_, friction_buffer_;
+  VecX gradient_buffer_, friction_buffer_, probe_a_, probe_gradient_;
   long factorizations_ = 0;
   long solves_ = 0;
 };

@@ -72,6 +72,8 @@ HandlePathFitResult fit_handle_path(const ResolvedScene& scene, const std::vecto
     ++result.passes;
     ++result.evaluations;
     double value = std::numeric_limits<double>::infinity();
+    GradientVerdict verdict;
+    double radius = 0.0;
     if (rollout.diverged) {
       ++result.diverged_rollouts;
       if (gradient) gradient->setZero(x.size());
@@ -82,7 +84,10 @@ HandlePathFitResult fit_handle_path(const ResolvedScene& scene, const std::vecto
         const RolloutGradient adjoint = backpropagate(rollout, loss.gradient);
         ++result.passes;
         result.inexact_gradients += adjoint.status != AdjointStatus::Exact;
+        result.ill_conditioned_gradients += adjoint.verdict.conditioning != GradientConditioning::WellConditioned;
         *gradient = flatten(path.control_gradient(adjoint.handle_targets));
+        verdict = adjoint.verdict;
+        radius = verdict.radius(gradient->norm());
       }
     }
     if (result.evaluations == 1) {
@@ -92,6 +97,8 @@ HandlePathFitResult fit_handle_path(const ResolvedScene& scene, const std::vecto
     if (value < best || result.evaluations == 1) {
       best = value;
       best_x = x;
+      result.verdict = verdict;
+      result.valid_radius = radius;
     }
     result.history.push_back({result.passes, best});
     if (on_evaluation) on_evaluation(result.history.back());

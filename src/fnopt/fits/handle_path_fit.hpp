@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include <fnopt/adjoint/gradient_verdict.hpp>
 #include <fnopt/adjoint/handle_path.hpp>
 #include <fnopt/adjoint/recorded_rollout.hpp>
 #include <fnopt/adjoint/rollout_loss.hpp>
@@ -60,6 +61,11 @@ struct HandlePathFitResult {
   std::vector<HandlePathFitPoint> history;  // after every evaluation
   int diverged_rollouts = 0;                // trial paths whose rollout diverged (L = +inf there)
   int inexact_gradients = 0;                // gradient evaluations whose backward pass was not Exact
+  // Gradient evaluations whose verdict was not well-conditioned; the verdict of the gradient at the
+  // best point evaluated (NotMeasured for the compass), and its radius along dL/dc there [m].
+  int ill_conditioned_gradients = 0;
+  GradientVerdict verdict;
+  double valid_radius = 0.0;
 };
 
 // Fits the handles' path of `scene` (its motion plus the offsets) to `targets` from zero

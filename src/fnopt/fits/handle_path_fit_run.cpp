@@ -128,6 +128,11 @@ MethodFits fit_each_method(const HandlePathFitRun& run, const ResolvedScene& sce
     if (fit.diverged_rollouts > 0) std::printf("; %d trial rollouts diverged", fit.diverged_rollouts);
     if (fit.inexact_gradients > 0)
       std::printf("; %d gradients through saddle or unconverged steps", fit.inexact_gradients);
+    if (fit.ill_conditioned_gradients > 0)
+      std::printf("; %d gradients not well conditioned", fit.ill_conditioned_gradients);
+    if (fit.verdict.conditioning != GradientConditioning::NotMeasured)
+      std::printf("; its gradient at the fit %s, valid below %.3g m along it", to_string(fit.verdict.conditioning),
+                  fit.valid_radius);
     std::printf("\n");
     std::fflush(stdout);
     fits.emplace_back(method, std::move(fit));
