@@ -309,14 +309,8 @@ dict
     By name: 'stretch', 'shear', 'bend', 'density', 'damping' (floats, dL/dk) and the same with
     'log_' (dL/dlog k), 'gravity' (3,), 'handle_targets' (steps, handles, 3) for each handle's
     target at frame s + 1, 'handle_path' (handles, K, 3) where the rollout followed a handle
-    path, 'initial_positions' and 'initial_velocities' (rows, cols, 3); 'status' (the backward
-    pass's: 'exact', 'through-saddles', 'unconverged'), and 'verdict', how far the gradient holds
-    (docs/design.md §15): 'conditioning' ('well-conditioned', 'ill-conditioned',
-    'below-precision'), 'start_radius' (m: the start positions' perturbation along their gradient
-    below which the linearisation holds), 'loss_radius', 'binding_frame', 'growth' (how much the
-    rollout amplifies a start perturbation), 'precision' (the gradient's relative error from the
-    forward solves' residuals) and 'valid_below', each kind's radius along its gradient (the
-    material's relative, in log k).)")
+    path, 'initial_positions' and 'initial_velocities' (rows, cols, 3), 'status', and 'verdict',
+    a dict saying how far the gradient holds (docs/api.md, docs/design.md §15).)")
       .def("chamfer_loss", &chamfer_loss, py::arg("observed"), py::arg("samples") = 10000,
            py::arg("seed") = ChamferOptions{}.seed, R"(e_CD of the rollout against observed points, and its dL/dX.
 
