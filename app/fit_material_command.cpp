@@ -38,25 +38,28 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->check(CLI::ExistingFile);
   command
       ->add_option("--method", run.method,
-                   "gradient: bounded L-BFGS in ln(coefficient) on the rollout's adjoint gradient (docs/design.md "
-                   "§15), minimising, per reference frame matched by time, the squared distance of every vertex to "
-                   "its own (an fnopt rollout) or e_CD (an ARCSim file: --cd-samples, --cd-stride); compass: the "
-                   "compass search on e_CD")
+                   "gradient: Levenberg-Marquardt in ln(coefficient) on the Gauss-Newton model of the rollout's "
+                   "tangents (docs/design.md §15), minimising, per reference frame matched by time, the squared "
+                   "distance of every vertex to its own (an fnopt rollout) or e_CD (an ARCSim file: --cd-samples, "
+                   "--cd-stride), with each fitted value's uncertainty; compass: the compass search on e_CD")
       ->capture_default_str();
   command->add_option("--fit", run.coefficients,
-                      "coefficients to fit: stretch, shear, bend, damping, and with --method gradient density "
-                      "(default: stretch,shear,damping for gradient, stretch,shear,bend,damping for compass)");
-  command->add_option("--iterations", run.iterations, "gradient: L-BFGS iterations at most")->capture_default_str();
+                      "coefficients to fit: stretch, shear, bend, damping (default: all four). Positions determine "
+                      "the stiffnesses only relative to the density, which stays the start's (or --mass's)");
+  command->add_option("--mass", run.mass, "the cloth's mass in kg: sets the density (0: the start material's)")
+      ->capture_default_str();
   command->add_option("--range", run.ranges,
                       "search interval COEFFICIENT=LOW:HIGH (defaults: stretch 1:800 N/m, shear 0.001:1e4 N/m, "
-                      "bend 1e-9:0.01 N m, damping 0.001:100 1/s; gradient: density 0.001:100 kg/m^2)");
+                      "bend 1e-9:0.01 N m, damping 0.001:100 1/s)");
   command
       ->add_option("--start", run.start,
                    "material to start from: a preset or a material file (the references' own material is never used)")
       ->capture_default_str();
   command->add_option("--frames", run.params.frames, "time steps per rollout (0: the reference's whole duration)")
       ->capture_default_str();
-  command->add_option("--max-evaluations", run.params.max_evaluations, "compass: Newton rollouts at most")
+  command->add_option("--max-evaluations", run.params.max_evaluations,
+                      "Newton rollouts (compass) or evaluations (gradient: a forward and a tangent pass each) at "
+                      "most, per reference set")
       ->capture_default_str();
   command
       ->add_option("--initial-step", run.params.initial_step,

@@ -22,6 +22,9 @@ void add_optimizer_flags(CLI::App& command, OptimizerChoice& choice) {
                                                         : "must be a positive iteration budget, got '" + text + "'";
           },
           "N >= 1"));
+  command.add_option("--tolerance", choice.tolerance,
+                     "newton, newton-min: the residual acceleration each step stops at, in m/s^2 (default " +
+                         NewtonOptimizer::reference_stop_text() + "; smaller for data to fit to, as 1e-8)");
   command.add_option("--lr", choice.learning_rate,
                      "learning rate: gd in units of 1/lambda_max of the mass-scaled Hessian (default 1), adam in "
                      "cell widths per step^2 per iteration (default 0.003)");

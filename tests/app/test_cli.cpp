@@ -33,6 +33,7 @@ TEST(Cli, RejectsBadInputWithOneLineNamingTheProblem) {
   expect_rejected("simulate --handle-vertices 0,99 --res 8 --frames 1", "handle-vertices");
   expect_rejected("simulate --trajectory /nonexistent.csv --frames 1", "trajectory");
   expect_rejected("simulate --optimizer magic --frames 1", "optimizer");
+  expect_rejected("simulate --tolerance 1e-8 --frames 1", "tolerance: applies to the methods that solve to a tolerance");
   const CommandResult r = run_fnopt("simulate --res 2 --frames 1");
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;

@@ -32,15 +32,43 @@ TEST(MaterialFitRun, AGradientFitWritesAMaterialFileThatReadsBack) {
   MaterialFitRun run;
   run.references = {reference};
   run.coefficients = "stretch";
-  run.iterations = 3;
+  run.params.max_evaluations = 3;
   run.out = (tmp.path() / "fitted.txt").string();
   ::testing::internal::CaptureStdout();
   run_material_fit(run);
   const std::string printed = ::testing::internal::GetCapturedStdout();
-  EXPECT_NE(printed.find("fitted:"), std::string::npos) << printed;
+  EXPECT_NE(printed.find("fitted (not stationary: stopped at --max-evaluations"), std::string::npos) << printed;
+  EXPECT_NE(printed.find("  stretch/rho  = "), std::string::npos) << printed;
   const Material fitted = material_preset(run.out);
   EXPECT_GT(fitted.stretch, Material{}.stretch);
   EXPECT_EQ(fitted.shear, Material{}.shear);
+}
+
+// Positions leave the density free; the cloth's mass sets it: 0.06 kg over the 6 x 6 grid's square
+// metre is 0.06 kg/m^2, the fit's density, and the stiffnesses follow their ratios to it.
+TEST(MaterialFitRun, TheMassSetsTheDensityThePositionsCannot) {
+  const testing::TempDir tmp;
+  Scene hidden;
+  hidden.rows = hidden.cols = 6;
+  hidden.frames = 8;
+  hidden.speed = 4.0;
+  const std::string reference = (tmp.path() / "reference.h5").string();
+  write_reference(hidden, reference);
+  MaterialFitRun run;
+  run.references = {reference};
+  run.mass = 0.06;
+  run.out = (tmp.path() / "fitted.txt").string();
+  ::testing::internal::CaptureStdout();
+  run_material_fit(run);
+  const std::string printed = ::testing::internal::GetCapturedStdout();
+  EXPECT_NE(printed.find("held at 0.06 kg/m^2 (--mass)"), std::string::npos) << printed;
+  const Material fitted = material_preset(run.out);
+  EXPECT_DOUBLE_EQ(fitted.density, 0.06);
+  EXPECT_NEAR(fitted.stretch / fitted.density, hidden.material.stretch / hidden.material.density,
+              1e-3 * hidden.material.stretch / hidden.material.density);
+  EXPECT_NEAR(fitted.damping, hidden.material.damping, 1e-3 * hidden.material.damping);
+  run.mass = -1.0;
+  EXPECT_TRUE(testing::throws_error([&] { run_material_fit(run); }, "mass: must be at least 0"));
 }
 
 TEST(MaterialFitRun, RefusesAnUnknownMethodOrCoefficientByName) {

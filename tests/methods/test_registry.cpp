@@ -205,6 +205,15 @@ TEST(Registry, SolveOptionsFollowTheBudgetKind) {
   options = newton.solve_options();
   EXPECT_EQ(options.max_iterations, 5);
   EXPECT_EQ(options.acceleration_tolerance, reference.acceleration_tolerance);
+  // A tolerance of one's own (data to fit to): Newton stops there; the methods with a budget refuse it.
+  newton.tolerance = 1e-8;
+  EXPECT_EQ(newton.solve_options().acceleration_tolerance, 1e-8);
+  EXPECT_NE(newton.make(), nullptr);
+  OptimizerChoice pqn = choice("pqn");
+  pqn.tolerance = 1e-8;
+  EXPECT_TRUE(testing::throws_error([&] { pqn.make(); }, "tolerance: applies to the methods that solve to a tolerance"));
+  newton.tolerance = -1.0;
+  EXPECT_TRUE(testing::throws_error([&] { newton.make(); }, "tolerance: must be a positive residual acceleration"));
   // OneSolve and METHOD-interpK: one iteration, whatever the budget.
   for (const std::string name : {"implicit-euler", "fnopt-interp32", "newton-interp16", "lbfgs-interp8"}) {
     OptimizerChoice c = choice(name);

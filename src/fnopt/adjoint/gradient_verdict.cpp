@@ -21,25 +21,21 @@ constexpr double kSecondOrderSlope = 2.0 * kLinearFraction;
 constexpr double kRescaleAbove = 1e100;
 
 // The rollout's first- and second-order tangents along a perturbation e d of its start positions,
-// x_s(e) = x_s + e dx_s + e^2/2 ddx_s + ..., the handles' targets held. Step s's free
-// accelerations solve (the derivatives of g_F = 0, step_linearization.hpp, along e)
-//   H_FF da_F  = -[dt^2 K z  + dt^2 c M dv_s]_F,                         z  = dx_s + dt dv_s,
-//   H_FF dda_F = -[dt^2 K zz + dt^2 c M ddv_s + dt^2 d^3P[dx_{s+1}, dx_{s+1}]]_F,   zz = ddx_s + dt ddv_s,
-// (z and zz zero on the held handles, whose accelerations keep them on their targets), then
-// dx_{s+1} = dx_s + dt dv_s + dt^2 da and dv_{s+1} = dv_s + dt da, likewise the second order.
-// Only P is nonlinear in the positions (the inertia and damping terms are quadratic).
+// x_s(e) = x_s + e dx_s + e^2/2 ddx_s + ..., the handles' targets held. Differentiating g_F = 0
+// (step_linearization.hpp) twice along e, only P is not quadratic in the positions, so the second
+// order is the first's linear step with the source dt^2 d^3P[dx_{s+1}, dx_{s+1}]
+// (StepLinearization::advance_tangent, third_derivative).
 class StartTangents {
  public:
-  StartTangents(const RecordedRollout& rollout, const VecX& direction)
-      : rollout_(rollout), dt_(rollout.scene.scene.dt), dx_(direction), dv_(VecX::Zero(direction.size())),
-        ddx_(VecX::Zero(direction.size())), ddv_(VecX::Zero(direction.size())) {}
+  explicit StartTangents(const VecX& direction)
+      : dx_(direction), dv_(VecX::Zero(direction.size())), ddx_(VecX::Zero(direction.size())),
+        ddv_(VecX::Zero(direction.size())) {}
 
   // Advances over step s, linearised in `step`: dx() and ddx() are then x_{s+1}'s.
-  void advance(StepLinearization& step, int s, double probe) {
-    const bool held = !rollout_.steps[s].released;
-    solve_order(step, held, dx_, dv_, nullptr);
+  void advance(StepLinearization& step, double probe) {
+    step.advance_tangent(dx_, dv_, nullptr);
     step.third_derivative(dx_, probe, source_);
-    solve_order(step, held, ddx_, ddv_, &source_);
+    step.advance_tangent(ddx_, ddv_, &source_);
     const double norm = dx_.norm();
     if (norm > kRescaleAbove) {  // keep dx, ddx as (scale dx, scale^2 ddx)
       dx_ /= norm, dv_ /= norm;
@@ -56,28 +52,7 @@ class StartTangents {
   double log_growth() const { return std::log(dx_.norm()) + log_scale_; }  // ln |dx_{s+1}|
 
  private:
-  // One order's step: (x, v) <- (x + dt v + dt^2 a, v + dt a) with H_FF a_F = -[dt^2 K z + dt^2 c M v
-  // + source]_F, z = x + dt v (0 on the held handles), and a_H = -z_H / dt^2.
-  void solve_order(StepLinearization& step, bool held, VecX& x, VecX& v, const VecX* source) {
-    z_ = x + dt_ * v;
-    if (held)
-      for (int k : rollout_.scene.handles.vertices) z_.segment<3>(3 * k).setZero();
-    step.stiffness_product(z_, rhs_);  // dt^4 K z
-    rhs_ /= -(dt_ * dt_);
-    for (Eigen::Index k = 0; k < x.size() / 3; ++k)
-      rhs_.segment<3>(3 * k) -= step.damping_weight(static_cast<int>(k)) * v.segment<3>(3 * k);
-    if (source) rhs_ -= *source;
-    step.solve(rhs_, a_);
-    if (held)
-      for (int k : rollout_.scene.handles.vertices)
-        a_.segment<3>(3 * k) = -(x.segment<3>(3 * k) + dt_ * v.segment<3>(3 * k)) / (dt_ * dt_);
-    x += dt_ * v + dt_ * dt_ * a_;
-    v += dt_ * a_;
-  }
-
-  const RecordedRollout& rollout_;
-  double dt_;
-  VecX dx_, dv_, ddx_, ddv_, z_, rhs_, a_, source_;
+  VecX dx_, dv_, ddx_, ddv_, source_;
   double log_scale_ = 0.0;
 };
 
@@ -110,7 +85,7 @@ GradientVerdict gradient_verdict(const RecordedRollout& rollout, const VecX& sta
   if (gradient_norm > 0.0) {
     StepLinearization step(rollout.scene);
     StepStates states(rollout);
-    StartTangents tangents(rollout, start_gradient / gradient_norm);
+    StartTangents tangents(start_gradient / gradient_norm);
     const double root_dofs = std::sqrt(static_cast<double>(start_gradient.size()));
     const int steps = std::min(last_loss_frame, rollout.step_count());
     for (int s = 0; s < steps; ++s) {
@@ -119,7 +94,7 @@ GradientVerdict gradient_verdict(const RecordedRollout& rollout, const VecX& sta
       if (step.linearize(states.x(), states.v(), states.a(), s * rollout.scene.scene.dt) ==
           StepStationarity::Singular)
         return {};  // the backward pass stops there too
-      tangents.advance(step, s, kProbeFraction * spacing);
+      tangents.advance(step, kProbeFraction * spacing);
       const double dt = rollout.scene.scene.dt;
       verdict.forward_error += dt * dt * rollout.steps[s].residual_acceleration * root_dofs *
                                std::exp(-tangents.log_growth());

@@ -25,6 +25,11 @@ struct FramePoints {
 struct RolloutLoss {
   double value = 0.0;
   std::vector<FrameGradient> gradient;  // one per frame of the loss
+  // Parallel to `gradient`, per dof: the lumped diagonal of the frame's loss's Hessian in its
+  // positions (nearest neighbours and samples' triangles held fixed), the weights W_f of the
+  // Gauss-Newton model L(theta + d) ~ L + g.d + d^T (sum_f J_f^T W_f J_f) d / 2, J_f = dx_f/dtheta
+  // (fits/material_fit_gradient.hpp).
+  std::vector<VecX> gauss_newton_weights;
 };
 
 // L = sum over the given frames of sum_i |x_f,i - target_f,i|^2 [m^2], dL/dx_f = 2 (x_f - target_f).

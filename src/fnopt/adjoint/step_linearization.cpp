@@ -8,6 +8,7 @@
 #include <fnopt/contact/contact_term.hpp>
 #include <fnopt/contact/mesh_contact_term.hpp>
 #include <fnopt/contact/self_contact_term.hpp>
+#include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {
@@ -155,6 +156,52 @@ MaterialGradient StepLinearization::material_gradient(const VecX& lambda) {
     gradient.gravity += dt2 * masses_[k] * lambda_k;
   }
   return gradient;
+}
+
+void StepLinearization::advance_tangent(VecX& dx, VecX& dv, const VecX* source) {
+  const double dt = objective_.dt();
+  tangent_z_ = dx + dt * dv;
+  for (int k : handle_vertices_) tangent_z_.segment<3>(3 * k).setZero();
+  stiffness_product(tangent_z_, tangent_rhs_);  // dt^4 K z
+  tangent_rhs_ /= -(dt * dt);
+  for (Eigen::Index k = 0; k < dx.size() / 3; ++k)
+    tangent_rhs_.segment<3>(3 * k) -= damping_weight(static_cast<int>(k)) * dv.segment<3>(3 * k);
+  if (source) tangent_rhs_ -= *source;
+  solve(tangent_rhs_, tangent_a_);
+  for (int k : handle_vertices_)
+    tangent_a_.segment<3>(3 * k) = -(dx.segment<3>(3 * k) + dt * dv.segment<3>(3 * k)) / (dt * dt);
+  dx += dt * dv + dt * dt * tangent_a_;
+  dv += dt * tangent_a_;
+}
+
+void StepLinearization::log_material_derivative(AdjointParameter coefficient, VecX& out) {
+  const double dt = objective_.dt();
+  const double dt2 = dt * dt;
+  out.setZero(x_.size());
+  switch (coefficient) {
+    case AdjointParameter::Stretch:
+    case AdjointParameter::Shear:
+    case AdjointParameter::Bend: {
+      // Each term is linear in its stiffness: k dg/dk = dt^2 grad P_k(x) = dt^2 k grad P_k^unit(x).
+      const int t = coefficient == AdjointParameter::Stretch ? 0 : coefficient == AdjointParameter::Shear ? 1 : 2;
+      unit_terms_[t]->accumulate_gradient(x_, out);
+      out *= dt2 * material_coefficient(material_, coefficient);
+      return;
+    }
+    case AdjointParameter::Density:
+    case AdjointParameter::Damping:
+      break;
+    default:
+      throw Error("parameter", std::string(to_string(coefficient)) + " is not a material coefficient");
+  }
+  const Vec3& gravity = objective_.gravity();
+  for (Eigen::Index k = 0; k < masses_.size(); ++k) {
+    const Vec3 moved = x_.segment<3>(3 * k) - x_start_.segment<3>(3 * k);
+    out.segment<3>(3 * k) =
+        coefficient == AdjointParameter::Density
+            ? Vec3(dt2 * masses_[k] * (a_.segment<3>(3 * k) - gravity + (material_.damping / dt) * moved))
+            : Vec3(dt * material_.damping * masses_[k] * moved);
+  }
 }
 
 void StepLinearization::third_derivative(const VecX& t, double probe, VecX& out) {

@@ -66,6 +66,18 @@ class StepLinearization {
   // -lambda^T dg_F/dtheta at the linearised step, for lambda zero on the handles.
   MaterialGradient material_gradient(const VecX& lambda);
 
+  // Carries a tangent (dx, dv) of the step's start state, and of parameters whose g_F changes by
+  // `source` (or none), through the linearised step: the free accelerations solve
+  //   H_FF da_F = -[dt^2 K z + dt^2 c M dv + source]_F,   z = dx + dt dv (zero on the held handles),
+  // the held handles' da_H = -(dx + dt dv)_H / dt^2 keeps them on their targets, and then
+  //   dx <- dx + dt dv + dt^2 da,   dv <- dv + dt da
+  // (the derivative of g_F = 0 along the tangent; the lagged friction's dependence on the step's
+  // start is left out). Not after a Singular.
+  void advance_tangent(VecX& dx, VecX& dv, const VecX* source);
+  // k dg/dk over every dof for a material coefficient k (is_material_coefficient): g_F's change per
+  // unit change of ln k at the linearised step, the source of a tangent along ln k.
+  void log_material_derivative(AdjointParameter coefficient, VecX& out);
+
   // dt^2 d^3P(x)[t, t] over every dof at the linearised step's result x, for a move t of the
   // positions [m]: the second-order term of g's change along t (every other term of g is linear in
   // x), by the second difference of grad L along t, its move scaled to `probe` metres:
@@ -101,7 +113,7 @@ class StepLinearization {
   long ldlt_pattern_ = -1;  // the pattern ldlt_ analysed last
   bool use_ldlt_ = false;
   int negative_eigenvalues_ = 0;
-  VecX gradient_buffer_, friction_buffer_, probe_a_, probe_gradient_;
+  VecX gradient_buffer_, friction_buffer_, probe_a_, probe_gradient_, tangent_z_, tangent_rhs_, tangent_a_;
   long factorizations_ = 0;
   long solves_ = 0;
 };

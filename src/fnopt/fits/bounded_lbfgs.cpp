@@ -4,23 +4,14 @@
 #include <optional>
 
 #include <fnopt/baselines/curvature_history.hpp>
+#include <fnopt/fits/box_bounds.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
 namespace {
 
-VecX project(const VecX& x, const VecX& lower, const VecX& upper) { return x.cwiseMax(lower).cwiseMin(upper); }
-
 double projected_gradient_norm(const VecX& x, const VecX& g, const VecX& lower, const VecX& upper) {
-  return (project(x - g, lower, upper) - x).cwiseAbs().maxCoeff();
-}
-
-// Variables held at a bound: at it, with the gradient pushing out of the box.
-std::vector<char> active_set(const VecX& x, const VecX& g, const VecX& lower, const VecX& upper) {
-  std::vector<char> active(x.size(), 0);
-  for (Eigen::Index i = 0; i < x.size(); ++i)
-    active[i] = (x[i] <= lower[i] && g[i] > 0.0) || (x[i] >= upper[i] && g[i] < 0.0);
-  return active;
+  return (project_to_box(x - g, lower, upper) - x).cwiseAbs().maxCoeff();
 }
 
 // The search direction at x: the two-loop recursion on the free variables (H0 = gamma I, gamma
@@ -28,7 +19,7 @@ std::vector<char> active_set(const VecX& x, const VecX& g, const VecX& lower, co
 // the first pair.
 VecX search_direction(const VecX& x, const VecX& g, const VecX& lower, const VecX& upper, CurvatureHistory& history,
                       const BoundedLbfgsParams& params, std::vector<double>& alphas) {
-  const std::vector<char> active = active_set(x, g, lower, upper);
+  const std::vector<char> active = held_at_bounds(x, g, lower, upper);
   VecX free_gradient = g;
   for (Eigen::Index i = 0; i < g.size(); ++i)
     if (active[i]) free_gradient[i] = 0.0;
@@ -57,7 +48,7 @@ std::optional<BoundedLbfgsStatus> backtrack(const BoundedObjective& f, const Bou
   double step = 1.0;
   for (int b = 0; b < params.max_backtracks; ++b, step *= 0.5) {
     if (params.max_evaluations > 0 && evaluations >= params.max_evaluations) return BoundedLbfgsStatus::EvaluationBudget;
-    trial = project(result.x + step * direction, lower, upper);
+    trial = project_to_box(result.x + step * direction, lower, upper);
     trial_value = f(trial, trial_g);
     ++evaluations;
     if (std::isfinite(trial_value) && trial_g.allFinite() &&
@@ -101,12 +92,10 @@ void BoundedLbfgsParams::validate() const {
 BoundedLbfgsResult minimize_in_box(const BoundedObjective& f, const VecX& x0, const VecX& lower, const VecX& upper,
                                    const BoundedLbfgsParams& params) {
   params.validate();
-  require(lower.size() == x0.size() && upper.size() == x0.size(), "bounds",
-          "expected " + std::to_string(x0.size()) + " lower and upper bounds");
-  require((lower.array() <= upper.array()).all(), "bounds", "a lower bound is above its upper bound");
+  check_box(x0, lower, upper);
 
   BoundedLbfgsResult result;
-  result.x = project(x0, lower, upper);
+  result.x = project_to_box(x0, lower, upper);
   VecX g(x0.size());
   result.value = f(result.x, g);
   ++result.evaluations;

@@ -4,8 +4,11 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Cholesky>
+
 #include <fnopt/adjoint/material_gradient.hpp>
-#include <fnopt/adjoint/rollout_adjoint.hpp>
+#include <fnopt/adjoint/step_linearization.hpp>
+#include <fnopt/adjoint/step_states.hpp>
 #include <fnopt/io/hdf5_file.hpp>
 #include <fnopt/metrics/frame_matching.hpp>
 #include <fnopt/util/error.hpp>
@@ -51,12 +54,12 @@ std::map<AdjointParameter, CoefficientRange> GradientMaterialFitParams::default_
           {AdjointParameter::Damping, compass.damping_range}};
 }
 
-BoundedLbfgsParams GradientMaterialFitParams::default_optimizer() {
-  BoundedLbfgsParams params;
-  params.max_iterations = 30;
-  params.max_backtracks = 10;
-  params.relative_decrease = 1e-4;
+BoundedGaussNewtonParams GradientMaterialFitParams::default_optimizer() {
+  BoundedGaussNewtonParams params;
+  params.max_evaluations = 30;
+  params.step_tolerance = 1e-6;
   params.first_step = MaterialFitParams{}.initial_step;
+  params.max_step = 1.0;
   return params;
 }
 
@@ -67,6 +70,9 @@ void GradientMaterialFitParams::validate() const {
             std::string(to_string(fit[i])) + " is not a material coefficient (stretch, shear, bend, density, damping)");
     require(std::find(fit.begin(), fit.begin() + i, fit[i]) == fit.begin() + i, "fit",
             std::string(to_string(fit[i])) + " is named twice");
+    require(fit[i] != AdjointParameter::Density, "fit",
+            "density is not determined by positions (scaling it and the stiffnesses together changes no rollout): "
+            "fit the others relative to it, and give the cloth's mass to set it");
     const auto range = ranges.find(fit[i]);
     require(range != ranges.end(), "range", std::string("no interval for ") + to_string(fit[i]));
     require(std::isfinite(range->second.low) && std::isfinite(range->second.high) && range->second.low > 0.0 &&
@@ -79,27 +85,83 @@ void GradientMaterialFitParams::validate() const {
 
 namespace {
 
-// The mean loss over the targets at `material` and its gradient in ln k of the fitted
-// coefficients; +inf (and an unset gradient) once a rollout diverges.
+// One target's loss at `material`, its gradient in ln k of the fitted coefficients and its
+// Gauss-Newton model, by one tangent pass per coefficient (the header's); +inf where the rollout
+// diverges or a step's Hessian is singular. `residuals` gains the loss's residual components.
+double target_loss(const GradientFitTarget& target, const Material& material, const GradientMaterialFitParams& params,
+                   VecX& gradient, Eigen::MatrixXd& model, long& residuals) {
+  const Eigen::Index n = static_cast<Eigen::Index>(params.fit.size());
+  ResolvedScene scene = target.scene;
+  scene.scene.material = material;
+  const RecordedRollout rollout = record_rollout(scene, params.record);
+  if (rollout.diverged) return std::numeric_limits<double>::infinity();
+  const RolloutLoss loss = target.points.empty() ? position_loss(rollout, target.positions)
+                                                 : surface_chamfer_loss(rollout, target.points, params.chamfer);
+  std::vector<int> term_of_frame(rollout.frame_count(), -1);
+  int last = 0;
+  for (std::size_t t = 0; t < loss.gradient.size(); ++t) {
+    term_of_frame[loss.gradient[t].frame] = static_cast<int>(t);
+    last = std::max(last, loss.gradient[t].frame);
+  }
+  for (const FramePositions& frame : target.positions) residuals += frame.positions.size();
+  for (const FramePoints& frame : target.points)
+    residuals += 3 * static_cast<long>(frame.points.size() + params.chamfer.samples);
+  StepLinearization step(rollout.scene);
+  StepStates states(rollout);
+  const Eigen::Index dofs = rollout.positions.front().size();
+  Eigen::MatrixXd dx = Eigen::MatrixXd::Zero(dofs, n), dv = dx;
+  VecX column_x, column_v, source;
+  for (int s = 0; s < last; ++s) {
+    states.load(s);
+    step.set_released(rollout.steps[s].released);
+    if (step.linearize(states.x(), states.v(), states.a(), s * scene.scene.dt) == StepStationarity::Singular)
+      return std::numeric_limits<double>::infinity();
+    for (Eigen::Index j = 0; j < n; ++j) {
+      step.log_material_derivative(params.fit[j], source);
+      column_x = dx.col(j), column_v = dv.col(j);
+      step.advance_tangent(column_x, column_v, &source);
+      dx.col(j) = column_x, dv.col(j) = column_v;
+    }
+    const int term = term_of_frame[s + 1];
+    if (term < 0) continue;
+    gradient += dx.transpose() * loss.gradient[term].gradient;
+    model += dx.transpose() * loss.gauss_newton_weights[term].asDiagonal() * dx;
+  }
+  return loss.value;
+}
+
+// The mean over the targets of target_loss.
 double mean_loss(const std::vector<GradientFitTarget>& targets, const Material& material,
-                 const GradientMaterialFitParams& params, VecX& gradient, int& rollouts) {
+                 const GradientMaterialFitParams& params, VecX& gradient, Eigen::MatrixXd& model, int& rollouts,
+                 long& residuals) {
   const Eigen::Index n = static_cast<Eigen::Index>(params.fit.size());
   gradient = VecX::Zero(n);
+  model = Eigen::MatrixXd::Zero(n, n);
+  residuals = 0;
   double value = 0.0;
   for (const GradientFitTarget& target : targets) {
-    ResolvedScene scene = target.scene;
-    scene.scene.material = material;
-    const RecordedRollout rollout = record_rollout(scene, params.record);
     ++rollouts;
-    if (rollout.diverged) return std::numeric_limits<double>::infinity();
-    const RolloutLoss loss = target.points.empty() ? position_loss(rollout, target.positions)
-                                                   : surface_chamfer_loss(rollout, target.points, params.chamfer);
-    const RolloutGradient adjoint = backpropagate(rollout, loss.gradient);
-    value += loss.value / targets.size();
-    for (Eigen::Index i = 0; i < n; ++i)
-      gradient[i] += adjoint.log_material.coefficient(params.fit[i]) / targets.size();
+    value += target_loss(target, material, params, gradient, model, residuals);
+    if (!std::isfinite(value)) return value;
   }
-  return value;
+  const double count = static_cast<double>(targets.size());
+  gradient /= count;
+  model /= count;
+  return value / count;
+}
+
+// sqrt(s^2 (J^T J)^-1_ii) in ln k (GradientMaterialFitResult::uncertainty): for the mean loss L and
+// its model G = 2 J^T J / T over T targets, s^2 (J^T J)^-1 = 2 L G^-1 / (N - p). A coefficient the
+// positions do not see (a singular G) is infinitely uncertain.
+std::vector<double> uncertainties(double loss, const Eigen::MatrixXd& model, long residuals) {
+  const Eigen::Index p = model.rows();
+  const Eigen::LDLT<Eigen::MatrixXd> factor(model);
+  Eigen::MatrixXd inverse = factor.solve(Eigen::MatrixXd::Identity(p, p));
+  const double variance = 2.0 * loss / static_cast<double>(std::max<long>(1, residuals - p));
+  std::vector<double> out(p, std::numeric_limits<double>::infinity());
+  if (factor.info() != Eigen::Success || !factor.isPositive() || !inverse.allFinite()) return out;
+  for (Eigen::Index i = 0; i < p; ++i) out[i] = std::sqrt(std::max(0.0, variance * inverse(i, i)));
+  return out;
 }
 
 }  // namespace
@@ -123,18 +185,21 @@ GradientMaterialFitResult fit_material_by_gradient(const std::vector<GradientFit
   };
   GradientMaterialFitResult result;
   int evaluations = 0;
-  const BoundedObjective objective = [&](const VecX& x, VecX& gradient) {
+  long residuals = 0;
+  const GaussNewtonObjective objective = [&](const VecX& x, VecX& gradient, Eigen::MatrixXd& model) {
     const Material material = material_at(x);
-    const double value = mean_loss(targets, material, params, gradient, result.rollouts);
+    const double value = mean_loss(targets, material, params, gradient, model, result.rollouts, residuals);
     if (++evaluations == 1) result.start_loss = value;
     if (on_evaluation) on_evaluation(evaluations, material, value);
     return value;
   };
-  const BoundedLbfgsResult fit = minimize_in_box(objective, x0, lower, upper, params.optimizer);
+  const BoundedGaussNewtonResult fit = minimize_by_gauss_newton(objective, x0, lower, upper, params.optimizer);
   result.material = material_at(fit.x);
   result.loss = fit.value;
   result.status = fit.status;
   result.iterations = fit.iterations;
+  result.uncertainty = uncertainties(fit.value, fit.model, residuals);
+  for (Eigen::Index i = 0; i < n; ++i) result.at_bound.push_back(fit.x[i] <= lower[i] || fit.x[i] >= upper[i]);
   return result;
 }
 

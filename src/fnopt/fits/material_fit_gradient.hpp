@@ -1,14 +1,21 @@
 #pragma once
 // A material fitted by its gradient (docs/design.md §15): the coefficients whose rollout of exact
-// steps best reproduces reference rollouts, by projected L-BFGS (bounded_lbfgs.hpp) in the
-// logarithms of the coefficients, each within its interval, on the mean over the references of
+// steps best reproduces reference rollouts, by a projected Levenberg-Marquardt iteration
+// (bounded_gauss_newton.hpp) in the logarithms of the coefficients, each within its interval, on
+// the mean over the references of
 //   an fnopt rollout on the scene's grid: sum over its frames of sum_i |x_f,i(theta) - x^ref_f,i|^2
 //     (adjoint/rollout_loss.hpp's position_loss, vertex for vertex),
-//   an ARCSim file: e_CD itself (surface_chamfer_loss) on the frames e_CD reads,
-// and its adjoint gradient dL/dlog k (adjoint/rollout_adjoint.hpp), one forward and one backward
-// pass per reference and evaluation. The rollout's dynamics depend on the stiffnesses and the
-// damping relative to the density (gravity fixed), so density and all three stiffnesses together
-// are not identifiable: fit a subset (the default: stretch, shear and damping).
+//   an ARCSim file: e_CD itself (surface_chamfer_loss) on the frames e_CD reads.
+// Each evaluation is a recorded forward pass and one tangent pass along every fitted ln k
+// (StepLinearization::advance_tangent, the source k dg/dk): J_f = dx_f/dln k at every frame, so the
+// gradient J^T dL/dx and the Gauss-Newton model G = sum_f J_f^T W_f J_f (W_f the loss's
+// gauss_newton_weights) come together, for one factorisation per step and a solve per coefficient.
+//
+// What positions determine: with gravity fixed, a step's stationarity divided by the density depends
+// on the stiffnesses and the damping relative to it, so scaling the stiffnesses and the density
+// together leaves every rollout as it is. The fit therefore holds the density (the start's, or one
+// a given mass sets) and fits stretch/rho, shear/rho, bend/rho and the damping; naming the density
+// is an error.
 #include <functional>
 #include <map>
 #include <vector>
@@ -16,7 +23,7 @@
 #include <fnopt/adjoint/adjoint_parameter.hpp>
 #include <fnopt/adjoint/recorded_rollout.hpp>
 #include <fnopt/adjoint/rollout_loss.hpp>
-#include <fnopt/fits/bounded_lbfgs.hpp>
+#include <fnopt/fits/bounded_gauss_newton.hpp>
 #include <fnopt/fits/material_fit.hpp>
 
 namespace fnopt {
@@ -39,31 +46,33 @@ GradientFitTarget gradient_fit_target(const FitReference& reference, const Mater
 
 struct GradientMaterialFitParams {
   // Material coefficients only (is_material_coefficient), each once.
-  std::vector<AdjointParameter> fit = {AdjointParameter::Stretch, AdjointParameter::Shear, AdjointParameter::Damping};
-  // Each fitted coefficient's interval (physical units): the compass's (material_fit.hpp) and
-  // density's.
+  std::vector<AdjointParameter> fit = {AdjointParameter::Stretch, AdjointParameter::Shear, AdjointParameter::Bend,
+                                       AdjointParameter::Damping};
+  // Each fitted coefficient's interval (physical units): the compass's (material_fit.hpp).
   std::map<AdjointParameter, CoefficientRange> ranges = default_ranges();
-  BoundedLbfgsParams optimizer = default_optimizer();
+  BoundedGaussNewtonParams optimizer = default_optimizer();
   ChamferOptions chamfer;  // e_CD's samples, for ARCSim references
   RecordOptions record;
 
   static std::map<AdjointParameter, CoefficientRange> default_ranges();
-  // 30 iterations; where the rollout passes saddle steps the loss is rough at the scale of the
-  // solver's precision near the fit (docs/design.md §15): a search that cannot descend there would
-  // take 30 halvings, a rollout each, before it says so, and one that still can gains nothing a fit
-  // can use, so 10 halvings and a stop below a relative decrease of 1e-4. The first step moves a
-  // coefficient by a factor e at most, as the compass's first poll: the gradient's size says
-  // nothing about how far to go.
-  static BoundedLbfgsParams default_optimizer();
-  void validate() const;  // throws Error naming the field ("fit": an unknown or repeated kind)
+  // 30 evaluations; the first step moves a coefficient by at most the compass's first poll, every
+  // step by a factor e at most; stationary once the Gauss-Newton step changes no coefficient by
+  // more than 1e-6 (relative).
+  static BoundedGaussNewtonParams default_optimizer();
+  void validate() const;  // throws Error naming the field ("fit": an unknown, repeated or unidentifiable kind)
 };
 
 struct GradientMaterialFitResult {
   Material material;  // the fitted material (the start's values for the coefficients not fitted)
   double start_loss = 0.0, loss = 0.0;
-  BoundedLbfgsStatus status = BoundedLbfgsStatus::IterationBudget;
+  BoundedGaussNewtonStatus status = BoundedGaussNewtonStatus::EvaluationBudget;
   int iterations = 0;
-  int rollouts = 0;  // recorded forward passes, each with its backward pass
+  int rollouts = 0;  // recorded forward passes, each with its tangent pass
+  // Per fitted coefficient, in params.fit's order: its standard deviation in ln k (the relative
+  // uncertainty), sqrt(s^2 (J^T J)^-1_ii) with the residual variance s^2 = sum r^2 / (N - p) over
+  // the N residual components (position losses; for e_CD the same formula on its samples).
+  std::vector<double> uncertainty;
+  std::vector<char> at_bound;  // per fitted coefficient: it ended at an end of its interval
 };
 
 // Called after each evaluation with its count, the material and the mean loss (+inf where a

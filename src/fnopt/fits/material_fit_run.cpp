@@ -88,8 +88,7 @@ GradientMaterialFitParams gradient_params(const MaterialFitRun& run) {
             "'" + text + "' must be 0 < LOW < HIGH");
     found->second = range;
   }
-  require(run.iterations >= 1, "iterations", "must be at least 1");
-  params.optimizer.max_iterations = run.iterations;
+  params.optimizer.max_evaluations = run.params.max_evaluations;
   params.optimizer.first_step = run.params.initial_step;
   params.chamfer = run.params.chamfer;
   return params;
@@ -105,16 +104,59 @@ void print_gradient_reference(const FitReference& r, const GradientFitTarget& t)
               loss.c_str());
 }
 
-void run_gradient_fit(MaterialFitRun& run) {
-  if (run.coefficients.empty()) run.coefficients = "stretch,shear,damping";
+// "stretch/rho" for a stiffness, the coefficient's name otherwise, and the unit of either.
+std::pair<std::string, std::string> identifiable_name(AdjointParameter kind) {
+  switch (kind) {
+    case AdjointParameter::Stretch:
+      return {"stretch/rho", "m^2/s^2"};
+    case AdjointParameter::Shear:
+      return {"shear/rho", "m^2/s^2"};
+    case AdjointParameter::Bend:
+      return {"bend/rho", "m^4/s^2"};
+    default:
+      return {to_string(kind), "1/s"};
+  }
+}
+
+const char* stop_text(BoundedGaussNewtonStatus status) {
+  switch (status) {
+    case BoundedGaussNewtonStatus::Stationary:
+      return "stationary: the Gauss-Newton step changes no coefficient by more than 1e-6";
+    case BoundedGaussNewtonStatus::NoDecrease:
+      return "not stationary: no step lowers the loss any more (it is rough at the solver's precision there)";
+    case BoundedGaussNewtonStatus::EvaluationBudget:
+      return "not stationary: stopped at --max-evaluations";
+    case BoundedGaussNewtonStatus::NonFinite:
+      return "not stationary: the start material's rollout diverges";
+  }
+  return "";
+}
+
+// The fitted values in the coordinates the positions determine, each with its uncertainty.
+void print_identifiable(const GradientMaterialFitParams& params, const GradientMaterialFitResult& result) {
+  const double rho = result.material.density;
+  for (std::size_t i = 0; i < params.fit.size(); ++i) {
+    const auto [name, unit] = identifiable_name(params.fit[i]);
+    const double k = material_coefficient(result.material, params.fit[i]);
+    const bool stiffness = params.fit[i] != AdjointParameter::Damping;
+    std::printf("  %-12s = %-12.6g %-8s +- %.2g %%", name.c_str(), stiffness ? k / rho : k, unit.c_str(),
+                100.0 * result.uncertainty[i]);
+    if (stiffness) std::printf("   (%s %.6g at density %.4g kg/m^2)", to_string(params.fit[i]), k, rho);
+    if (result.at_bound[i]) std::printf("   at an end of its --range");
+    std::printf("\n");
+  }
+}
+
+void run_gradient_fit(MaterialFitRun& run, const Material& start) {
   const GradientMaterialFitParams params = gradient_params(run);
+  params.validate();
   with_flag_names({{"fit.frames", "frames"},
                    {"chamfer.samples", "cd-samples"},
                    {"fit.chamfer_stride", "cd-stride"},
                    {"fit.initial_step", "initial-step"},
-                   {"fit.final_step", "final-step"}},
+                   {"fit.final_step", "final-step"},
+                   {"fit.max_evaluations", "max-evaluations"}},
                   [&] { run.params.validate(); });
-  const Material start = material_preset(run.start);
   const auto references = load_references(run.references);
   std::vector<GradientFitTarget> targets;
   for (const auto& r : references) {
@@ -122,9 +164,11 @@ void run_gradient_fit(MaterialFitRun& run) {
     print_gradient_reference(r, targets.back());
   }
   std::printf(
-      "fitting %s from %s (%s); bounded L-BFGS in ln(coefficient) on the adjoint gradient, at most %d iterations; "
-      "%s\n",
-      run.coefficients.c_str(), run.start.c_str(), material_text(start).c_str(), run.iterations,
+      "fitting %s from %s (%s): positions determine the stiffnesses only relative to the density, held at %.4g "
+      "kg/m^2 (%s); Levenberg-Marquardt in ln(coefficient) on the Gauss-Newton model of the rollout's tangents, at "
+      "most %d evaluations; %s\n",
+      run.coefficients.c_str(), run.start.c_str(), material_text(start).c_str(), start.density,
+      run.mass > 0.0 ? "--mass" : "the start's; --mass sets it", params.optimizer.max_evaluations,
       thread_text(run.threads).c_str());
   std::fflush(stdout);
   const GradientMaterialFitResult result =
@@ -132,15 +176,16 @@ void run_gradient_fit(MaterialFitRun& run) {
         std::printf("  %3d  %s  ->  loss %s\n", evaluation, material_text(material).c_str(), number_text(loss).c_str());
         std::fflush(stdout);
       });
-  std::printf("fitted:  %s (%s after %d iterations; loss %s, start %s)\n", material_text(result.material).c_str(),
-              to_string(result.status), result.iterations, number_text(result.loss).c_str(),
+  std::printf("fitted (%s; %d steps, loss %s, start %s), +- one standard deviation from the Gauss-Newton model:\n",
+              stop_text(result.status), result.iterations, number_text(result.loss).c_str(),
               number_text(result.start_loss).c_str());
+  print_identifiable(params, result);
   const FitEvaluation fitted = evaluate_material(references, result.material, run.params);
   const FitEvaluation before = evaluate_material(references, start, run.params);
   report_checks(run, result.material, start);
   write_fit(run, result.material, fitted, before);
   std::printf(
-      "e_CD x 10^3 = %s fitted, %s start material; %d rollouts (%d recorded forward + %d backward passes), and %d "
+      "e_CD x 10^3 = %s fitted, %s start material; %d rollouts (%d recorded forward + %d tangent passes), and %d "
       "Newton rollouts for e_CD\n",
       number_text(1e3 * fitted.mean_error).c_str(), number_text(1e3 * before.mean_error).c_str(), 2 * result.rollouts,
       result.rollouts, result.rollouts, 2 * static_cast<int>(references.size()));
@@ -148,7 +193,6 @@ void run_gradient_fit(MaterialFitRun& run) {
 
 // The compass's coefficients and intervals from the run, validated with the flags' names.
 void set_compass_params(MaterialFitRun& run) {
-  if (run.coefficients.empty()) run.coefficients = "stretch,shear,bend,damping";
   run.params.coefficients.clear();
   for (auto name : split(run.coefficients, ','))
     run.params.coefficients.push_back(material_coefficient(std::string(trim(name))));
@@ -171,9 +215,8 @@ void set_compass_params(MaterialFitRun& run) {
                   [&] { run.params.validate(); });
 }
 
-void run_compass_fit(MaterialFitRun& run) {
+void run_compass_fit(MaterialFitRun& run, const Material& start) {
   set_compass_params(run);
-  const Material start = material_preset(run.start);
   const auto references = load_references(run.references);
   for (const auto& r : references)
     std::printf("reference %s: %dx%d, motion %s, %d steps of %.4g s\n", r.path.c_str(), r.scene.rows, r.scene.cols,
@@ -203,13 +246,27 @@ void run_compass_fit(MaterialFitRun& run) {
   write_fit(run, result.best.material, result.best, result.start);
 }
 
+// The start material: the preset or file, its density set by --mass where given.
+Material start_material(const MaterialFitRun& run) {
+  Material start = material_preset(run.start);
+  require(std::isfinite(run.mass) && run.mass >= 0.0, "mass", "must be at least 0 (0: the start's density)");
+  if (run.mass > 0.0) {
+    const Scene& scene = load_fit_reference(run.references.front()).scene;
+    const Grid grid = Grid::make(scene.rows, scene.cols, scene.size);
+    start.density = run.mass / ((grid.rows - 1) * (grid.cols - 1) * grid.spacing * grid.spacing);
+  }
+  return start;
+}
+
 }  // namespace
 
 void run_material_fit(MaterialFitRun run) {
+  if (run.coefficients.empty()) run.coefficients = "stretch,shear,bend,damping";
+  const Material start = start_material(run);
   if (run.method == "gradient")
-    run_gradient_fit(run);
+    run_gradient_fit(run, start);
   else if (run.method == "compass")
-    run_compass_fit(run);
+    run_compass_fit(run, start);
   else
     throw Error("method", "expected gradient or compass, got '" + run.method + "'");
 }

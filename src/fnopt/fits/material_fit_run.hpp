@@ -15,13 +15,15 @@ struct MaterialFitRun {
   std::string method = "gradient";  // gradient or compass
   std::vector<std::string> references;
   std::vector<std::string> checks;
-  // Comma-separated; empty: stretch,shear,damping (gradient), stretch,shear,bend,damping (compass).
+  // Comma-separated; empty: stretch,shear,bend,damping.
   std::string coefficients;
   std::string start = "default";    // a preset or a material file
   std::vector<std::string> ranges;  // "COEFFICIENT=LOW:HIGH" each
   std::string out = "fitted-material.txt";
-  int iterations = 30;  // gradient: L-BFGS iterations at most
-  MaterialFitParams params;
+  // The cloth's mass [kg]: sets the density (mass over the references' cloth area), which positions
+  // cannot determine (material_fit_gradient.hpp); 0: the start material's density.
+  double mass = 0.0;
+  MaterialFitParams params;  // max_evaluations: the gradient's evaluations too
   int threads = 1;  // the thread count in effect, for the header line
 };
 

@@ -216,6 +216,9 @@ double frame_cost(const std::string& method, int iterations, bool converged, int
 std::unique_ptr<InnerOptimizer> OptimizerChoice::make() const {
   require(iterations >= 0, "iters", "must be a positive iteration budget");
   require(learning_rate >= 0.0, "lr", "must be positive");
+  require(std::isfinite(tolerance) && tolerance >= 0.0, "tolerance", "must be a positive residual acceleration");
+  require(tolerance == 0.0 || method_traits(name).budget == BudgetKind::ToTolerance, "tolerance",
+          "applies to the methods that solve to a tolerance (newton, newton-min), not " + name);
   for (const auto& entry : optimizer_table())
     if (name == entry.name) return entry.make(*this);
   if (is_interpolated(name)) return make_interpolated(*this);
@@ -240,6 +243,7 @@ InnerSolveOptions OptimizerChoice::solve_options() const {
     case BudgetKind::ToTolerance: {
       InnerSolveOptions options = NewtonOptimizer::reference_solve_options();
       if (iterations > 0) options.max_iterations = iterations;
+      if (tolerance > 0.0) options.acceleration_tolerance = tolerance;
       return options;
     }
     case BudgetKind::Iterations:

@@ -46,6 +46,9 @@ struct OptimizerChoice {
   std::string name = "pqn";
   int iterations = 0;          // budget per step; 0 = the method's default
   double learning_rate = 0.0;  // 0 = the method's default
+  // A method that solves to a tolerance (newton, newton-min): the residual acceleration it stops at
+  // [m/s^2]; 0 = the reference's (NewtonOptimizer::reference_solve_options()).
+  double tolerance = 0.0;
   std::string model;           // learned optimizer weights
   int pqn_history = PqnParams{}.history;
   // gd's learning rate in units of 1/lambda_max(P^-1 H) (true, the command line's) or of the
