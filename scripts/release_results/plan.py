@@ -57,10 +57,12 @@ def plan(args):
                                  "lbfgs": [100], "lbfgs-ls": [100], "adam": [500], "gd": [500]},
                      "bench": ["--res", "32,64,100", "--frames", "60", "--repeat", "4"]})
     p["adjoint"] = ({"gradcheck": ["--res", "6", "--frames", "8"], "contact_gradcheck": ["--res", "6", "--frames", "8"],
+                     "buckling_gradcheck": ["--res", "8", "--frames", "8"], "hidden_fit": (8, 10),
                      "bench": ["--res", "8", "--frames", "3"],
                      "fit_handles": ["--res", "6", "--frames", "12", "--passes", "8"], "passes": [2, 4, 8],
                      "fit_material": None} if quick else
                     {"gradcheck": [], "contact_gradcheck": ["--res", "8", "--frames", "30"],
+                     "buckling_gradcheck": ["--res", "12"], "hidden_fit": (32, 60),
                      "bench": ["--res", "32,64,100", "--frames", "390"],
                      "fit_handles": ["--passes", "100"], "passes": [10, 20, 40, 60, 100],
                      "fit_material": ["--frames", "210", "--cd-samples", "4000", "--cd-stride", "4"]})
