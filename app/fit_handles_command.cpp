@@ -59,13 +59,22 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->capture_default_str();
   command
       ->add_option("--passes", run.params.passes,
-                   "forward and backward passes per method (a gradient evaluation takes two)")
+                   "forward and backward passes per method (a gradient evaluation takes two, or one and two per "
+                   "--samples with --smoothing)")
       ->capture_default_str();
   command
       ->add_option("--initial-step", run.params.initial_step,
                    "the first move [m]: the compass's first poll step, the largest coordinate of L-BFGS's first step")
       ->capture_default_str();
   command->add_option("--compass-final-step", run.params.compass_final_step, "compass: smallest step [m]")
+      ->capture_default_str();
+  command
+      ->add_option("--smoothing", run.params.smoothing.sigma,
+                   "gradient: minimise the loss averaged over perturbations of the control points of this many "
+                   "metres (randomized smoothing; 0: the exact gradient), where a buckling cloth makes the exact "
+                   "gradient hold only for tiny steps (docs/design.md §15)")
+      ->capture_default_str();
+  command->add_option("--samples", run.params.smoothing.samples, "with --smoothing: perturbations per evaluation (even)")
       ->capture_default_str();
   command->add_option("--csv", run.csv, "write the best loss against passes, per method, as CSV");
   command->add_option("--plot", run.plot, "draw the loss against passes as SVG");

@@ -60,6 +60,28 @@ TEST(HandlePathFit, TheGradientBringsTheClothToAHiddenPathsShape) {
   EXPECT_NEAR((reached.positions - target.positions).squaredNorm(), fit.loss, 1e-9 * fit.start_loss);
 }
 
+// With smoothing, each gradient evaluation is a pass at the point and a forward and a backward pass
+// per sample, the history still records the loss at the point, and on this smooth scene a small
+// sigma still brings the cloth close to the hidden shape.
+TEST(HandlePathFit, TheSmoothedGradientCountsItsSamplesAndStillFits) {
+  const ResolvedScene scene = still_scene();
+  HandlePathFitParams params;
+  params.path.control_points = 3;
+  params.passes = 60;
+  params.smoothing.sigma = 1e-3;
+  params.smoothing.samples = 2;
+  const FramePositions target = target_of(scene, params, hidden_control());
+  const HandlePathFitResult fit = fit_handle_path(scene, {target}, HandlePathFitMethod::Gradient, params);
+  EXPECT_EQ(fit.passes, 5 * fit.evaluations);
+  EXPECT_LE(fit.passes, params.passes);
+  EXPECT_LT(fit.loss, 1e-2 * fit.start_loss);
+  EXPECT_GT(fit.standard_error, 0.0);
+  const FramePositions reached = target_of(scene, params, fit.control);
+  EXPECT_NEAR((reached.positions - target.positions).squaredNorm(), fit.loss, 1e-9 * fit.start_loss);
+  params.smoothing.samples = 3;
+  EXPECT_THROW(fit_handle_path(scene, {target}, HandlePathFitMethod::Gradient, params), Error);
+}
+
 TEST(HandlePathFit, TheCompassSearchLowersTheLossWithinItsBudget) {
   const ResolvedScene scene = still_scene();
   HandlePathFitParams params;

@@ -19,6 +19,7 @@
 #include <fnopt/adjoint/handle_path.hpp>
 #include <fnopt/adjoint/recorded_rollout.hpp>
 #include <fnopt/adjoint/rollout_loss.hpp>
+#include <fnopt/fits/randomized_smoothing.hpp>
 
 namespace fnopt {
 
@@ -35,6 +36,10 @@ struct HandlePathFitParams {
   // step (BoundedLbfgsParams::first_step); the compass stops below its final step.
   double initial_step = 0.1;
   double compass_final_step = 1e-4;
+  // The gradient method on the loss smoothed over perturbations of the control points [m]
+  // (randomized_smoothing.hpp): a gradient evaluation then takes one forward pass at the point and a
+  // forward and a backward pass per sample. Off by default (sigma 0).
+  SmoothingParams smoothing;
   // The forward passes' exact steps; the Hessians are classified by the backward pass alone.
   RecordOptions record = [] {
     RecordOptions options;
@@ -66,6 +71,7 @@ struct HandlePathFitResult {
   int ill_conditioned_gradients = 0;
   GradientVerdict verdict;
   double valid_radius = 0.0;
+  double standard_error = 0.0;  // with smoothing: the last smoothed gradient's (randomized_smoothing.hpp)
 };
 
 // Fits the handles' path of `scene` (its motion plus the offsets) to `targets` from zero

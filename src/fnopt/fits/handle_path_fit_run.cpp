@@ -130,6 +130,9 @@ MethodFits fit_each_method(const HandlePathFitRun& run, const ResolvedScene& sce
       std::printf("; %d gradients through saddle or unconverged steps", fit.inexact_gradients);
     if (fit.ill_conditioned_gradients > 0)
       std::printf("; %d gradients not well conditioned", fit.ill_conditioned_gradients);
+    if (method == HandlePathFitMethod::Gradient && run.params.smoothing.enabled())
+      std::printf("; smoothed over %d samples of %.3g m, the last gradient's standard error %.3g",
+                  run.params.smoothing.samples, run.params.smoothing.sigma, fit.standard_error);
     if (fit.verdict.conditioning != GradientConditioning::NotMeasured)
       std::printf("; its gradient at the fit %s, valid below %.3g m along it", to_string(fit.verdict.conditioning),
                   fit.valid_radius);
@@ -180,7 +183,9 @@ void HandlePathFitRun::validate() {
     throw Error("basis", "expected spline or linear, got '" + basis + "'");
   with_flag_names({{"control_points", "control-points"},
                    {"initial_step", "initial-step"},
-                   {"compass_final_step", "compass-final-step"}},
+                   {"compass_final_step", "compass-final-step"},
+                   {"sigma", "smoothing"},
+                   {"samples", "samples"}},
                   [&] { params.validate(); });
 }
 
