@@ -200,3 +200,28 @@ def test_the_torch_bridge_warns_where_the_gradient_is_ill_conditioned():
     with pytest.warns(ftorch.GradientWarning, match=r"^fnopt: rollout gradient ill-conditioned: valid for start "):
         x.sum().backward()
     assert torch.isfinite(material.grad).all()
+
+
+def test_smoothing_averages_over_antithetic_draws():
+    import fnopt.smoothing
+
+    a = np.array([1.0, 2.0, 0.5])
+    calls = []
+
+    def quadratic(x):
+        calls.append(x.copy())
+        return float(x @ (a * x)), 2.0 * a * x
+
+    smoothed = fnopt.smoothing.smoothed(quadratic, sigma=0.3, samples=6, seed=7)
+    x = np.array([0.4, 0.1, -1.0])
+    value, gradient = smoothed(x)
+    # The antithetic pairs cancel the gradient's odd terms: on a quadratic it is the gradient itself.
+    np.testing.assert_allclose(gradient, 2.0 * a * x, atol=1e-12)
+    assert value > float(x @ (a * x)) and smoothed.standard_error > 0.0
+    assert len(calls) == 6 and np.allclose(calls[0] - x, -(calls[3] - x))
+    smoothed(x + 1.0)  # the same draws at another point
+    np.testing.assert_allclose(calls[6] - (x + 1.0), calls[0] - x, atol=1e-15)
+    with pytest.raises(ValueError, match="^samples: must be an even number"):
+        fnopt.smoothing.smoothed(quadratic, sigma=0.1, samples=3)
+    with pytest.raises(ValueError, match="^sigma: must be at least 0"):
+        fnopt.smoothing.smoothed(quadratic, sigma=-1.0)
