@@ -20,12 +20,18 @@ void write_reference(const Scene& scene, const std::string& path) {
   write_rollout_file(path, run_rollout(resolve(scene), newton, options), to_scene_text(scene), newton.settings());
 }
 
+// 6 x 6 over 8 steps, the handles four times faster than xy_v2.
+Scene small_scene() {
+  Scene scene;
+  scene.rows = scene.cols = 6;
+  scene.frames = 8;
+  scene.speed = 4.0;
+  return scene;
+}
+
 TEST(MaterialFitRun, AGradientFitWritesAMaterialFileThatReadsBack) {
   const testing::TempDir tmp;
-  Scene hidden;
-  hidden.rows = hidden.cols = 6;
-  hidden.frames = 8;
-  hidden.speed = 4.0;
+  Scene hidden = small_scene();
   hidden.material.stretch *= 1.5;
   const std::string reference = (tmp.path() / "reference.h5").string();
   write_reference(hidden, reference);
@@ -48,10 +54,7 @@ TEST(MaterialFitRun, AGradientFitWritesAMaterialFileThatReadsBack) {
 // metre is 0.06 kg/m^2, the fit's density, and the stiffnesses follow their ratios to it.
 TEST(MaterialFitRun, TheMassSetsTheDensityThePositionsCannot) {
   const testing::TempDir tmp;
-  Scene hidden;
-  hidden.rows = hidden.cols = 6;
-  hidden.frames = 8;
-  hidden.speed = 4.0;
+  const Scene hidden = small_scene();
   const std::string reference = (tmp.path() / "reference.h5").string();
   write_reference(hidden, reference);
   MaterialFitRun run;
