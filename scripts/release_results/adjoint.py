@@ -103,6 +103,39 @@ def fit_handles(ctx, part, d, plan_):
     return [ctx.shown(args)], text, [path, loss_csv]
 
 
+def buckling_fit(ctx, part, d, plan_):
+    """fnopt fit-handles on a buckling cloth: the exact gradient and compass, then the gradient of the randomized
+    smoothing of the loss, each run's best loss after N passes and its closing line."""
+    flags = plan_["buckling_fit"]
+    smoothing = flags.index("--smoothing")
+    plain, smoothed = flags[:smoothing], flags[smoothing:]
+    sigma, samples = smoothed[1], smoothed[3]
+    runs = (("exact", ["--method", "both"] + plain),
+            ("smoothed", ["--method", "gradient"] + plain + smoothed))
+    commands, history, closing = [], {}, []
+    for label, extra in runs:
+        loss_csv = os.path.join(d, "fit-handles-buckling-%s.csv" % label)
+        args = ["fit-handles"] + extra + ["--threads", "1", "--csv", ctx.rel(loss_csv)]
+        out = ctx.run(part + " fit-handles buckling " + label, args).splitlines()
+        commands.append(ctx.shown(args))
+        closing += [l for l in out if l.startswith(("gradient loss", "compass  loss", "compass loss"))]
+        for r in read_csv(loss_csv):
+            method = r["method"] if label == "exact" else "gradient, smoothed (σ %s m, %s samples)" % (sigma, samples)
+            history.setdefault(method, []).append((int(r["passes"]), fnum(r["loss_m2"])))
+    passes = [n for n in (10, 20, 40, 60, 80, 100, 120) if n <= int(plain[plain.index("--passes") + 1])]
+    header = ["method", "start loss m²"] + ["after %d passes" % n for n in passes]
+    table = [[method, fmt(points[0][1])] +
+             [fmt(min((loss for k, loss in points if k <= n), default=None)) for n in passes]
+             for method, points in history.items()]
+    path = os.path.join(d, "fit-handles-buckling.csv")
+    write_csv(path, header, table)
+    text = ("\nThe same fit on a buckling cloth (%s): the exact gradient holds only for tiny steps there (each "
+            "fit's closing line gives its verdict), and the gradient of the loss smoothed over antithetic "
+            "perturbations of the control points goes on where it stops:\n\n" % " ".join(plain) +
+            markdown_table(header, table) + "\n\n```\n" + "\n".join(closing) + "\n```\n")
+    return commands, text, [path]
+
+
 def fitted_material(path):
     """The coefficients of a material file fit-material wrote: {name: value}."""
     values = {}
@@ -190,7 +223,7 @@ def part_adjoint(ctx, part, plan_):
     (the material fit only with --arcsim-dir and a plan for it)."""
     d = os.path.join(ctx.out, part)
     os.makedirs(d, exist_ok=True)
-    steps = [gradchecks, backward_cost, fit_handles, hidden_materials]
+    steps = [gradchecks, backward_cost, fit_handles, buckling_fit, hidden_materials]
     if plan_["fit_material"] and ctx.arcsim_dir:
         steps.append(fit_material)
     commands, body, files = [], "", []

@@ -60,11 +60,15 @@ def plan(args):
                      "buckling_gradcheck": ["--res", "8", "--frames", "8"], "hidden_fit": (8, 10),
                      "bench": ["--res", "8", "--frames", "3"],
                      "fit_handles": ["--res", "6", "--frames", "12", "--passes", "8"], "passes": [2, 4, 8],
+                     "buckling_fit": ["--res", "6", "--frames", "12", "--speed", "4", "--passes", "12",
+                                      "--smoothing", "0.003", "--samples", "2"],
                      "fit_material": None} if quick else
                     {"gradcheck": [], "contact_gradcheck": ["--res", "8", "--frames", "30"],
                      "buckling_gradcheck": ["--res", "12"], "hidden_fit": (32, 60),
                      "bench": ["--res", "32,64,100", "--frames", "390"],
                      "fit_handles": ["--passes", "100"], "passes": [10, 20, 40, 60, 100],
+                     "buckling_fit": ["--res", "32", "--frames", "40", "--speed", "4", "--passes", "120",
+                                      "--smoothing", "0.003", "--samples", "4"],
                      "fit_material": ["--frames", "210", "--cd-samples", "4000", "--cd-stride", "4"]})
     # Rough seconds per part on one idle core, for the ETA only (scaled by how the finished parts went).
     p["estimate_s"] = ({"frontier-12": 15, "frontier-16": 20, "newton-cost": 3, "superres": 20, "offcorner-12": 20,
