@@ -43,7 +43,9 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->add_option("what", flags->run.what,
                    "newton, fno, adjoint (a recorded rollout's forward and backward passes), contact (pqn and newton "
                    "with far obstacles, a far mesh and self-contact, each against the same scene without), kernels (the "
-                   "angle springs' gradient, stencils per second, scalar and SIMD) or all (newton and fno)")
+                   "angle springs' gradient, stencils per second, scalar and SIMD), speed (pqn 10, fnopt 10 and newton with 1 "
+                   "and 2 threads, ms/frame, evaluations per frame and peak memory beside fnopt 1.0's) or all (newton "
+                   "and fno)")
       ->capture_default_str();
   command->add_option("--res", flags->resolution_list, "resolutions, comma-separated")->capture_default_str();
   command->add_option("--model", flags->run.model, "fno: the model whose shape is timed (default: the shipped model)");
@@ -59,7 +61,7 @@ const RegisterCommand kRegister([](CLI::App& app) {
   command->add_flag("--warm-start", flags->run.warm_start, "start each step from the previous acceleration");
   command
       ->add_option("--repeat", flags->run.repeat,
-                   "newton, contact: time each resolution this many times, in rounds; the table gives the medians "
+                   "newton, contact, speed: time each resolution this many times; the table gives the medians "
                    "(newton: and ms/frame's range)")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
@@ -68,6 +70,8 @@ const RegisterCommand kRegister([](CLI::App& app) {
                    "newton: CG's preconditioner: auto (P's Cholesky factor, on fine grids a multigrid V-cycle), "
                    "factor or multigrid at every grid")
       ->capture_default_str();
+  // speed's own: one row, measured in the process the table starts for it.
+  command->add_option("--row", flags->run.row, "speed: one METHOD[:ITERATIONS] in this process")->group("");
   command->callback([flags] { run_bench_command(*flags); });
 });
 

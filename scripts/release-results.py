@@ -8,6 +8,7 @@ assembles OUT/results.md: the current tables only, each headed by the exact comm
 Parts, in order:
   frontier-R   the error-time frontier at R^2 (fnopt compare, every current method and budget)
   newton-cost  the Newton reference's cost (fnopt bench newton --repeat N)
+  speed        every method's cost with 1 and 2 threads beside fnopt 1.0's (fnopt bench speed)
   superres     zero-shot super-resolution up to 200^2 (fnopt compare --preset superres)
   offcorner-R  the off-corner handle presets, against newton and against newton-min
                (fnopt compare --keep-rollouts, then fnopt evaluate against newton-min's rollout)

@@ -1,7 +1,7 @@
 """The code of scripts/release-results.py, whose docstring says what it does and how to run it.
 
 One module per results-page part, each with its part_* function and its own constants:
-frontier, newton_cost, superres, offcorner, arcsim, stability, contact, adjoint, paper.
+frontier, newton_cost, speed, superres, offcorner, arcsim, stability, contact, adjoint, paper.
 The pieces they share, one idea a module:
   plan       what each part runs, in full and in --quick (frontier_runs, CONTACT_SCENES, plan())
   runner     running fnopt: logs, the progress echo, PartFailed, the command as docs show it

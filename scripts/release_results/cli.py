@@ -20,8 +20,8 @@ def build_parser(doc):
     """The argument parser; doc is the launcher's docstring, whose first paragraph describes the command."""
     parser = argparse.ArgumentParser(
         description=doc.split("\n\n")[0] + " Writes OUT/<part>/ and OUT/results.md.",
-        epilog="Parts: frontier-32/64/100, newton-cost, superres, offcorner-32/64, arcsim, stability, contact, adjoint, "
-               "paper "
+        epilog="Parts: frontier-32/64/100, newton-cost, speed, superres, offcorner-32/64, arcsim, stability, "
+               "contact, adjoint, paper "
                "(--quick: frontier-12/16, offcorner-12). Example: scripts/release-results.py --binary "
                "build/fnopt --out out/release --arcsim-dir /data/arcsim --resume")
     parser.add_argument("--binary", default="build/fnopt", help="the fnopt executable (default: build/fnopt)")

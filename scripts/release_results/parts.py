@@ -14,6 +14,7 @@ from .paper import part_paper
 from .plan import plan
 from .runner import Runner, command_text
 from .stability import part_stability
+from .speed import part_speed
 from .superres import part_superres
 
 
@@ -64,6 +65,7 @@ def make_parts(ctx):
         parts.append(Part("frontier-%d" % grid, "frontier %d²" % grid, part_frontier, grid, motions, frames,
                           budgets))
     parts.append(Part("newton-cost", "Newton's cost", part_newton_cost, p["bench"]))
+    parts.append(Part("speed", "every method's cost", part_speed, p["speed"]))
     parts.append(Part("superres", "super-resolution", part_superres, p["superres"]))
     for grid, presets, frames, n in p["offcorner"]:
         parts.append(Part("offcorner-%d" % grid, "off the corners %d²" % grid, part_offcorner, grid, presets,

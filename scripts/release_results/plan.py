@@ -34,6 +34,7 @@ def plan(args):
     p["frontier"] = frontier_runs(quick)
     p["bench"] = {"res": "12,16" if quick else "32,64,100", "frames": 3 if quick else 390,
                   "repeat": 2 if quick else args.repeat}
+    p["speed"] = {"res": "8" if quick else "32,64,100", "frames": 3 if quick else 390}
     # The preset's own grids and methods, with 200^2 added; --quick: one grid finer than 32.
     p["superres"] = ({"res": "40", "frames": 2, "step_samples": 1} if quick else
                      {"res": "32x64,64x32,48,48x80,64,100,128,200", "frames": None, "step_samples": None})
@@ -71,10 +72,11 @@ def plan(args):
                                       "--smoothing", "0.003", "--samples", "4"],
                      "fit_material": ["--frames", "210", "--cd-samples", "4000", "--cd-stride", "4"]})
     # Rough seconds per part on one idle core, for the ETA only (scaled by how the finished parts went).
-    p["estimate_s"] = ({"frontier-12": 15, "frontier-16": 20, "newton-cost": 3, "superres": 20, "offcorner-12": 20,
+    p["estimate_s"] = ({"frontier-12": 15, "frontier-16": 20, "newton-cost": 3, "speed": 5, "superres": 20,
+                        "offcorner-12": 20,
                         "arcsim": 10, "stability": 10, "contact": 10, "adjoint": 10, "paper": 0} if quick else
                        {"frontier-32": 9000, "frontier-64": 14400, "frontier-100": 36000,
-                        "newton-cost": 1500 * args.repeat, "superres": 10800, "offcorner-32": 3600,
+                        "newton-cost": 1500 * args.repeat, "speed": 1500, "superres": 10800, "offcorner-32": 3600,
                         "offcorner-64": 24000, "arcsim": 12000, "stability": 3600, "contact": 43200,
                         "adjoint": 7200, "paper": 0})
     # Fewer samples where the grids are tiny: the per-step error's reference states, e_CD's points.

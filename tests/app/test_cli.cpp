@@ -4,6 +4,8 @@
 
 #include <cstring>
 #include <filesystem>
+#include <map>
+#include <regex>
 #include <sstream>
 #include <tuple>
 
@@ -79,6 +81,34 @@ TEST(Cli, BenchNewtonKeepsTheRolloutItTimed) {
   const CommandResult missing = run_fnopt("bench newton --res 8 --frames 1 --keep " + (dir / "nope").string());
   EXPECT_EQ(missing.status, 2) << missing.output;
   std::filesystem::remove_all(dir);
+}
+
+// bench speed: each method with 1 and 2 threads, each in a process of its own, its evaluations and
+// peak memory; Newton converges every step; 1.0's figures exist only for 32^2, 64^2 and 100^2.
+TEST(Cli, BenchSpeedRunsEachMethodWithOneAndTwoThreads) {
+  const CommandResult r = run_fnopt("bench speed --res 6 --frames 4");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("each run in a process of its own"), std::string::npos) << r.output;
+  const std::regex row(R"(\n +6\^2 +(pqn 10|fnopt 10|newton) +([12]) +([0-9.]+) +- +- +(\S+) +([0-9.]+) +([0-9.]+) +([0-9]+) +(\d+)/(\d+))");
+  std::map<std::string, int> rows;
+  for (auto m = std::sregex_iterator(r.output.begin(), r.output.end(), row); m != std::sregex_iterator(); ++m) {
+    const auto& match = *m;
+    ++rows[match[1]];
+    EXPECT_GT(std::stod(match[3]), 0.0) << match[0];
+    EXPECT_EQ(match[4] == "-", match[2] == "1") << match[0];  // a speed-up on the 2-thread row only
+    EXPECT_GE(std::stod(match[5]), std::stod(match[6])) << match[0];  // evaluations >= gradients >= 1
+    EXPECT_GE(std::stod(match[6]), 1.0) << match[0];
+    EXPECT_GT(std::stoi(match[7]), 0) << match[0];
+    EXPECT_EQ(match[9], "4") << match[0];
+    if (match[1] == "newton") {
+      EXPECT_EQ(match[8], "4") << match[0];
+    }
+  }
+  EXPECT_EQ(rows["pqn 10"], 2) << r.output;
+  EXPECT_EQ(rows["newton"], 2) << r.output;
+  const CommandResult bad = run_fnopt("bench speed --res 6 --frames 2 --row pqn:x");
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.output.find("row: expected METHOD or METHOD:ITERATIONS, got 'pqn:x'"), std::string::npos) << bad.output;
 }
 
 // bench kernels: a row per resolution and angle term, with the stencil count and a positive rate

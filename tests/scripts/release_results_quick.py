@@ -12,7 +12,7 @@ import subprocess
 import sys
 import tempfile
 
-SECTIONS = ["The error–time frontier at 12²", "The error–time frontier at 16²", "The Newton reference's cost",
+SECTIONS = ["The error–time frontier at 12²", "The error–time frontier at 16²", "The Newton reference's cost", "Every method's cost",
             "Zero-shot super-resolution", "Off the corners at 12²", "Against ARCSim", "Stability",
             "Contact with obstacles", "Gradients through rollouts", "The paper's tables beside ours"]
 

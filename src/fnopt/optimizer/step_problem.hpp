@@ -28,12 +28,15 @@ class StepProblem {
   // Masked gradient at a; returns L(a).
   double value_gradient(const VecX& a, VecX& gradient) {
     ++evaluations_;
+    ++gradient_evaluations_;
     const double value = objective_->value_gradient(a, gradient);
     dirichlet_->zero_fixed(gradient);
     return value;
   }
-  // Objective evaluations since construction (a cost measure independent of wall time).
+  // Objective evaluations since construction (a cost measure independent of wall time), and those
+  // of them with the gradient.
   long evaluations() const { return evaluations_; }
+  long gradient_evaluations() const { return gradient_evaluations_; }
 
   // Whether the objective has obstacles or self-contact.
   bool has_contact() const {
@@ -68,7 +71,7 @@ class StepProblem {
   static constexpr int kCarryRounds = 64;
   BackwardEulerObjective* objective_;
   const DirichletSet* dirichlet_;
-  long evaluations_ = 0;
+  long evaluations_ = 0, gradient_evaluations_ = 0;
   VecX x_from_, x_to_, scratch_;
 };
 

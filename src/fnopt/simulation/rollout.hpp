@@ -21,6 +21,9 @@ struct StepRecord {
   double wall_ms = 0.0;  // inner solve only: gradients, optimizer, line searches
   SolveStatus status = SolveStatus::IterationBudget;
   int iterations = 0;
+  // The objective's evaluations in the solve (StepProblem::evaluations), and those with a gradient.
+  int evaluations = 0;
+  int gradient_evaluations = 0;
   double initial_loss = 0.0;  // L(a_0)
   double loss = 0.0;          // L(a_N)
   double initial_gradient_norm = 0.0;

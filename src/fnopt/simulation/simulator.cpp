@@ -86,10 +86,16 @@ StepRecord Simulator::step() { return step(trajectory_targets(time_ + scene_.sce
 StepRecord Simulator::step(const std::vector<Vec3>& handle_positions) {
   VecX start;
   prepare_step(start, handle_positions);
+  const long evaluations = problem_.evaluations(), gradients = problem_.gradient_evaluations();
   const auto begin = std::chrono::steady_clock::now();
   const InnerSolveResult solve = solve_step(*optimizer_, problem_, a_, options_.solve);
   const auto end = std::chrono::steady_clock::now();
-  return finish(a_, solve, std::chrono::duration<double, std::milli>(end - begin).count());
+  const int solve_evaluations = static_cast<int>(problem_.evaluations() - evaluations);
+  const int solve_gradients = static_cast<int>(problem_.gradient_evaluations() - gradients);
+  StepRecord record = finish(a_, solve, std::chrono::duration<double, std::milli>(end - begin).count());
+  record.evaluations = solve_evaluations;
+  record.gradient_evaluations = solve_gradients;
+  return record;
 }
 
 StepRecord Simulator::commit(const VecX& a) {

@@ -10,6 +10,7 @@
 #include <fnopt/studies/bench/bench_contact.hpp>
 #include <fnopt/studies/bench/bench_kernels.hpp>
 #include <fnopt/studies/bench/bench_newton.hpp>
+#include <fnopt/studies/bench/bench_speed.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
@@ -27,13 +28,15 @@ void bench_fno_table(const BenchRun& run) {
 
 void run_bench(const BenchRun& run) {
   if (run.what != "newton" && run.what != "fno" && run.what != "adjoint" && run.what != "contact" &&
-      run.what != "kernels" && run.what != "all")
-    throw Error("bench", "unknown benchmark '" + run.what + "' (choose newton, fno, adjoint, contact, kernels or all)");
+      run.what != "kernels" && run.what != "speed" && run.what != "all")
+    throw Error("bench",
+                "unknown benchmark '" + run.what + "' (choose newton, fno, adjoint, contact, kernels, speed or all)");
   if (run.what == "newton" || run.what == "all") bench_newton_table(run);
   if (run.what == "fno" || run.what == "all") bench_fno_table(run);
   if (run.what == "adjoint") bench_adjoint_table(run);
   if (run.what == "contact") bench_contact_table(run);
   if (run.what == "kernels") bench_kernels_table(run);
+  if (run.what == "speed") bench_speed_table(run);
 }
 
 }  // namespace fnopt

@@ -1,0 +1,37 @@
+"""Every method's cost (fnopt bench speed): pqn 10, fnopt 10 and Newton with 1 and 2 threads, each in a process of
+its own, beside fnopt 1.0's figures; the bench's table as it printed it."""
+
+import os
+import re
+
+from .assemble import section
+from .files import write_atomic, write_csv
+from .runner import PartFailed
+from .tables import markdown_table
+
+HEADER = ["grid", "method", "threads", "ms/frame", "1.0 ms/frame", "vs 1.0", "2 threads' speed-up",
+          "evaluations / frame", "gradients / frame", "peak MB", "converged"]
+ROW = re.compile(r"^\s*(\d+)\^2\s+(pqn \d+|fnopt \d+|newton)\s+(\d+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)"
+                 r"\s+(\S+)\s+(\S+)\s*$")
+
+
+def part_speed(ctx, part, bench):
+    """The section and speed.csv; with --resume a finished bench's output (bench.txt) is read again."""
+    d = os.path.join(ctx.out, part)
+    os.makedirs(d, exist_ok=True)
+    args = ["bench", "speed", "--res", bench["res"], "--frames", str(bench["frames"])]
+    stdout_path = os.path.join(d, "bench.txt")
+    if ctx.resume and os.path.exists(stdout_path):
+        with open(stdout_path, encoding="utf-8") as f:
+            text = f.read()
+    else:
+        text = ctx.run(part, args)
+        write_atomic(stdout_path, text)
+    rows = [[m.group(1) + "²"] + list(m.groups()[1:]) for m in (ROW.match(l) for l in text.splitlines()) if m]
+    if not rows:
+        raise PartFailed("%s: no table in the bench's output (%s)" % (part, stdout_path))
+    path = os.path.join(d, "speed.csv")
+    write_csv(path, HEADER, rows)
+    first = text.splitlines()[0] if text else ""
+    return section("Every method's cost", [ctx.shown(args)],
+                   first.rstrip(".") + ".\n\n" + markdown_table(HEADER, rows)), [path]
