@@ -55,6 +55,10 @@ const RegisterCommand kRegister([](CLI::App& app) {
       ->add_option("--start", run.start,
                    "material to start from: a preset or a material file (the references' own material is never used)")
       ->capture_default_str();
+  command->add_option("--horizons", run.horizons,
+                      "gradient: fit first on these fractions of the steps, each stage from the last one's result, "
+                      "then on all (a buckling cloth's late frames make the loss rough far from the fit); none: all "
+                      "at once (default: 0.333)");
   command->add_option("--frames", run.params.frames, "time steps per rollout (0: the reference's whole duration)")
       ->capture_default_str();
   command->add_option("--max-evaluations", run.params.max_evaluations,

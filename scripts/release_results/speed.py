@@ -9,10 +9,27 @@ from .files import write_atomic, write_csv
 from .runner import PartFailed
 from .tables import markdown_table
 
-HEADER = ["grid", "method", "threads", "ms/frame", "1.0 ms/frame", "vs 1.0", "2 threads' speed-up",
-          "evaluations / frame", "gradients / frame", "peak MB", "converged"]
+HEADER = ["grid", "method", "ms/frame, 1 thread", "2 threads", "2 threads' speed-up", "1.0 ms/frame", "vs 1.0",
+          "evaluations / frame", "gradients / frame", "peak MB, 1 / 2 threads", "converged"]
 ROW = re.compile(r"^\s*(\d+)\^2\s+(pqn \d+|fnopt \d+|newton)\s+(\d+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)"
                  r"\s+(\S+)\s+(\S+)\s*$")
+
+
+def merged_rows(text):
+    """The bench's rows, one per grid and method: its 1-thread row with the 2-thread row's ms/frame, speed-up and
+    peak memory beside."""
+    rows, one = [], {}
+    for m in (ROW.match(l) for l in text.splitlines()):
+        if not m:
+            continue
+        grid, method, threads, ms, then, versus, two, evals, grads, peak, converged = m.groups()
+        if threads == "1":
+            one[(grid, method)] = (ms, then, versus, evals, grads, peak, converged)
+        elif (grid, method) in one:
+            ms1, then, versus, evals, grads, peak1, converged = one.pop((grid, method))
+            rows.append([grid + "²", method, ms1, ms, two, then, versus, evals, grads, peak1 + " / " + peak,
+                         converged])
+    return rows
 
 
 def part_speed(ctx, part, bench):
@@ -27,7 +44,7 @@ def part_speed(ctx, part, bench):
     else:
         text = ctx.run(part, args)
         write_atomic(stdout_path, text)
-    rows = [[m.group(1) + "²"] + list(m.groups()[1:]) for m in (ROW.match(l) for l in text.splitlines()) if m]
+    rows = merged_rows(text)
     if not rows:
         raise PartFailed("%s: no table in the bench's output (%s)" % (part, stdout_path))
     path = os.path.join(d, "speed.csv")

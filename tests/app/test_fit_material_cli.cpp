@@ -45,6 +45,11 @@ TEST(FitMaterialCli, HelpAndBadInput) {
   const CommandResult density = run_fnopt("fit-material --reference " + reference + " --range density=2:1");
   EXPECT_EQ(density.status, 2);
   EXPECT_NE(density.output.find("range: 'density=2:1' must be 0 < LOW < HIGH"), std::string::npos) << density.output;
+  for (const std::string horizons : {"0.5,x", "0.6,0.3", "1"}) {
+    const CommandResult bad = run_fnopt("fit-material --reference " + reference + " --horizons " + horizons);
+    EXPECT_EQ(bad.status, 2) << horizons;
+    EXPECT_NE(bad.output.find("fnopt: error: horizons: expected"), std::string::npos) << bad.output;
+  }
 }
 
 TEST(FitMaterialCli, TinyFitWritesAMaterialThatSimulateReads) {

@@ -3,6 +3,7 @@
 // refuses coefficients it cannot fit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -35,7 +36,8 @@ GradientFitTarget target_of(const Scene& scene, const Material& hidden) {
 
 // Hidden materials with another density than the start's (so that only the ratios can be found):
 // stiffer and less damped; softer with a bend a tenth of the default's; a stiff bend. From the
-// default, each fit ends stationary with stretch/rho, shear/rho, bend/rho and damping within 0.1 %.
+// default, each fit ends stationary within its default budget, with stretch/rho, shear/rho, bend/rho
+// and damping within 0.1 %.
 TEST(MaterialFitGradient, RecoversHiddenRatiosToDensityAndDampingFromTheDefault) {
   const Scene scene = corner_scene(12, 26);
   struct Hidden {
@@ -48,13 +50,13 @@ TEST(MaterialFitGradient, RecoversHiddenRatiosToDensityAndDampingFromTheDefault)
     int evaluations = 0;
     const GradientMaterialFitResult fit =
         fit_material_by_gradient({target_of(scene, hidden)}, scene.material, {},
-                                 [&](int evaluation, const Material&, double loss) {
+                                 [&](int evaluation, double, const Material&, double loss) {
                                    EXPECT_EQ(evaluation, ++evaluations);
                                    EXPECT_TRUE(std::isfinite(loss));
                                  });
     EXPECT_EQ(fit.status, BoundedGaussNewtonStatus::Stationary) << to_string(fit.status);
     EXPECT_EQ(fit.rollouts, evaluations);
-    EXPECT_LE(evaluations, 20) << "hidden bend x" << h.bend;
+    EXPECT_LE(evaluations, 30) << "hidden bend x" << h.bend;  // the default budget, over both stages
     EXPECT_EQ(fit.material.density, scene.material.density);
     for (AdjointParameter k : kStiffnesses)
       EXPECT_NEAR((material_coefficient(fit.material, k) / fit.material.density) /
@@ -64,6 +66,34 @@ TEST(MaterialFitGradient, RecoversHiddenRatiosToDensityAndDampingFromTheDefault)
     EXPECT_NEAR(fit.material.damping / hidden.damping, 1.0, 1e-3) << h.bend;
     ASSERT_EQ(fit.uncertainty.size(), 4u);
     for (double u : fit.uncertainty) EXPECT_LT(u, 1e-3);
+  }
+}
+
+// In stages: the first evaluations on a quarter and then half of the steps, the rest on all of them,
+// each stage from where the last ended; the result is the whole horizon's stationary point.
+TEST(MaterialFitGradient, FitsInStagesOverAGrowingHorizon) {
+  const Scene scene = corner_scene(12, 26);
+  Material hidden = scene.material;
+  hidden.bend *= 0.1, hidden.damping *= 1.5;
+  GradientMaterialFitParams params;
+  params.horizons = {0.25, 0.5};
+  params.optimizer.max_evaluations = 60;  // over the three stages
+  std::vector<double> horizons;
+  const GradientMaterialFitResult fit = fit_material_by_gradient(
+      {target_of(scene, hidden)}, scene.material, params,
+      [&](int, double horizon, const Material&, double) { horizons.push_back(horizon); });
+  ASSERT_FALSE(horizons.empty());
+  EXPECT_EQ(horizons.front(), 0.25);
+  EXPECT_EQ(horizons.back(), 1.0);
+  EXPECT_TRUE(std::is_sorted(horizons.begin(), horizons.end()));
+  EXPECT_NE(std::find(horizons.begin(), horizons.end(), 0.5), horizons.end());
+  EXPECT_EQ(fit.status, BoundedGaussNewtonStatus::Stationary) << to_string(fit.status);
+  EXPECT_EQ(fit.rollouts, static_cast<int>(horizons.size()));
+  EXPECT_NEAR((fit.material.bend / fit.material.density) / (hidden.bend / hidden.density), 1.0, 1e-3);
+  for (const std::vector<double>& bad : {std::vector<double>{0.5, 0.25}, std::vector<double>{1.0}}) {
+    params.horizons = bad;
+    EXPECT_TRUE(testing::throws_error([&] { fit_material_by_gradient({target_of(scene, hidden)}, scene.material, params); },
+                                      "horizons: expected fractions of the steps ascending in (0, 1)"));
   }
 }
 

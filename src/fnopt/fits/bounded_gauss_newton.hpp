@@ -5,9 +5,10 @@
 // gradient g and a positive semidefinite model G of its Hessian (J^T W J for a least-squares loss).
 //
 // Per iteration: the variables at a bound whose gradient points out of the box are held; on the
-// others the step solves (G + mu (max diag G) I) d = -g (Levenberg's damping), the trial is the projection P(x + d), and it is
-// kept if it lowers the loss, when mu shrinks by max(1/3, 1 - (2 r - 1)^3), r the actual over the
-// model's decrease; else mu grows (x2, x4, x8, ...). The stop says why:
+// others the step solves (G + mu (max diag G) I) d = -g (Levenberg's damping), the trial is the
+// projection P(x + d), and it is kept if it lowers the loss, when mu shrinks by
+// max(1/10, 1 - (2 r - 1)^3) (Nielsen's rule, whose floor is 1/3), r the actual over the model's
+// decrease; else mu grows (x2, x4, x8, ...). The stop says why:
 //  * Stationary: the undamped Gauss-Newton step moves no free variable by more than
 //    step_tolerance (the model's minimum is where the iterate is), or the projected gradient is zero;
 //  * NoDecrease: mu passed max_damping without a trial that lowers the loss (the loss is rough at

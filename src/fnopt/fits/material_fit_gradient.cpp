@@ -79,6 +79,10 @@ void GradientMaterialFitParams::validate() const {
                 range->second.low < range->second.high,
             "range", std::string(to_string(fit[i])) + " must be 0 < LOW < HIGH");
   }
+  for (std::size_t i = 0; i < horizons.size(); ++i)
+    require(std::isfinite(horizons[i]) && horizons[i] > 0.0 && horizons[i] < 1.0 &&
+                (i == 0 || horizons[i] > horizons[i - 1]),
+            "horizons", "expected fractions of the steps ascending in (0, 1)");
   optimizer.validate();
   record.validate();
 }
@@ -164,6 +168,20 @@ std::vector<double> uncertainties(double loss, const Eigen::MatrixXd& model, lon
   return out;
 }
 
+// The target over the first round(fraction x steps) steps (at least one): its scene's frames and the
+// loss's frames within them. Throws Error("horizons", ...) where no loss frame is left.
+GradientFitTarget truncated(const GradientFitTarget& target, double fraction) {
+  GradientFitTarget out = target;
+  const int steps = std::max(1, static_cast<int>(std::lround(fraction * (target.scene.scene.frames - 1))));
+  out.scene.scene.frames = steps + 1;
+  const auto beyond = [&](const auto& frame) { return frame.frame > steps; };
+  out.positions.erase(std::remove_if(out.positions.begin(), out.positions.end(), beyond), out.positions.end());
+  out.points.erase(std::remove_if(out.points.begin(), out.points.end(), beyond), out.points.end());
+  require(!out.positions.empty() || !out.points.empty(), "horizons",
+          "a stage of " + std::to_string(steps) + " steps has no reference frame in it (choose a larger fraction)");
+  return out;
+}
+
 }  // namespace
 
 GradientMaterialFitResult fit_material_by_gradient(const std::vector<GradientFitTarget>& targets,
@@ -186,18 +204,34 @@ GradientMaterialFitResult fit_material_by_gradient(const std::vector<GradientFit
   GradientMaterialFitResult result;
   int evaluations = 0;
   long residuals = 0;
-  const GaussNewtonObjective objective = [&](const VecX& x, VecX& gradient, Eigen::MatrixXd& model) {
-    const Material material = material_at(x);
-    const double value = mean_loss(targets, material, params, gradient, model, result.rollouts, residuals);
-    if (++evaluations == 1) result.start_loss = value;
-    if (on_evaluation) on_evaluation(evaluations, material, value);
-    return value;
-  };
-  const BoundedGaussNewtonResult fit = minimize_by_gauss_newton(objective, x0, lower, upper, params.optimizer);
+  std::vector<double> stages = params.horizons;
+  stages.push_back(1.0);
+  BoundedGaussNewtonResult fit;
+  VecX x = x0;
+  for (double horizon : stages) {
+    std::vector<GradientFitTarget> stage_targets;
+    for (const GradientFitTarget& target : targets)
+      stage_targets.push_back(horizon < 1.0 ? truncated(target, horizon) : target);
+    const int stage_start = evaluations;
+    const GaussNewtonObjective objective = [&](const VecX& at, VecX& gradient, Eigen::MatrixXd& model) {
+      const Material material = material_at(at);
+      const double value = mean_loss(stage_targets, material, params, gradient, model, result.rollouts, residuals);
+      if (++evaluations == stage_start + 1) result.start_loss = value;
+      if (on_evaluation) on_evaluation(evaluations, horizon, material, value);
+      return value;
+    };
+    BoundedGaussNewtonParams optimizer = params.optimizer;
+    optimizer.max_evaluations = std::max(1, params.optimizer.max_evaluations - evaluations);
+    if (horizon < 1.0)
+      optimizer.step_tolerance = std::max(optimizer.step_tolerance, GradientMaterialFitParams::kStageStepTolerance);
+    fit = minimize_by_gauss_newton(objective, x, lower, upper, optimizer);
+    x = fit.x;
+    result.iterations += fit.iterations;
+    if (fit.status == BoundedGaussNewtonStatus::NonFinite) break;
+  }
   result.material = material_at(fit.x);
   result.loss = fit.value;
   result.status = fit.status;
-  result.iterations = fit.iterations;
   result.uncertainty = uncertainties(fit.value, fit.model, residuals);
   for (Eigen::Index i = 0; i < n; ++i) result.at_bound.push_back(fit.x[i] <= lower[i] || fit.x[i] >= upper[i]);
   return result;

@@ -11,6 +11,12 @@
 // gradient J^T dL/dx and the Gauss-Newton model G = sum_f J_f^T W_f J_f (W_f the loss's
 // gauss_newton_weights) come together, for one factorisation per step and a solve per coefficient.
 //
+// A buckling cloth makes the loss over a long horizon rough: a coefficient changed in its fourth
+// digit can switch the folds' branch late in the rollout, and a fit from far away then ends in a
+// wrong basin (a bend ten times too soft, found 14 times too stiff). The early frames have not
+// branched yet, so the fit runs in stages (a continuation in the horizon): first on a fraction of
+// every target's steps, each stage starting where the one before ended, then on the whole.
+//
 // What positions determine: with gravity fixed, a step's stationarity divided by the density depends
 // on the stiffnesses and the damping relative to it, so scaling the stiffnesses and the density
 // together leaves every rollout as it is. The fit therefore holds the density (the start's, or one
@@ -50,7 +56,10 @@ struct GradientMaterialFitParams {
                                        AdjointParameter::Damping};
   // Each fitted coefficient's interval (physical units): the compass's (material_fit.hpp).
   std::map<AdjointParameter, CoefficientRange> ranges = default_ranges();
-  BoundedGaussNewtonParams optimizer = default_optimizer();
+  BoundedGaussNewtonParams optimizer = default_optimizer();  // max_evaluations: over every stage
+  // The stages before the whole horizon, as fractions of every target's steps, ascending in (0, 1);
+  // empty: the whole horizon at once.
+  std::vector<double> horizons = {1.0 / 3.0};
   ChamferOptions chamfer;  // e_CD's samples, for ARCSim references
   RecordOptions record;
 
@@ -59,15 +68,19 @@ struct GradientMaterialFitParams {
   // step by a factor e at most; stationary once the Gauss-Newton step changes no coefficient by
   // more than 1e-6 (relative).
   static BoundedGaussNewtonParams default_optimizer();
-  void validate() const;  // throws Error naming the field ("fit": an unknown, repeated or unidentifiable kind)
+  // A stage before the last stops once its step changes no coefficient by more than this (relative):
+  // it only has to bring the fit into the whole horizon's basin.
+  static constexpr double kStageStepTolerance = 1e-3;
+  void validate() const;  // throws Error naming the field ("fit": an unknown, repeated or unidentifiable kind;
+                          // "horizons": not ascending in (0, 1))
 };
 
 struct GradientMaterialFitResult {
   Material material;  // the fitted material (the start's values for the coefficients not fitted)
-  double start_loss = 0.0, loss = 0.0;
-  BoundedGaussNewtonStatus status = BoundedGaussNewtonStatus::EvaluationBudget;
-  int iterations = 0;
-  int rollouts = 0;  // recorded forward passes, each with its tangent pass
+  double start_loss = 0.0, loss = 0.0;  // on the whole horizon: at the last stage's start, and fitted
+  BoundedGaussNewtonStatus status = BoundedGaussNewtonStatus::EvaluationBudget;  // the last stage's
+  int iterations = 0;                    // steps, over every stage
+  int rollouts = 0;  // recorded forward passes, each with its tangent pass, over every stage
   // Per fitted coefficient, in params.fit's order: its standard deviation in ln k (the relative
   // uncertainty), sqrt(s^2 (J^T J)^-1_ii) with the residual variance s^2 = sum r^2 / (N - p) over
   // the N residual components (position losses; for e_CD the same formula on its samples).
@@ -75,9 +88,10 @@ struct GradientMaterialFitResult {
   std::vector<char> at_bound;  // per fitted coefficient: it ended at an end of its interval
 };
 
-// Called after each evaluation with its count, the material and the mean loss (+inf where a
-// rollout diverged).
-using GradientFitCallback = std::function<void(int evaluation, const Material& material, double loss)>;
+// Called after each evaluation with its count (over every stage), the stage's horizon (the fraction
+// of the steps, 1 for the whole), the material and the mean loss (+inf where a rollout diverged).
+using GradientFitCallback =
+    std::function<void(int evaluation, double horizon, const Material& material, double loss)>;
 
 // Fits from `start`. A trial material whose rollout diverges has an infinite loss, which the line
 // search steps back from. Throws what record_rollout throws.

@@ -88,6 +88,17 @@ GradientMaterialFitParams gradient_params(const MaterialFitRun& run) {
             "'" + text + "' must be 0 < LOW < HIGH");
     found->second = range;
   }
+  if (run.horizons == "none") {
+    params.horizons.clear();
+  } else if (!run.horizons.empty()) {
+    params.horizons.clear();
+    for (const auto& item : split(run.horizons, ',')) {
+      double fraction = 0.0;
+      require(parse_double(trim(item), fraction), "horizons",
+              "expected none or fractions of the steps such as 0.33,0.67, got '" + run.horizons + "'");
+      params.horizons.push_back(fraction);
+    }
+  }
   params.optimizer.max_evaluations = run.params.max_evaluations;
   params.optimizer.first_step = run.params.initial_step;
   params.chamfer = run.params.chamfer;
@@ -147,6 +158,23 @@ void print_identifiable(const GradientMaterialFitParams& params, const GradientM
   }
 }
 
+// ", first 33 % of the steps" for a stage before the whole horizon.
+std::string horizon_text(double horizon) {
+  if (horizon >= 1.0) return "";
+  char text[64];
+  std::snprintf(text, sizeof text, " (the first %.0f %% of the steps)", 100.0 * horizon);
+  return text;
+}
+
+// ", in stages: the first 33 % of the steps, then all (--horizons)" where there are stages.
+std::string stages_text(const std::vector<double>& horizons) {
+  if (horizons.empty()) return "";
+  std::string text = ", in stages: the first";
+  for (std::size_t i = 0; i < horizons.size(); ++i)
+    text += (i ? ", " : " ") + std::to_string(static_cast<int>(std::lround(100.0 * horizons[i]))) + " %";
+  return text + " of the steps, then all (--horizons)";
+}
+
 void run_gradient_fit(MaterialFitRun& run, const Material& start) {
   const GradientMaterialFitParams params = gradient_params(run);
   params.validate();
@@ -165,17 +193,19 @@ void run_gradient_fit(MaterialFitRun& run, const Material& start) {
   }
   std::printf(
       "fitting %s from %s (%s): positions determine the stiffnesses only relative to the density, held at %.4g "
-      "kg/m^2 (%s); Levenberg-Marquardt in ln(coefficient) on the Gauss-Newton model of the rollout's tangents, at "
-      "most %d evaluations; %s\n",
+      "kg/m^2 (%s); Levenberg-Marquardt in ln(coefficient) on the Gauss-Newton model of the rollout's tangents%s, "
+      "at most %d evaluations; %s\n",
       run.coefficients.c_str(), run.start.c_str(), material_text(start).c_str(), start.density,
-      run.mass > 0.0 ? "--mass" : "the start's; --mass sets it", params.optimizer.max_evaluations,
-      thread_text(run.threads).c_str());
+      run.mass > 0.0 ? "--mass" : "the start's; --mass sets it", stages_text(params.horizons).c_str(),
+      params.optimizer.max_evaluations, thread_text(run.threads).c_str());
   std::fflush(stdout);
   const GradientMaterialFitResult result =
-      fit_material_by_gradient(targets, start, params, [](int evaluation, const Material& material, double loss) {
-        std::printf("  %3d  %s  ->  loss %s\n", evaluation, material_text(material).c_str(), number_text(loss).c_str());
-        std::fflush(stdout);
-      });
+      fit_material_by_gradient(targets, start, params,
+                               [](int evaluation, double horizon, const Material& material, double loss) {
+                                 std::printf("  %3d  %s  ->  loss %s%s\n", evaluation, material_text(material).c_str(),
+                                             number_text(loss).c_str(), horizon_text(horizon).c_str());
+                                 std::fflush(stdout);
+                               });
   std::printf("fitted (%s; %d steps, loss %s, start %s), +- one standard deviation from the Gauss-Newton model:\n",
               stop_text(result.status), result.iterations, number_text(result.loss).c_str(),
               number_text(result.start_loss).c_str());

@@ -23,6 +23,9 @@ struct MaterialFitRun {
   // The cloth's mass [kg]: sets the density (mass over the references' cloth area), which positions
   // cannot determine (material_fit_gradient.hpp); 0: the start material's density.
   double mass = 0.0;
+  // gradient: the stages before the whole horizon, "none" or comma-separated fractions of the steps;
+  // empty: GradientMaterialFitParams's.
+  std::string horizons;
   MaterialFitParams params;  // max_evaluations: the gradient's evaluations too
   int threads = 1;  // the thread count in effect, for the header line
 };
