@@ -31,6 +31,8 @@ class StepRecord:
         ``factorization-failed``, ``non-finite`` or ``precision-limit``.
     iterations : int
         Iterations the optimizer took.
+    evaluations, gradient_evaluations : int
+        The step objective's evaluations in the solve, and those of them with its gradient.
     initial_loss, loss : float
         The step's objective L(a) at the start a_0 and at the answer.
     initial_gradient_norm, gradient_norm : float
@@ -44,6 +46,8 @@ class StepRecord:
     wall_ms: float
     status: str
     iterations: int
+    evaluations: int
+    gradient_evaluations: int
     initial_loss: float
     loss: float
     initial_gradient_norm: float

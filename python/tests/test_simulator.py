@@ -52,6 +52,8 @@ def test_a_rollouts_step_records_are_those_the_simulator_reports():
         # the same step, only its wall time differs
         assert mine == fnopt.StepRecord(**{**vars(expected), "wall_ms": mine.wall_ms})
         assert mine.iterations <= 5 and mine.loss <= mine.initial_loss
+        # every iteration needs the gradient at its iterate; line-search trials may add values
+        assert mine.evaluations >= mine.gradient_evaluations >= mine.iterations >= 1
     with pytest.raises(AttributeError):
         mine.loss = 0.0
     assert repr(mine).startswith("StepRecord(wall_ms=")

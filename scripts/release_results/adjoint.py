@@ -79,6 +79,16 @@ def backward_cost(ctx, part, d, plan_):
     return [ctx.shown(args)], text, [path]
 
 
+def best_loss_table(history, passes):
+    """fit-handles' losses {method: [(passes, loss)]} as (header, rows): each method's start loss and its best loss
+    within each number of passes."""
+    header = ["method", "start loss m²"] + ["after %d passes" % n for n in passes]
+    table = [[method, fmt(points[0][1])] +
+             [fmt(min((loss for k, loss in points if k <= n), default=None)) for n in passes]
+             for method, points in history.items()]
+    return header, table
+
+
 def fit_handles(ctx, part, d, plan_):
     """fnopt fit-handles: the best loss after each planned number of passes, per method, and its chart."""
     loss_csv = os.path.join(d, "fit-handles.csv")
@@ -89,11 +99,7 @@ def fit_handles(ctx, part, d, plan_):
     history = {}
     for r in read_csv(loss_csv):
         history.setdefault(r["method"], []).append((int(r["passes"]), fnum(r["loss_m2"])))
-    passes = plan_["passes"]
-    header = ["method", "start loss m²"] + ["after %d passes" % n for n in passes]
-    table = [[method, fmt(points[0][1])] +
-             [fmt(min((loss for k, loss in points if k <= n), default=None)) for n in passes]
-             for method, points in history.items()]
+    header, table = best_loss_table(history, plan_["passes"])
     path = os.path.join(d, "fit-handles-table.csv")
     write_csv(path, header, table)
     chart = publish_picture(ctx, os.path.join(d, "fit-handles.svg"), "fit-handles.svg",
@@ -123,10 +129,7 @@ def buckling_fit(ctx, part, d, plan_):
             method = r["method"] if label == "exact" else "gradient, smoothed (σ %s m, %s samples)" % (sigma, samples)
             history.setdefault(method, []).append((int(r["passes"]), fnum(r["loss_m2"])))
     passes = [n for n in (10, 20, 40, 60, 80, 100, 120) if n <= int(plain[plain.index("--passes") + 1])]
-    header = ["method", "start loss m²"] + ["after %d passes" % n for n in passes]
-    table = [[method, fmt(points[0][1])] +
-             [fmt(min((loss for k, loss in points if k <= n), default=None)) for n in passes]
-             for method, points in history.items()]
+    header, table = best_loss_table(history, passes)
     path = os.path.join(d, "fit-handles-buckling.csv")
     write_csv(path, header, table)
     text = ("\nThe same fit on a buckling cloth (%s): the exact gradient holds only for tiny steps there (each "

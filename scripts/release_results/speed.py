@@ -5,7 +5,8 @@ import os
 import re
 
 from .assemble import section
-from .files import write_atomic, write_csv
+from .files import write_csv
+from .newton_cost import bench_output
 from .runner import PartFailed
 from .tables import markdown_table
 
@@ -37,16 +38,10 @@ def part_speed(ctx, part, bench):
     d = os.path.join(ctx.out, part)
     os.makedirs(d, exist_ok=True)
     args = ["bench", "speed", "--res", bench["res"], "--frames", str(bench["frames"])]
-    stdout_path = os.path.join(d, "bench.txt")
-    if ctx.resume and os.path.exists(stdout_path):
-        with open(stdout_path, encoding="utf-8") as f:
-            text = f.read()
-    else:
-        text = ctx.run(part, args)
-        write_atomic(stdout_path, text)
+    text = bench_output(ctx, part, args, os.path.join(d, "bench.txt"))
     rows = merged_rows(text)
     if not rows:
-        raise PartFailed("%s: no table in the bench's output (%s)" % (part, stdout_path))
+        raise PartFailed("%s: no table in the bench's output (%s)" % (part, os.path.join(d, "bench.txt")))
     path = os.path.join(d, "speed.csv")
     write_csv(path, HEADER, rows)
     first = text.splitlines()[0] if text else ""

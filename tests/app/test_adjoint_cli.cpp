@@ -78,7 +78,7 @@ TEST(BenchAdjointCli, ATableRowPerResolution) {
 
   const CommandResult bad = run_fnopt("bench adjoints --res 8 --frames 3");
   EXPECT_EQ(bad.status, 2);
-  EXPECT_NE(bad.output.find("choose newton, fno, adjoint, contact, kernels or all"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("choose newton, fno, adjoint, contact, kernels, speed or all"), std::string::npos) << bad.output;
 }
 
 }  // namespace

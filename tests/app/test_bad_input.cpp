@@ -114,7 +114,7 @@ const std::vector<BadInput> kCases = {
     {"train --out {dir}/t --range foo=1:2", "range: unknown quantity 'foo'"},
     {"train --out {dir}/t --validate-res 2", "validate-res: must be at least 3"},
     {"fit-material --reference {dir}/ref.h5 --cd-stride 0 --out {dir}/m.txt", "cd-stride: must be at least 1"},
-    {"bench nope", "bench: unknown benchmark 'nope' (choose newton, fno, adjoint, contact, kernels or all)"},
+    {"bench nope", "bench: unknown benchmark 'nope' (choose newton, fno, adjoint, contact, kernels, speed or all)"},
     {"bench newton --res 8 --preconditioner lu", "preconditioner: expected auto, factor or multigrid, got 'lu'"},
     {"bench newton --res 8 --repeat 0", "--repeat: Value 0 not in range 1 to 100"},
     // The viewer: every file checked before it serves.

@@ -93,7 +93,7 @@ TEST(FitMaterialCli, GradientFitRecoversAHiddenMaterialFromAnFnoptRollout) {
   EXPECT_EQ(density.output.rfind("fnopt: error: fit: density is not determined by positions", 0), 0u)
       << density.output;
   EXPECT_EQ(std::count(density.output.begin(), density.output.end(), '\n'), 1) << density.output;
-  const CommandResult fit = run_fnopt("fit-material --reference " + reference + " --max-evaluations 20 --cd-samples 2000 --out " +
+  const CommandResult fit = run_fnopt("fit-material --reference " + reference + " --max-evaluations 30 --cd-samples 2000 --out " +
                                       material + " --threads 1");
   ASSERT_EQ(fit.status, 0) << fit.output;
   EXPECT_NE(fit.output.find("after the first (an fnopt rollout: vertex for vertex)"), std::string::npos) << fit.output;
