@@ -30,7 +30,8 @@ py::object step_record(const StepRecord& r) {
   using namespace pybind11::literals;
   return record_type("StepRecord")(
       "wall_ms"_a = r.wall_ms, "status"_a = to_string(r.status), "iterations"_a = r.iterations,
-      "evaluations"_a = r.evaluations, "gradient_evaluations"_a = r.gradient_evaluations, "initial_loss"_a = r.initial_loss, "loss"_a = r.loss, "initial_gradient_norm"_a = r.initial_gradient_norm,
+      "evaluations"_a = r.evaluations, "gradient_evaluations"_a = r.gradient_evaluations,
+      "initial_loss"_a = r.initial_loss, "loss"_a = r.loss, "initial_gradient_norm"_a = r.initial_gradient_norm,
       "gradient_norm"_a = r.gradient_norm, "max_strain"_a = r.max_strain, "energy"_a = r.energy);
 }
 

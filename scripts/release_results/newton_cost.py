@@ -4,7 +4,7 @@ named as it names them."""
 import os
 
 from .assemble import section
-from .files import write_atomic, write_csv
+from .files import write_csv
 from .runner import PartFailed
 from .tables import bench_table, markdown_table
 
@@ -30,17 +30,6 @@ def column_names(header_line):
     return header
 
 
-def bench_output(ctx, part, args, stdout_path):
-    """fnopt bench's output for part, kept in stdout_path; with --resume a finished bench's file is read again
-    instead of timing it again."""
-    if ctx.resume and os.path.exists(stdout_path):
-        with open(stdout_path, encoding="utf-8") as f:
-            return f.read()
-    text = ctx.run(part, args)
-    write_atomic(stdout_path, text)
-    return text
-
-
 def part_newton_cost(ctx, part, bench):
     """The Newton reference's cost per grid: the section and newton-cost.csv. With --resume, a finished bench's
     output (bench.txt) is read again instead of timing it again."""
@@ -48,7 +37,7 @@ def part_newton_cost(ctx, part, bench):
     args = ["bench", "newton", "--res", bench["res"], "--frames", str(bench["frames"]), "--threads", "1",
             "--repeat", str(bench["repeat"])]
     stdout_path = os.path.join(d, "bench.txt")
-    text = bench_output(ctx, part, args, stdout_path)
+    text = ctx.run_kept(part, args, stdout_path)
     header_line, rows = bench_table(text)
     if header_line is None or not rows:
         raise PartFailed("%s: no table in the bench's output (%s)" % (part, stdout_path))

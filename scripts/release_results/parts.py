@@ -7,6 +7,7 @@ import os
 from .adjoint import part_adjoint
 from .arcsim import part_arcsim
 from .contact import part_contact
+from .files import write_atomic
 from .frontier import part_frontier
 from .newton_cost import part_newton_cost
 from .offcorner import part_offcorner
@@ -34,6 +35,16 @@ class Context:
     def run(self, part, args):
         """Runs fnopt with args for part (Runner.run): its standard output; PartFailed when it fails."""
         return self.runner.run(part, args)
+
+    def run_kept(self, part, args, stdout_path):
+        """run(), its output kept in stdout_path; with --resume a finished run's file is read again instead of
+        running it again (a bench's timings)."""
+        if self.resume and os.path.exists(stdout_path):
+            with open(stdout_path, encoding="utf-8") as f:
+                return f.read()
+        text = self.run(part, args)
+        write_atomic(stdout_path, text)
+        return text
 
     def rel(self, path):
         """path relative to --out, as the commands name it."""

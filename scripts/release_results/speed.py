@@ -6,7 +6,6 @@ import re
 
 from .assemble import section
 from .files import write_csv
-from .newton_cost import bench_output
 from .runner import PartFailed
 from .tables import markdown_table
 
@@ -38,7 +37,7 @@ def part_speed(ctx, part, bench):
     d = os.path.join(ctx.out, part)
     os.makedirs(d, exist_ok=True)
     args = ["bench", "speed", "--res", bench["res"], "--frames", str(bench["frames"])]
-    text = bench_output(ctx, part, args, os.path.join(d, "bench.txt"))
+    text = ctx.run_kept(part, args, os.path.join(d, "bench.txt"))
     rows = merged_rows(text)
     if not rows:
         raise PartFailed("%s: no table in the bench's output (%s)" % (part, os.path.join(d, "bench.txt")))

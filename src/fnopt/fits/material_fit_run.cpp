@@ -88,10 +88,8 @@ GradientMaterialFitParams gradient_params(const MaterialFitRun& run) {
             "'" + text + "' must be 0 < LOW < HIGH");
     found->second = range;
   }
-  if (run.horizons == "none") {
-    params.horizons.clear();
-  } else if (!run.horizons.empty()) {
-    params.horizons.clear();
+  if (!run.horizons.empty()) params.horizons.clear();  // "none", or the stages that follow
+  if (!run.horizons.empty() && run.horizons != "none") {
     for (const auto& item : split(run.horizons, ',')) {
       double fraction = 0.0;
       require(parse_double(trim(item), fraction), "horizons",

@@ -22,11 +22,16 @@ fs::path installed_above(fs::path start, const std::string& installed) {
 
 }  // namespace
 
-std::string installed_data_path(const std::string& installed, const std::string& in_source) {
+std::string executable_path() {
   char exe[4096];
   const ssize_t length = readlink("/proc/self/exe", exe, sizeof exe - 1);
-  if (length > 0) {
-    exe[length] = '\0';
+  if (length <= 0) return {};
+  exe[length] = '\0';
+  return exe;
+}
+
+std::string installed_data_path(const std::string& installed, const std::string& in_source) {
+  if (const std::string exe = executable_path(); !exe.empty()) {
     if (const fs::path found = installed_above(exe, installed); !found.empty()) return found.string();
   }
   Dl_info info;

@@ -11,4 +11,7 @@ namespace fnopt {
 // object where that file exists, else SOURCE/<in_source>.
 std::string installed_data_path(const std::string& installed, const std::string& in_source);
 
+// The running executable's path (/proc/self/exe), empty where it cannot be read.
+std::string executable_path();
+
 }  // namespace fnopt

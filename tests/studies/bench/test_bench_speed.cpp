@@ -62,9 +62,12 @@ TEST(BenchSpeed, ReadsTheRecordedFiguresAndRefusesAMalformedOne) {
     EXPECT_GT(b.ms_per_frame, 0.0);
   }
   const auto path = std::filesystem::temp_directory_path() / "fnopt_test_speed_baseline.csv";
-  std::ofstream(path) << "# a comment\nres,threads,method,ms_per_frame\n32,1,pqn 10,4.2\n64,one,pqn 10,18\n";
+  std::ofstream(path) << "res,threads,method,ms_per_frame,source\n32,1,pqn 10,4.2,a run\n64,one,pqn 10,18,a run\n";
   EXPECT_TRUE(testing::throws_error([&] { read_speed_baseline(path.string()); },
-                                    "baseline: " + path.string() + ":4: expected res,threads,method,ms_per_frame"));
+                                    "baseline: " + path.string() + ":3: expected res,threads,method,ms_per_frame"));
+  std::ofstream(path) << "threads,res,method,ms_per_frame\n1,32,pqn 10,4.2\n";
+  EXPECT_TRUE(testing::throws_error([&] { read_speed_baseline(path.string()); },
+                                    "baseline: " + path.string() + ": expected the columns res,threads,method,ms_per_frame"));
   std::filesystem::remove(path);
   EXPECT_TRUE(testing::throws_error([&] { measure_speed(tiny_run(), "pqn:0"); }, "row: expected METHOD"));
 }

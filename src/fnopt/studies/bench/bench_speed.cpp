@@ -2,13 +2,11 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <tuple>
 
-#include <unistd.h>
-
+#include <fnopt/io/csv_table.hpp>
 #include <fnopt/methods/registry.hpp>
 #include <fnopt/scenes/scene.hpp>
 #include <fnopt/simulation/rollout.hpp>
@@ -41,18 +39,11 @@ std::string row_label(const std::string& row) {
   return label;
 }
 
-// This executable's path (popen's shell would be /proc/self/exe in the child).
-std::string this_executable() {
-  char path[4096];
-  const ssize_t length = readlink("/proc/self/exe", path, sizeof path - 1);
-  require(length > 0, "bench", "cannot find this executable (/proc/self/exe)");
-  path[length] = '\0';
-  return path;
-}
-
 // One row's process: its speed line, or Error("bench", ...) with the process's last line.
 SpeedMeasurement run_row_process(const BenchRun& run, const std::string& row, int n, int threads) {
-  const std::string command = "'" + this_executable() + "' bench speed --row " + row + " --res " + std::to_string(n) +
+  const std::string executable = executable_path();
+  require(!executable.empty(), "bench", "cannot find this executable (/proc/self/exe)");
+  const std::string command = "'" + executable + "' bench speed --row " + row + " --res " + std::to_string(n) +
                               " --threads " + std::to_string(threads) + " --frames " + std::to_string(run.frames) +
                               " --repeat " + std::to_string(run.repeat);
   FILE* pipe = popen(command.c_str(), "r");
@@ -121,25 +112,18 @@ bool parse_speed_line(const std::string& line, SpeedMeasurement& m) {
 }
 
 std::vector<SpeedBaseline> read_speed_baseline(const std::string& path) {
-  std::ifstream in(path);
-  require(in.good(), "baseline", path + ": cannot read it");
+  const CsvTable table = CsvTable::read(path);
+  require(table.columns().size() >= 4 && table.columns()[0] == "res" && table.columns()[1] == "threads" &&
+              table.columns()[2] == "method" && table.columns()[3] == "ms_per_frame",
+          "baseline", path + ": expected the columns res,threads,method,ms_per_frame first");
   std::vector<SpeedBaseline> rows;
-  std::string line;
-  bool header = true;
-  for (int number = 1; std::getline(in, line); ++number) {
-    if (line.empty() || line[0] == '#') continue;
-    if (header) {
-      header = false;
-      continue;
-    }
-    std::istringstream fields(line);
-    std::string res, threads, method, ms;
+  for (std::size_t r = 0; r < table.rows().size(); ++r) {
+    const std::vector<std::string>& cells = table.rows()[r];
     SpeedBaseline b;
-    const bool ok = std::getline(fields, res, ',') && std::getline(fields, threads, ',') &&
-                    std::getline(fields, method, ',') && std::getline(fields, ms) && parse_int(res, b.res) &&
-                    parse_int(threads, b.threads) && parse_double(ms, b.ms_per_frame) && !method.empty();
-    require(ok, "baseline", path + ":" + std::to_string(number) + ": expected res,threads,method,ms_per_frame");
-    b.method = method;
+    b.method = cells[2];
+    require(parse_int(cells[0], b.res) && parse_int(cells[1], b.threads) && parse_double(cells[3], b.ms_per_frame) &&
+                !b.method.empty(),
+            "baseline", path + ":" + std::to_string(r + 2) + ": expected res,threads,method,ms_per_frame");
     rows.push_back(b);
   }
   return rows;

@@ -28,9 +28,10 @@ SpeedMeasurement measure_speed(const BenchRun& run, const std::string& row);
 std::string speed_line(const SpeedMeasurement& m);
 bool parse_speed_line(const std::string& line, SpeedMeasurement& m);
 
-// fnopt 1.0's ms/frame for (resolution, threads, method and budget as "pqn 10"), from a CSV of
-// res,threads,method,ms_per_frame ('#' lines are comments); empty where it has none. Throws
-// Error("baseline", ...) naming the file and line for a malformed row.
+// fnopt 1.0's ms/frame for (resolution, threads, method and budget as "pqn 10"), from a CSV whose
+// first columns are res,threads,method,ms_per_frame (then where each figure comes from). Throws
+// Error("baseline", ...) naming the file and line for a malformed row, what CsvTable::read throws
+// for a file it cannot read.
 struct SpeedBaseline {
   int res = 0, threads = 0;
   std::string method;
