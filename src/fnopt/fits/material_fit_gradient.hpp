@@ -13,8 +13,9 @@
 //
 // A buckling cloth makes the loss over a long horizon rough: a coefficient changed in its fourth
 // digit can switch the folds' branch late in the rollout, and a fit from far away then ends in a
-// wrong basin (docs/design.md §15). The early frames have not branched yet, so the fit runs in stages (a continuation in the horizon): first on a fraction of
-// every target's steps, each stage starting where the one before ended, then on the whole.
+// wrong basin (docs/design.md §15). The early frames have not branched yet, so the fit runs in
+// stages (a continuation in the horizon): first on a fraction of every target's steps, each stage
+// starting where the one before ended, then on the whole.
 //
 // What positions determine: with gravity fixed, a step's stationarity divided by the density depends
 // on the stiffnesses and the damping relative to it, so scaling the stiffnesses and the density
