@@ -389,5 +389,35 @@ TEST(AdditiveCcd, IterationCapReturnsTheSafeFractionReached) {
   for (int k = 0; k <= 1000; ++k) EXPECT_GT(pt_distance(m, s * k / 1000.0), 0.05);
 }
 
+// `enough` may stop a search early, never change the minimum over pairs: below it the fraction is
+// the full search's bit for bit; otherwise it is at least `enough`. The random aimed motions meet
+// at every fraction, so both sides are exercised.
+TEST(AdditiveCcd, EnoughStopsTheSearchWithoutChangingAnyFractionBelowIt) {
+  std::mt19937 rng(11);
+  int below = 0, stopped = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const bool edges = trial % 2 == 1;
+    const Motion m = random_motion(rng, edges ? 2 : 1, true);
+    const double enough = std::uniform_real_distribution<double>(0.05, 1.0)(rng);
+    const auto fraction = [&](double e) {
+      return edges ? edge_edge_safe_fraction(m.from[0], m.from[1], m.from[2], m.from[3], m.to[0], m.to[1], m.to[2],
+                                             m.to[3], 0.03, {}, e)
+                   : point_triangle_safe_fraction(m.from[0], m.from[1], m.from[2], m.from[3], m.to[0], m.to[1],
+                                                  m.to[2], m.to[3], 0.03, {}, e);
+    };
+    const double full = fraction(1.0), early = fraction(enough);
+    if (full < enough) {
+      ++below;
+      EXPECT_EQ(early, full) << trial;
+    } else {
+      ++stopped;
+      EXPECT_GE(early, enough) << trial;
+      EXPECT_LE(early, full) << trial;
+    }
+  }
+  EXPECT_GT(below, 400);
+  EXPECT_GT(stopped, 400);
+}
+
 }  // namespace
 }  // namespace fnopt

@@ -96,10 +96,11 @@ struct RelativeMotion {
 // (= d - ξ), each step is Δs = η g(s)/l_p: the path stays at least ξ + (1 - η) g(s) away over it.
 // The first step is always taken (its end keeps (1 - η) g(0) in exact arithmetic); after it the
 // loop stops, returning the last s reached, as soon as the next s's gap falls below
-// (1 - η) g(0). A step reaching s = 1 proves the whole move safe.
+// (1 - η) g(0). A step reaching s = 1 proves the whole move safe; one reaching `enough` ends the
+// search there (additive_ccd.hpp).
 template <class SquaredDistance>
 double additive_ccd(const SquaredDistance& distance_squared, double l_p, double separation,
-                    const AdditiveCcdParams& params) {
+                    const AdditiveCcdParams& params, double enough) {
   assert(separation >= 0.0);
   const double eta = params.conservative_rescaling;
   const double xi_sq = separation * separation;
@@ -120,6 +121,7 @@ double additive_ccd(const SquaredDistance& distance_squared, double l_p, double 
     const double next_gap = gap_at(next);
     if (!(next_gap >= stop_gap) && (s > 0.0 || !(next_gap > 0.0))) return s;
     s = next;
+    if (s >= enough) return s;
     gap = next_gap;
   }
   return s;  // the cap: safe up to here
@@ -129,7 +131,8 @@ double additive_ccd(const SquaredDistance& distance_squared, double l_p, double 
 
 double point_triangle_safe_fraction(const Vec3& p0_start, const Vec3& t0_start, const Vec3& t1_start,
                                     const Vec3& t2_start, const Vec3& p0_end, const Vec3& t0_end, const Vec3& t1_end,
-                                    const Vec3& t2_end, double separation, const AdditiveCcdParams& params) {
+                                    const Vec3& t2_end, double separation, const AdditiveCcdParams& params,
+                                    double enough) {
   const RelativeMotion motion({p0_start, t0_start, t1_start, t2_start}, {p0_end, t0_end, t1_end, t2_end});
   // l_p = |p_p| + max_j |p_tj|: the point moves by the first, any point of the triangle, a convex
   // combination of its corners, by at most the second.
@@ -137,12 +140,13 @@ double point_triangle_safe_fraction(const Vec3& p0_start, const Vec3& t0_start, 
   const auto distance_squared = [&motion](double s) {
     return ccd_distance::point_triangle_squared(motion.at(0, s), motion.at(1, s), motion.at(2, s), motion.at(3, s));
   };
-  return additive_ccd(distance_squared, l_p, separation, params);
+  return additive_ccd(distance_squared, l_p, separation, params, enough);
 }
 
 double edge_edge_safe_fraction(const Vec3& ea0_start, const Vec3& ea1_start, const Vec3& eb0_start,
                                const Vec3& eb1_start, const Vec3& ea0_end, const Vec3& ea1_end, const Vec3& eb0_end,
-                               const Vec3& eb1_end, double separation, const AdditiveCcdParams& params) {
+                               const Vec3& eb1_end, double separation, const AdditiveCcdParams& params,
+                               double enough) {
   // The two edges in a canonical order (the lexicographically smaller motion, start then end
   // coordinates, first), so that swapping them runs the same arithmetic and returns the same s.
   std::array<double, 12> a, b;
@@ -163,7 +167,7 @@ double edge_edge_safe_fraction(const Vec3& ea0_start, const Vec3& ea1_start, con
   const auto distance_squared = [&motion](double s) {
     return ccd_distance::segment_segment_squared(motion.at(0, s), motion.at(1, s), motion.at(2, s), motion.at(3, s));
   };
-  return additive_ccd(distance_squared, l_p, separation, params);
+  return additive_ccd(distance_squared, l_p, separation, params, enough);
 }
 
 }  // namespace fnopt

@@ -21,7 +21,13 @@
 // returns η of its exact time. Not a root finder: a path that only comes close (within (1 - η) of
 // the start's gap, without contact) also stops it early.
 //
-// Both functions expect a params that passed validate(), and separation >= 0.
+// `enough`: a caller that keeps only the smallest s over many pairs passes the smallest found so
+// far; the search then stops once its s reaches `enough` and returns that s, which cannot lower
+// the minimum. An s below `enough` is the one the full search returns, bit for bit (the loop is the
+// same up to it), so the minimum over the pairs does not change, and a long move whose first
+// contact is already bounded by another pair costs a few steps instead of thousands.
+//
+// Both functions expect a params that passed validate(), separation >= 0 and enough in (0, 1].
 #include <fnopt/util/types.hpp>
 
 namespace fnopt {
@@ -46,13 +52,15 @@ struct AdditiveCcdParams {
 // its end corners.
 double point_triangle_safe_fraction(const Vec3& p0_start, const Vec3& t0_start, const Vec3& t1_start,
                                     const Vec3& t2_start, const Vec3& p0_end, const Vec3& t0_end, const Vec3& t1_end,
-                                    const Vec3& t2_end, double separation, const AdditiveCcdParams& params = {});
+                                    const Vec3& t2_end, double separation, const AdditiveCcdParams& params = {},
+                                    double enough = 1.0);
 
 // Edge a = (ea0, ea1) and edge b = (eb0, eb1). Symmetric: swapping a and b returns the same s, bit
 // for bit.
 double edge_edge_safe_fraction(const Vec3& ea0_start, const Vec3& ea1_start, const Vec3& eb0_start,
                                const Vec3& eb1_start, const Vec3& ea0_end, const Vec3& ea1_end, const Vec3& eb0_end,
-                               const Vec3& eb1_end, double separation, const AdditiveCcdParams& params = {});
+                               const Vec3& eb1_end, double separation, const AdditiveCcdParams& params = {},
+                               double enough = 1.0);
 
 // The unsigned distances ACCD evaluates: closed primitives, no derivatives (the barrier's
 // differentiable distances are separate). Exposed for tests.

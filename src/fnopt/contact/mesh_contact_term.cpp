@@ -514,11 +514,15 @@ double MeshContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to) cons
     const Vec12 from = gather(x_from, end_vertices_, pair), to = gather(x_to, end_vertices_, pair);
     if (from == to) continue;
     auto at = [](const Vec12& s, int k) { return Vec3(s.segment<3>(3 * k)); };
+    // Only the minimum counts: each search may stop at this thread's smallest so far (its private
+    // copy starts at the largest double).
+    const double enough = std::min(fraction, 1.0);
     const double s = pair.kind == Kind::ClothEdgeMeshEdge
                          ? edge_edge_safe_fraction(at(from, 0), at(from, 1), at(from, 2), at(from, 3), at(to, 0),
-                                                   at(to, 1), at(to, 2), at(to, 3), params_.thickness)
+                                                   at(to, 1), at(to, 2), at(to, 3), params_.thickness, {}, enough)
                          : point_triangle_safe_fraction(at(from, 0), at(from, 1), at(from, 2), at(from, 3), at(to, 0),
-                                                        at(to, 1), at(to, 2), at(to, 3), params_.thickness);
+                                                        at(to, 1), at(to, 2), at(to, 3), params_.thickness, {},
+                                                        enough);
     fraction = std::min(fraction, s);
   }
   return fraction;

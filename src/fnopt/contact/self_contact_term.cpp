@@ -491,14 +491,16 @@ void SelfContactTerm::accumulate_hessian(const VecX& x, bool project, HessianAss
   }
 }
 
-double SelfContactTerm::pair_safe_fraction(const Pair& pair, const VecX& x_from, const VecX& x_to) const {
+double SelfContactTerm::pair_safe_fraction(const Pair& pair, const VecX& x_from, const VecX& x_to,
+                                           double enough) const {
   const auto& v = pair.vertices;
   auto from = [&](int k) { return Vec3(x_from.segment<3>(3 * v[k])); };
   auto to = [&](int k) { return Vec3(x_to.segment<3>(3 * v[k])); };
   if (pair.kind == Kind::PointTriangle)
     return point_triangle_safe_fraction(from(0), from(1), from(2), from(3), to(0), to(1), to(2), to(3),
-                                        params_.thickness);
-  return edge_edge_safe_fraction(from(0), from(1), from(2), from(3), to(0), to(1), to(2), to(3), params_.thickness);
+                                        params_.thickness, {}, enough);
+  return edge_edge_safe_fraction(from(0), from(1), from(2), from(3), to(0), to(1), to(2), to(3), params_.thickness,
+                                 {}, enough);
 }
 
 double SelfContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to, std::vector<Pair>* blocking) const {
@@ -515,9 +517,10 @@ double SelfContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to, std:
     pairs = &move_candidates_;
   }
   if (blocking) blocking->clear();
+  // Without a blocking list only the minimum counts: each search may stop at the smallest so far.
   double fraction = 1.0;
   for (const Pair& pair : *pairs) {
-    const double s = pair_safe_fraction(pair, x_from, x_to);
+    const double s = pair_safe_fraction(pair, x_from, x_to, blocking ? 1.0 : fraction);
     fraction = std::min(fraction, s);
     if (blocking && s < 1.0) blocking->push_back(pair);
   }

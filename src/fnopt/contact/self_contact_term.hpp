@@ -146,8 +146,8 @@ class SelfContactTerm final : public EnergyTerm {
   // The barrier of one pair and, where asked, its gradient and Hessian (projected to PSD with
   // `project`); 0 (nothing written) outside the range, +inf within the thickness.
   double pair_barrier(const Pair& pair, const Vec12& local, Vec12* gradient, Mat12* hessian, bool project) const;
-  // The CCD fraction of one pair.
-  double pair_safe_fraction(const Pair& pair, const VecX& x_from, const VecX& x_to) const;
+  // The CCD fraction of one pair (additive_ccd.hpp), its search stopped once it reaches `enough`.
+  double pair_safe_fraction(const Pair& pair, const VecX& x_from, const VecX& x_to, double enough) const;
 
   // A frozen friction pair: its weight mu lambda [N], tangent frame and closest points' weights, and
   // its stencil at the step's start.
