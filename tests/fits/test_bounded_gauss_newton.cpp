@@ -75,6 +75,32 @@ TEST(BoundedGaussNewton, EachStopSaysWhy) {
             BoundedGaussNewtonStatus::NonFinite);
 }
 
+// Residuals (x - 1, y - 2, 1): a floor of 1 that no x lowers, as a noise floor. With a decrease
+// tolerance the search ends "settled" once the model promises less than that share of the loss
+// (here after one step, at loss 1 + a hair); without one it goes on to the stationary point.
+TEST(BoundedGaussNewton, SettlesWhereTheModelPromisesLittleOfTheLoss) {
+  const GaussNewtonObjective floored = [](const VecX& p, VecX& g, Eigen::MatrixXd& G) {
+    const Eigen::Vector3d r(p[0] - 1.0, p[1] - 2.0, 1.0);
+    g = 2.0 * r.head<2>();
+    G = 2.0 * Eigen::Matrix2d::Identity();
+    return r.squaredNorm();
+  };
+  BoundedGaussNewtonParams params;
+  params.decrease_tolerance = 0.1;
+  const BoundedGaussNewtonResult settled =
+      minimize_by_gauss_newton(floored, Eigen::Vector2d(0.0, 0.0), kLower, kUpper, params);
+  EXPECT_EQ(settled.status, BoundedGaussNewtonStatus::Settled) << to_string(settled.status);
+  EXPECT_EQ(settled.evaluations, 2);
+  const double promised = (settled.x - Eigen::Vector2d(1.0, 2.0)).squaredNorm();  // -(g.s + s.G s/2), s the GN step
+  EXPECT_LE(promised, 0.1 * settled.value);
+  EXPECT_GT(promised, 0.0);
+  params.decrease_tolerance = 0.0;
+  const BoundedGaussNewtonResult stationary =
+      minimize_by_gauss_newton(floored, Eigen::Vector2d(0.0, 0.0), kLower, kUpper, params);
+  EXPECT_EQ(stationary.status, BoundedGaussNewtonStatus::Stationary) << to_string(stationary.status);
+  EXPECT_GT(stationary.evaluations, settled.evaluations);
+}
+
 TEST(BoundedGaussNewton, ParamsAndBoundsAreValidated) {
   BoundedGaussNewtonParams params;
   params.max_evaluations = 0;
@@ -82,6 +108,11 @@ TEST(BoundedGaussNewton, ParamsAndBoundsAreValidated) {
   params = {};
   params.step_tolerance = 0.0;
   EXPECT_TRUE(testing::throws_error([&] { params.validate(); }, "step_tolerance: "));
+  for (double tolerance : {-0.1, 1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    params = {};
+    params.decrease_tolerance = tolerance;
+    EXPECT_TRUE(testing::throws_error([&] { params.validate(); }, "decrease_tolerance: ")) << tolerance;
+  }
   params = {};
   params.max_damping = params.initial_damping;
   EXPECT_TRUE(testing::throws_error([&] { params.validate(); }, "max_damping: "));

@@ -48,6 +48,8 @@ Eigen::VectorXd damped_step(const VecX& g, const Eigen::MatrixXd& G, const std::
 void BoundedGaussNewtonParams::validate() const {
   require(max_evaluations >= 1, "max_evaluations", "must be at least 1");
   require(std::isfinite(step_tolerance) && step_tolerance > 0.0, "step_tolerance", "must be positive");
+  require(std::isfinite(decrease_tolerance) && decrease_tolerance >= 0.0 && decrease_tolerance < 1.0,
+          "decrease_tolerance", "must lie in [0, 1)");
   require(std::isfinite(initial_damping) && initial_damping >= 0.0, "initial_damping", "must be at least 0");
   require(std::isfinite(max_damping) && max_damping > initial_damping, "max_damping", "must exceed initial_damping");
   require(std::isfinite(first_step) && first_step >= 0.0, "first_step", "must be at least 0");
@@ -58,6 +60,8 @@ const char* to_string(BoundedGaussNewtonStatus status) {
   switch (status) {
     case BoundedGaussNewtonStatus::Stationary:
       return "stationary";
+    case BoundedGaussNewtonStatus::Settled:
+      return "settled";
     case BoundedGaussNewtonStatus::NoDecrease:
       return "no-decrease";
     case BoundedGaussNewtonStatus::EvaluationBudget:
@@ -90,6 +94,13 @@ BoundedGaussNewtonResult minimize_by_gauss_newton(const GaussNewtonObjective& f,
         (project_to_box(result.x - result.gradient, lower, upper) - result.x).isZero(0.0)) {
       result.status = BoundedGaussNewtonStatus::Stationary;
       return result;
+    }
+    if (params.decrease_tolerance > 0.0) {
+      const VecX s = project_to_box(result.x + newton, lower, upper) - result.x;
+      if (-(result.gradient.dot(s) + 0.5 * s.dot(result.model * s)) <= params.decrease_tolerance * result.value) {
+        result.status = BoundedGaussNewtonStatus::Settled;
+        return result;
+      }
     }
     if (mu > params.max_damping) {
       result.status = BoundedGaussNewtonStatus::NoDecrease;

@@ -11,6 +11,9 @@
 // decrease; else mu grows (x2, x4, x8, ...). The stop says why:
 //  * Stationary: the undamped Gauss-Newton step moves no free variable by more than
 //    step_tolerance (the model's minimum is where the iterate is), or the projected gradient is zero;
+//  * Settled (only with decrease_tolerance > 0): the undamped Gauss-Newton step's model decrease,
+//    -(g.s + s.G s / 2), is below decrease_tolerance of the loss: the model sees little left to gain,
+//    as at a noise floor (a shorter horizon's fit that only has to reach a basin stops there);
 //  * NoDecrease: mu passed max_damping without a trial that lowers the loss (the loss is rough at
 //    the scale of the solver's precision there, or the model is wrong);
 //  * EvaluationBudget: max_evaluations used.
@@ -25,6 +28,7 @@ namespace fnopt {
 struct BoundedGaussNewtonParams {
   int max_evaluations = 30;      // calls of the objective at most
   double step_tolerance = 1e-6;  // Stationary: the Gauss-Newton step's largest free coordinate
+  double decrease_tolerance = 0.0;  // Settled: its model decrease over the loss (0: never)
   double initial_damping = 1e-3; // mu at the start, relative to the largest diagonal of G
   double max_damping = 1e8;      // NoDecrease beyond it
   // The first trial moves no variable by more than this (0: no limit): the model knows the step's
@@ -37,7 +41,7 @@ struct BoundedGaussNewtonParams {
   void validate() const;  // throws Error naming the field
 };
 
-enum class BoundedGaussNewtonStatus { Stationary, NoDecrease, EvaluationBudget, NonFinite };
+enum class BoundedGaussNewtonStatus { Stationary, Settled, NoDecrease, EvaluationBudget, NonFinite };
 const char* to_string(BoundedGaussNewtonStatus status);
 
 struct BoundedGaussNewtonResult {

@@ -222,8 +222,10 @@ GradientMaterialFitResult fit_material_by_gradient(const std::vector<GradientFit
     };
     BoundedGaussNewtonParams optimizer = params.optimizer;
     optimizer.max_evaluations = std::max(1, params.optimizer.max_evaluations - evaluations);
-    if (horizon < 1.0)
+    if (horizon < 1.0) {
       optimizer.step_tolerance = std::max(optimizer.step_tolerance, GradientMaterialFitParams::kStageStepTolerance);
+      optimizer.decrease_tolerance = GradientMaterialFitParams::kStageDecreaseTolerance;
+    }
     fit = minimize_by_gauss_newton(objective, x, lower, upper, optimizer);
     x = fit.x;
     result.iterations += fit.iterations;

@@ -68,9 +68,12 @@ struct GradientMaterialFitParams {
   // step by a factor e at most; stationary once the Gauss-Newton step changes no coefficient by
   // more than 1e-6 (relative).
   static BoundedGaussNewtonParams default_optimizer();
-  // A stage before the last stops once its step changes no coefficient by more than this (relative):
-  // it only has to bring the fit into the whole horizon's basin.
+  // A stage before the last only has to bring the fit into the whole horizon's basin: it stops once
+  // its step changes no coefficient by more than kStageStepTolerance (relative), or once its
+  // Gauss-Newton model promises less than kStageDecreaseTolerance of its loss (the rest is the noise
+  // floor of its short horizon, where a coefficient it barely sees creeps; design.md §15).
   static constexpr double kStageStepTolerance = 1e-3;
+  static constexpr double kStageDecreaseTolerance = 0.1;
   void validate() const;  // throws Error naming the field ("fit": an unknown, repeated or unidentifiable kind;
                           // "horizons": not ascending in (0, 1))
 };

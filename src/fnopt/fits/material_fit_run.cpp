@@ -131,6 +131,8 @@ const char* stop_text(BoundedGaussNewtonStatus status) {
   switch (status) {
     case BoundedGaussNewtonStatus::Stationary:
       return "stationary: the Gauss-Newton step changes no coefficient by more than 1e-6";
+    case BoundedGaussNewtonStatus::Settled:
+      return "not stationary: the Gauss-Newton model promises little more decrease";
     case BoundedGaussNewtonStatus::NoDecrease:
       return "not stationary: no step lowers the loss any more (it is rough at the solver's precision there)";
     case BoundedGaussNewtonStatus::EvaluationBudget:
