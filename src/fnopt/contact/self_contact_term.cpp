@@ -119,6 +119,12 @@ SelfContactTerm::SelfContactTerm(const Grid& grid, const SelfContactParams& para
   };
   by_owner(vertex_owner, quad_vertex_start_, quad_vertices_);
   by_owner(edge_owner, quad_edge_start_, quad_edges_);
+  for (std::size_t q = 0; q < quads_.size(); ++q) {
+    quad_row_.push_back(row_[quads_[q][0]]);
+    quad_col_.push_back(col_[quads_[q][0]]);
+    corner_owner_.push_back(quad_vertex_start_[q + 1] - quad_vertex_start_[q] == 1 &&
+                            quad_edge_start_[q + 1] - quad_edge_start_[q] == 3);
+  }
   far_centre_ = neighbour_centre_ = rest_;
   find_far_pairs(rest_, far_slack_, far_candidates_);
   find_neighbour_pairs(rest_, neighbour_slack_, neighbour_candidates_);
@@ -193,13 +199,21 @@ void SelfContactTerm::collect_pairs(const VecX& x, const VecX& y, double grow, A
     const Pair pair{Kind::EdgeEdge, {a[0], a[1], b[0], b[1]}};
     if (accept(pair)) out.push_back(pair);
   };
+  // Two quads that each own only primitives through their corner (both triangles of a quad hold its
+  // corner too), with corners one grid step apart or the same, hold only neighbours: skipped.
+  const auto adjacent = [&](int q, int r) {
+    return std::abs(quad_row_[q] - quad_row_[r]) <= 1 && std::abs(quad_col_[q] - quad_col_[r]) <= 1 &&
+           corner_owner_[q] && corner_owner_[r];
+  };
   // With a window, a pair of quads whose drifts sum below it is skipped, and one of them drifts by
   // half the window or more: only those query, each pair of them once.
   const bool all = window <= 0.0;
   const auto queries = [&](int q) { return all || quad_drift_[q] >= 0.5 * window; };
   for (int q = 0; q < static_cast<int>(quads_.size()); ++q) {
     if (!queries(q)) continue;
-    const auto skip = [&](int r) { return (r < q && queries(r)) || (!all && quad_drift_[q] + quad_drift_[r] < window); };
+    const auto skip = [&](int r) {
+      return (r < q && queries(r)) || (!all && quad_drift_[q] + quad_drift_[r] < window) || adjacent(q, r);
+    };
     quad_hash_.for_each_overlap(quad_boxes_[q], skip, [&](int r) {
       point_triangle(q, r);
       if (r != q) point_triangle(r, q);
