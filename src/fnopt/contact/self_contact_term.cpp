@@ -223,12 +223,12 @@ void SelfContactTerm::collect_pairs(const VecX& x, const VecX& y, double grow, A
           edge_edge(std::min(quad_edges_[k], quad_edges_[l]), std::max(quad_edges_[k], quad_edges_[l]));
     });
   }
-  std::sort(out.begin(), out.end());
 }
 
 void SelfContactTerm::find_far_pairs(const VecX& x, double radius, std::vector<Pair>& out) const {
   const double within = params_.thickness + params_.range + 2.0 * radius;
   collect_pairs(x, x, 0.5 * within, [&](const Pair& pair) { return pair_distance(x, pair) < within; }, out);
+  std::sort(out.begin(), out.end());
 }
 
 void SelfContactTerm::find_neighbour_pairs(const VecX& x, double radius, std::vector<Pair>& out) const {
@@ -277,7 +277,7 @@ void SelfContactTerm::drift(const VecX& x_from, const VecX& x_to, const VecX& ce
                          (x_to.segment<3>(3 * v) - centre.segment<3>(3 * v) - mean_to).norm());
 }
 
-void SelfContactTerm::find_swept_far_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const {
+void SelfContactTerm::sweep_far_pairs(const VecX& x_from, const VecX& x_to) const {
   // A far pair that is not a candidate was thickness + dhat + 2s or more apart at the centre, and its
   // primitives come nearer by at most the sum of their vertices' largest drifts from the centre
   // (translated by the mean displacement) over the move, which the ends bound (the drift of a
@@ -296,6 +296,11 @@ void SelfContactTerm::find_swept_far_pairs(const VecX& x_from, const VecX& x_to,
   for (Eigen::Index v = 0; v < grid_.vertex_count(); ++v) moved_.segment<3>(3 * v) -= mean;
   collect_pairs(x_from, moved_, 0.5 * params_.thickness, [](const Pair&) { return true; }, swept_,
                 params_.range + 2.0 * far_slack_);
+}
+
+void SelfContactTerm::find_swept_far_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const {
+  sweep_far_pairs(x_from, x_to);
+  std::sort(swept_.begin(), swept_.end());
   out.clear();
   std::set_union(swept_.begin(), swept_.end(), far_candidates_.begin(), far_candidates_.end(), std::back_inserter(out));
 }
@@ -523,6 +528,7 @@ double SelfContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to, std:
   const bool far = within_slack(x_from, far_centre_, far_slack_) && within_slack(x_to, far_centre_, far_slack_);
   const bool neighbours = within_slack(x_from, neighbour_centre_, neighbour_slack_) &&
                           within_slack(x_to, neighbour_centre_, neighbour_slack_);
+  if (!blocking) return smallest_fraction(x_from, x_to, far, neighbours);
   const std::vector<Pair>* pairs = &candidates_;
   if (!far || !neighbours) {
     if (!far) find_swept_far_pairs(x_from, x_to, far_found_);
@@ -530,13 +536,34 @@ double SelfContactTerm::safe_fraction(const VecX& x_from, const VecX& x_to, std:
     merge(far ? far_candidates_ : far_found_, neighbours ? neighbour_candidates_ : neighbour_found_, move_candidates_);
     pairs = &move_candidates_;
   }
-  if (blocking) blocking->clear();
-  // Without a blocking list only the minimum counts: each search may stop at the smallest so far.
+  blocking->clear();
   double fraction = 1.0;
   for (const Pair& pair : *pairs) {
-    const double s = pair_safe_fraction(pair, x_from, x_to, blocking ? 1.0 : fraction);
+    const double s = pair_safe_fraction(pair, x_from, x_to, 1.0);
     fraction = std::min(fraction, s);
-    if (blocking && s < 1.0) blocking->push_back(pair);
+    if (s < 1.0) blocking->push_back(pair);
+  }
+  return fraction;
+}
+
+double SelfContactTerm::smallest_fraction(const VecX& x_from, const VecX& x_to, bool far, bool neighbours) const {
+  // Only the minimum counts: the lists are scanned as they are, a pair in two of them twice (no
+  // sorting nor union, the costly part of a long move's search), and each pair's search may stop at
+  // the smallest fraction so far (additive_ccd.hpp): the fraction safe_fraction's union gives.
+  double fraction = 1.0;
+  const auto scan = [&](const std::vector<Pair>& pairs) {
+    for (const Pair& pair : pairs) fraction = std::min(fraction, pair_safe_fraction(pair, x_from, x_to, fraction));
+  };
+  if (!far) {
+    sweep_far_pairs(x_from, x_to);
+    scan(swept_);
+  }
+  scan(far_candidates_);
+  if (neighbours) {
+    scan(neighbour_candidates_);
+  } else {
+    find_swept_neighbour_pairs(x_from, x_to, neighbour_found_);
+    scan(neighbour_found_);
   }
   return fraction;
 }

@@ -115,7 +115,7 @@ class SelfContactTerm final : public EnergyTerm {
   // Whether x lies inside both lists' regions.
   bool inside(const VecX& x) const;
   // The far pairs (primitives sharing no vertex, not neighbours) whose boxes over x and y, grown by
-  // `grow`, overlap and that `accept` takes, into `out`, sorted. With a positive `window`, only
+  // `grow`, overlap and that `accept` takes, into `out`, unsorted. With a positive `window`, only
   // those whose quads' drifts (quad_drift_) sum to the window or more.
   template <class Accept>
   void collect_pairs(const VecX& x, const VecX& y, double grow, Accept&& accept, std::vector<Pair>& out,
@@ -130,6 +130,11 @@ class SelfContactTerm final : public EnergyTerm {
   // The far pairs and the neighbours that may come within the thickness on the move from x_from to
   // x_to (see above), their list's candidates among them, sorted.
   void find_swept_far_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const;
+  // swept_ = the far pairs other than the candidates that may come within the thickness on the move
+  // (some candidates too), unsorted.
+  void sweep_far_pairs(const VecX& x_from, const VecX& x_to) const;
+  // safe_fraction without a blocking list; far, neighbours: whether the move stays in that list's region.
+  double smallest_fraction(const VecX& x_from, const VecX& x_to, bool far, bool neighbours) const;
   void find_swept_neighbour_pairs(const VecX& x_from, const VecX& x_to, std::vector<Pair>& out) const;
   // out = the sorted union of the sorted, disjoint a and b.
   static void merge(const std::vector<Pair>& a, const std::vector<Pair>& b, std::vector<Pair>& out);
