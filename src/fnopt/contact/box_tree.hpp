@@ -1,7 +1,7 @@
 #pragma once
 // A bounding-volume hierarchy of axis-aligned boxes: the broad phase of mesh obstacles
-// (docs/design.md §14), whose triangles vary in size too much for one cell size of a hash
-// (box_hash.hpp). Built once over a mesh's primitives (top-down, each node split at the median of
+// (docs/design.md §14), whose triangles, unlike a grid's cells (grid_box_tree.hpp), come in any
+// size and order. Built once over a mesh's primitives (top-down, each node split at the median of
 // its boxes' centres along the longest axis of their centres' box, leaves of up to kLeafSize), and
 // refitted (the boxes move, the tree keeps its shape) when an animated mesh moves: a refit keeps
 // every query exact, only less tight if the motion is large.
@@ -12,7 +12,7 @@
 #include <limits>
 #include <vector>
 
-#include <fnopt/contact/box_hash.hpp>
+#include <fnopt/contact/box.hpp>
 
 namespace fnopt {
 

@@ -125,6 +125,8 @@ SelfContactTerm::SelfContactTerm(const Grid& grid, const SelfContactParams& para
     corner_owner_.push_back(quad_vertex_start_[q + 1] - quad_vertex_start_[q] == 1 &&
                             quad_edge_start_[q + 1] - quad_edge_start_[q] == 3);
   }
+  quad_tree_ = GridBoxTree(grid.rows - 1, grid.cols - 1);
+  no_drift_.assign(quads_.size(), 0.0);
   far_centre_ = neighbour_centre_ = rest_;
   find_far_pairs(rest_, far_slack_, far_candidates_);
   find_neighbour_pairs(rest_, neighbour_slack_, neighbour_candidates_);
@@ -177,7 +179,6 @@ void SelfContactTerm::collect_pairs(const VecX& x, const VecX& y, double grow, A
   for (std::size_t e = 0; e < edges_.size(); ++e) edge_boxes_[e] = box_of(edges_[e]);
   quad_boxes_.resize(quads_.size());
   for (std::size_t q = 0; q < quads_.size(); ++q) quad_boxes_[q] = box_of(quads_[q]);
-  quad_hash_.build(quad_boxes_, grid_.spacing + 2.0 * grow);
   const auto point_triangle = [&](int from, int to) {
     for (int k = quad_vertex_start_[from]; k < quad_vertex_start_[from + 1]; ++k) {
       const int v = quad_vertices_[k];
@@ -205,24 +206,20 @@ void SelfContactTerm::collect_pairs(const VecX& x, const VecX& y, double grow, A
     return std::abs(quad_row_[q] - quad_row_[r]) <= 1 && std::abs(quad_col_[q] - quad_col_[r]) <= 1 &&
            corner_owner_[q] && corner_owner_[r];
   };
-  // With a window, a pair of quads whose drifts sum below it is skipped, and one of them drifts by
-  // half the window or more: only those query, each pair of them once.
+  // With a window, a pair of quads whose drifts sum below it is skipped (the tree skips whole blocks
+  // whose largest drifts do).
   const bool all = window <= 0.0;
-  const auto queries = [&](int q) { return all || quad_drift_[q] >= 0.5 * window; };
-  for (int q = 0; q < static_cast<int>(quads_.size()); ++q) {
-    if (!queries(q)) continue;
-    const auto skip = [&](int r) {
-      return (r < q && queries(r)) || (!all && quad_drift_[q] + quad_drift_[r] < window) || adjacent(q, r);
-    };
-    quad_hash_.for_each_overlap(quad_boxes_[q], skip, [&](int r) {
-      point_triangle(q, r);
-      if (r != q) point_triangle(r, q);
-      // Each edge pair once, the lower edge first (edges_ is sorted, and so is each quad's list).
-      for (int k = quad_edge_start_[q]; k < quad_edge_start_[q + 1]; ++k)
-        for (int l = r == q ? k + 1 : quad_edge_start_[r]; l < quad_edge_start_[r + 1]; ++l)
-          edge_edge(std::min(quad_edges_[k], quad_edges_[l]), std::max(quad_edges_[k], quad_edges_[l]));
-    });
-  }
+  quad_tree_.refit(quad_boxes_, all ? no_drift_ : quad_drift_);
+  const auto keep = [&](double a, double b) { return all || a + b >= window; };
+  quad_tree_.for_each_overlapping_pair(keep, [&](int q, int r) {
+    if (adjacent(q, r)) return;
+    point_triangle(q, r);
+    if (r != q) point_triangle(r, q);
+    // Each edge pair once, the lower edge first (edges_ is sorted, and so is each quad's list).
+    for (int k = quad_edge_start_[q]; k < quad_edge_start_[q + 1]; ++k)
+      for (int l = r == q ? k + 1 : quad_edge_start_[r]; l < quad_edge_start_[r + 1]; ++l)
+        edge_edge(std::min(quad_edges_[k], quad_edges_[l]), std::max(quad_edges_[k], quad_edges_[l]));
+  });
 }
 
 void SelfContactTerm::find_far_pairs(const VecX& x, double radius, std::vector<Pair>& out) const {

@@ -12,10 +12,10 @@
 // separating plane it had at rest (neighbour_pairs.hpp) unless the cloth creases within a cell.
 //
 // Candidates (the Verlet-list idea), in two lists: the far pairs and the neighbours (the fixed list,
-// through their planes). The far pairs are found by a box hash (box_hash.hpp) of the grid's quads,
-// each primitive owned by one quad whose box holds its own: the pairs of quads whose boxes overlap,
-// then the pairs of their primitives whose boxes do (a quarter of the boxes of a hash of triangles and
-// edges, each in fewer cells). Each list keeps a centre x_c, a state
+// through their planes). The far pairs are found by a hierarchy of the grid's quads by (i, j) blocks
+// (grid_box_tree.hpp), each primitive owned by one quad whose box holds its own: the pairs of quads
+// whose boxes overlap, then the pairs of their primitives whose boxes do (a quarter of the boxes of
+// triangles and edges). Each list keeps a centre x_c, a state
 // the cloth has stood at (at first its rest), and a slack s. Primitives move by at most the largest
 // displacement of their vertices, so the list's pairs within thickness + dhat + 2s at x_c (then the
 // exact distance) hold every one of its pairs within thickness + dhat at any x whose every vertex lies
@@ -53,7 +53,7 @@
 
 #include <fnopt/cloth/energy_term.hpp>
 #include <fnopt/cloth/grid.hpp>
-#include <fnopt/contact/box_hash.hpp>
+#include <fnopt/contact/grid_box_tree.hpp>
 #include <fnopt/contact/friction.hpp>
 #include <fnopt/contact/neighbour_pairs.hpp>
 #include <fnopt/contact/primitive_distance.hpp>
@@ -207,7 +207,8 @@ class SelfContactTerm final : public EnergyTerm {
   mutable std::vector<double> drift_, quad_drift_, block_drift_, drift_scratch_;
   mutable std::vector<Pair> move_candidates_;
   mutable std::vector<Box> vertex_boxes_, triangle_boxes_, edge_boxes_, quad_boxes_;
-  mutable BoxHash quad_hash_;
+  mutable GridBoxTree quad_tree_;  // over the quads
+  std::vector<double> no_drift_;   // a zero per quad
 };
 
 }  // namespace fnopt
