@@ -61,7 +61,13 @@ struct GradientMaterialFitParams {
   // empty: the whole horizon at once.
   std::vector<double> horizons = {1.0 / 3.0};
   ChamferOptions chamfer;  // e_CD's samples, for ARCSim references
-  RecordOptions record;
+  // The forward passes' exact steps, their Hessians not classified: the tangent pass factorizes each
+  // step's Hessian itself (and finds a singular one), so a classification would factorize it twice.
+  RecordOptions record = [] {
+    RecordOptions options;
+    options.classify_steps = false;
+    return options;
+  }();
 
   static std::map<AdjointParameter, CoefficientRange> default_ranges();
   // 30 evaluations; the first step moves a coefficient by at most the compass's first poll, every
