@@ -119,12 +119,9 @@ SelfContactTerm::SelfContactTerm(const Grid& grid, const SelfContactParams& para
   };
   by_owner(vertex_owner, quad_vertex_start_, quad_vertices_);
   by_owner(edge_owner, quad_edge_start_, quad_edges_);
-  for (std::size_t q = 0; q < quads_.size(); ++q) {
-    quad_row_.push_back(row_[quads_[q][0]]);
-    quad_col_.push_back(col_[quads_[q][0]]);
+  for (std::size_t q = 0; q < quads_.size(); ++q)
     corner_owner_.push_back(quad_vertex_start_[q + 1] - quad_vertex_start_[q] == 1 &&
                             quad_edge_start_[q + 1] - quad_edge_start_[q] == 3);
-  }
   quad_tree_ = GridBoxTree(grid.rows - 1, grid.cols - 1);
   no_drift_.assign(quads_.size(), 0.0);
   far_centre_ = neighbour_centre_ = rest_;
@@ -203,8 +200,7 @@ void SelfContactTerm::collect_pairs(const VecX& x, const VecX& y, double grow, A
   // Two quads that each own only primitives through their corner (both triangles of a quad hold its
   // corner too), with corners one grid step apart or the same, hold only neighbours: skipped.
   const auto adjacent = [&](int q, int r) {
-    return std::abs(quad_row_[q] - quad_row_[r]) <= 1 && std::abs(quad_col_[q] - quad_col_[r]) <= 1 &&
-           corner_owner_[q] && corner_owner_[r];
+    return corner_owner_[q] && corner_owner_[r] && neighbours(quads_[q][0], quads_[r][0]);
   };
   // With a window, a pair of quads whose drifts sum below it is skipped (the tree skips whole blocks
   // whose largest drifts do).

@@ -178,9 +178,8 @@ class SelfContactTerm final : public EnergyTerm {
   std::vector<std::array<int, 4>> quads_;  // the grid's cells, by corner (i, j) row-major
   // the vertices and edges each quad owns (CSR, ascending)
   std::vector<int> quad_vertex_start_, quad_vertices_, quad_edge_start_, quad_edges_;
-  // Per quad, its (i, j), and whether it owns only primitives through its corner (its corner vertex
-  // and three edges from it: every quad but the last row's and column's).
-  std::vector<int> quad_row_, quad_col_;
+  // Per quad, whether it owns only primitives through its corner (its corner vertex and three edges
+  // from it: every quad but the last row's and column's).
   std::vector<char> corner_owner_;
   VecX rest_;  // the rest pose, for the edge-edge mollifier's threshold
   std::vector<NeighbourPair> neighbours_;

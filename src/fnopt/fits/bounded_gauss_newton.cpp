@@ -43,6 +43,11 @@ Eigen::VectorXd damped_step(const VecX& g, const Eigen::MatrixXd& G, const std::
   return d;
 }
 
+// The model's decrease along s, -(g.s + s.G s / 2).
+double model_decrease(const VecX& g, const Eigen::MatrixXd& G, const VecX& s) {
+  return -(g.dot(s) + 0.5 * s.dot(G * s));
+}
+
 }  // namespace
 
 void BoundedGaussNewtonParams::validate() const {
@@ -97,7 +102,7 @@ BoundedGaussNewtonResult minimize_by_gauss_newton(const GaussNewtonObjective& f,
     }
     if (params.decrease_tolerance > 0.0) {
       const VecX s = project_to_box(result.x + newton, lower, upper) - result.x;
-      if (-(result.gradient.dot(s) + 0.5 * s.dot(result.model * s)) <= params.decrease_tolerance * result.value) {
+      if (model_decrease(result.gradient, result.model, s) <= params.decrease_tolerance * result.value) {
         result.status = BoundedGaussNewtonStatus::Settled;
         return result;
       }
@@ -117,7 +122,7 @@ BoundedGaussNewtonResult minimize_by_gauss_newton(const GaussNewtonObjective& f,
     if (largest > limit) step *= limit / largest;
     const VecX trial = project_to_box(result.x + step, lower, upper);
     const VecX s = trial - result.x;
-    const double predicted = -(result.gradient.dot(s) + 0.5 * s.dot(result.model * s));
+    const double predicted = model_decrease(result.gradient, result.model, s);
     const double value = f(trial, gradient, model);
     ++result.evaluations;
     if (std::isfinite(value) && value < result.value && gradient.allFinite() && model.allFinite()) {
