@@ -21,7 +21,8 @@ Parts, in order:
   paper        the FNOPT paper's tables beside ours (scripts/data/paper-tables.csv; no run)
 
 --quick is a smoke pass for CI (tiny grids, a few frames, a couple of methods, every part
-exercised: a minute or two on 2 cores). The full run takes many hours on one thread per run;
+exercised: a minute or two on 2 cores). The full run takes many hours on one thread per run (--jobs J runs the
+contact part's scenes J at a time, each on its own thread, so give it J idle cores);
 --resume keeps the parts already finished and passes --resume to compare and stability, which
 keep their finished rows. A line per part says what is done and left, with the run's ETA; under it, the part's
 fnopt runs print their progress (a line per 10 %, with their own ETA); OUT/logs/ has their whole output. A part

@@ -33,6 +33,9 @@ def build_parser(doc):
     parser.add_argument("--arcsim-dir", help="directory of the ARCSim runs (arcsim_N{res}_{motion}.h5); "
                                              "without it the ARCSim part is skipped with a note")
     parser.add_argument("--repeat", type=int, default=5, help="newton-cost: timed runs per grid (default 5)")
+    parser.add_argument("--jobs", type=int, default=1,
+                        help="the contact part's scenes run this many at a time, each on one thread (default 1); at "
+                             "most the machine's idle cores, or the timings share a core")
     parser.add_argument("--note", help="a paragraph for results.md's header, e.g. how the machine was shared "
                                        "while the parts ran")
     parser.add_argument("--only", help="run only these parts, comma-separated; the other parts' finished sections are "
@@ -71,6 +74,8 @@ def version_mismatch(binary):
 def input_problem(args):
     """The first problem with the inputs that stops the run before anything runs, or None. A version mismatch
     stops a full run; --quick, a smoke pass, only warns of it."""
+    if args.jobs < 1:
+        return "--jobs %d: must be at least 1" % args.jobs
     if not os.access(args.binary, os.X_OK):
         return "no executable fnopt at %s (--binary)" % args.binary
     if args.arcsim_dir and not os.path.isdir(args.arcsim_dir):

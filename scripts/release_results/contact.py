@@ -77,15 +77,16 @@ def part_contact(ctx, part, plan_):
                                 for name, _ in plan_["scenes"]] + [
         "smallest obstacle distance (mm)", "smallest cloth-cloth distance (mm)", "self-intersections",
         "mesh intersections", "diverged"]
-    results, commands = {}, []
+    runs, commands = [], []
     for name, frames in plan_["scenes"]:
-        d = os.path.join(ctx.out, part, name)
         scene = os.path.join(SCENES, name + ".scene")
         args = (["compare", "--scene", scene, "--res", plan_["res"], "--frames", str(frames), "--motions", "static"] +
-                budget_flags(plan_["budgets"]) + ["--threads", "1"] + ctx.plan["compare_extra"] + ctx.out_flags(d))
+                budget_flags(plan_["budgets"]) + ["--threads", "1"] + ctx.plan["compare_extra"] +
+                ctx.out_flags(os.path.join(ctx.out, part, name)))
         commands.append(ctx.shown(args).replace(SCENES + os.sep, "examples/scenes/"))
-        ctx.run(part + " " + name, args)
-        results[name] = compare_rows(d)
+        runs.append((part + " " + name, args))
+    ctx.run_all(runs)
+    results = {name: compare_rows(os.path.join(ctx.out, part, name)) for name, _ in plan_["scenes"]}
     table = contact_table(grids, plan_["scenes"], results)
     path = os.path.join(ctx.out, part, "contact.csv")
     write_csv(path, header, table)

@@ -3,6 +3,7 @@ part_*(ctx, name, *plan) that returns (its section of results.md, the CSV files 
 skipped)."""
 
 import os
+from concurrent.futures import FIRST_EXCEPTION, ThreadPoolExecutor, wait
 
 from .adjoint import part_adjoint
 from .arcsim import part_arcsim
@@ -29,12 +30,32 @@ class Context:
         self.resume = args.resume
         self.arcsim_dir = os.path.abspath(args.arcsim_dir) if args.arcsim_dir else None
         self.note = args.note
+        self.jobs = args.jobs
         self.plan = plan(args)
         self.runner = Runner(self.binary, self.out)
 
     def run(self, part, args):
         """Runs fnopt with args for part (Runner.run): its standard output; PartFailed when it fails."""
         return self.runner.run(part, args)
+
+    def run_all(self, runs):
+        """run() of each (part, args) of runs, --jobs at a time: their standard outputs in order. The first failure
+        stops the runs not yet started and kills those running (as one run's failure stops a part), then raises."""
+        if self.jobs == 1:
+            return [self.run(part, args) for part, args in runs]
+        with ThreadPoolExecutor(self.jobs) as pool:
+            futures = [pool.submit(self.run, part, args) for part, args in runs]
+            try:
+                done, _ = wait(futures, return_when=FIRST_EXCEPTION)
+                for f in done:
+                    if f.exception() is not None:
+                        raise f.exception()
+                return [f.result() for f in futures]
+            except BaseException:
+                for f in futures:
+                    f.cancel()
+                self.runner.kill_all()
+                raise
 
     def run_kept(self, part, args, stdout_path):
         """run(), its output kept in stdout_path; with --resume a finished run's file is read again instead of

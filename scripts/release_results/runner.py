@@ -34,6 +34,9 @@ class Runner:
     def __init__(self, binary, out):
         self.binary = binary
         self.out = out
+        self._running = set()  # the fnopt processes running now (several with --jobs), for kill_all()
+        self._lock = threading.Lock()
+        self._killed = False
 
     def run(self, part, args):
         """Runs fnopt with args in --out (the paths in args are relative to it); its output is logged in
@@ -60,6 +63,10 @@ class Runner:
         status); an exception (SIGTERM included) kills the child first, as subprocess.run does."""
         proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True,
                                 cwd=self.out)
+        with self._lock:
+            self._running.add(proc)
+            if self._killed:
+                proc.kill()  # started by a pool thread just as kill_all ran
         stdout = []
         reader = threading.Thread(target=lambda: stdout.append(proc.stdout.read()))
         reader.start()
@@ -76,7 +83,17 @@ class Runner:
             raise
         finally:
             reader.join()
+            with self._lock:
+                self._running.discard(proc)
         return "".join(stdout), proc.returncode
+
+    def kill_all(self):
+        """Kills every fnopt process running now, and any started after (the other runs of a failed or terminated
+        run_all: the run stops)."""
+        with self._lock:
+            self._killed = True
+            for proc in self._running:
+                proc.kill()
 
     def rel(self, path):
         """path relative to --out, where fnopt runs: how the commands in results.md name it."""

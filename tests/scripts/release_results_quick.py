@@ -3,7 +3,9 @@
 the assembled results.md has every section, each headed by its command, no empty table, and every picture it
 shows beside it; and that the script's output shows the progress of the fnopt runs inside a part. Before it, a
 fake fnopt that says the wrong version checks the guard on the release's version: a full run refuses to start
-(exit status 2, one line, nothing written), --quick warns and goes on."""
+(exit status 2, one line, nothing written), --quick warns and goes on; --jobs 0 is refused the same way. The
+quick run itself runs the contact part's scenes two at a time (--jobs 2), and a fake whose table scene fails stops
+such a run at once, killing the scenes running beside it."""
 
 import os
 import re
@@ -32,6 +34,11 @@ def check_version_guard(script):
         if full.returncode != 2 or len(lines) != 1 or "0.0.0-not-the-release" not in lines[0] or os.path.exists(out):
             failures.append("a full run with the wrong version: exit status %d, %s (expected 2, one line naming it, "
                             "no --out)" % (full.returncode, full.stderr.strip() or "no message"))
+        jobs = subprocess.run([sys.executable, script, "--jobs", "0", "--binary", fake, "--out", out],
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
+        if jobs.returncode != 2 or "--jobs 0" not in jobs.stderr or os.path.exists(out):
+            failures.append("--jobs 0: exit status %d, %s (expected 2, one line naming it, no --out)"
+                            % (jobs.returncode, jobs.stderr.strip() or "no message"))
         # --quick goes on after a warning; its first part then fails on the fake's output.
         quick = subprocess.run([sys.executable, script, "--quick", "--binary", fake, "--out", out],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
@@ -41,17 +48,46 @@ def check_version_guard(script):
     return ["version guard: " + f for f in failures]
 
 
+def check_jobs_stop(script):
+    """The failures of --jobs's stop: with a fake fnopt of the release's version whose table scene fails at once and
+    whose other scenes would run for minutes, the contact part run two at a time must fail within seconds, naming
+    the table, and leave no fake running."""
+    sys.path.insert(0, os.path.join(os.path.dirname(script)))
+    from release_results.cli import release_version  # noqa: E402  (the script's package, found through the path)
+    with tempfile.TemporaryDirectory() as tmp:
+        fake = os.path.join(tmp, "fnopt")
+        with open(fake, "w", encoding="utf-8") as f:
+            f.write("#!/bin/sh\ncase \"$*\" in --version) echo %s;; *table.scene*) echo broken >&2; exit 1;; "
+                    "*) exec sleep 300;; esac\n" % release_version())
+        os.chmod(fake, 0o755)
+        try:
+            r = subprocess.run([sys.executable, script, "--only", "contact", "--jobs", "2", "--binary", fake, "--out",
+                                os.path.join(tmp, "out")], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                               universal_newlines=True, timeout=60)
+        except subprocess.TimeoutExpired:
+            return ["--jobs 2: a failed scene did not stop the contact part within a minute"]
+        left = subprocess.run(["pgrep", "-f", "sleep 300"], stdout=subprocess.PIPE, universal_newlines=True).stdout
+        failures = []
+        if r.returncode != 1 or "table.scene" not in r.stderr:
+            failures.append("--jobs 2 with a failing scene: exit status %d, %s (expected 1 naming the table)"
+                            % (r.returncode, r.stderr.strip().splitlines()[-1:] or "no message"))
+        if left.strip():
+            failures.append("--jobs 2 with a failing scene left fnopt runs behind: %s" % left.strip())
+        return failures
+
+
 def main():
     if len(sys.argv) != 3:
         print("usage: release_results_quick.py FNOPT_BINARY OUT_DIR", file=sys.stderr)
         return 2
     binary, out = sys.argv[1], sys.argv[2]
     script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "release-results.py")
-    guard_failures = check_version_guard(script)
+    guard_failures = check_version_guard(script) + check_jobs_stop(script)
     for f in guard_failures:
         print(f)
     shutil.rmtree(out, ignore_errors=True)
-    r = subprocess.run([sys.executable, script, "--quick", "--binary", binary, "--out", out],
+    # --jobs 2: the contact part runs its scenes two at a time.
+    r = subprocess.run([sys.executable, script, "--quick", "--jobs", "2", "--binary", binary, "--out", out],
                        stdout=subprocess.PIPE, universal_newlines=True)
     print(r.stdout)
     if r.returncode != 0:
