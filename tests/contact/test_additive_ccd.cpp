@@ -1,9 +1,12 @@
 // Additive CCD (contact/additive_ccd.hpp, docs/design.md §14): its distances against Ericson's
 // closest-point routines (Real-Time Collision Detection, 2005, §5.1.5 and §5.1.9), a different
-// construction; head-on approaches against their analytic first contact; the cases with no
+// construction for the point and triangle, and the segments' against the naive search over the
+// candidates from crossing to parallel too; head-on approaches against their analytic first contact; the cases with no
 // contact; and random motions against the path sampled densely with those reference distances:
 // safe before the returned s, and 1 where the path never gets close enough to stop the search.
 #include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <array>
@@ -71,6 +74,21 @@ double reference_segment_segment(const Vec3& p1, const Vec3& q1, const Vec3& p2,
     }
   }
   return (p1 + s * d1 - (p2 + t * d2)).norm();
+}
+
+// The naive search on the square (u, v) in [0, 1]²: the smallest of the four end-to-segment
+// distances and, where the lines' closest pair lies inside the square, theirs.
+double exhaustive_segment_segment(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1) {
+  double best = std::min({point_segment_squared(a0, b0, b1), point_segment_squared(a1, b0, b1),
+                          point_segment_squared(b0, a0, a1), point_segment_squared(b1, a0, a1)});
+  const Vec3 da = a1 - a0, db = b1 - b0, r = a0 - b0;
+  const double aa = da.squaredNorm(), bb = db.squaredNorm(), ab = da.dot(db);
+  const double det = aa * bb - ab * ab;
+  if (det > 0.0) {
+    const double u = (ab * db.dot(r) - da.dot(r) * bb) / det, v = (aa * db.dot(r) - ab * da.dot(r)) / det;
+    if (u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0) best = std::min(best, (r + u * da - v * db).squaredNorm());
+  }
+  return std::sqrt(best);
 }
 
 // A motion of four vertices: the point and the triangle's corners, or edge a's ends then edge b's.
@@ -143,6 +161,24 @@ TEST(AdditiveCcd, DistancesAgreeWithEricson) {
     const Vec3 p = random_vec(rng, 1.0), a = random_vec(rng, 1.0), b = random_vec(rng, 1.0), c = random_vec(rng, 1.0);
     EXPECT_NEAR(std::sqrt(point_triangle_squared(p, a, b, c)), reference_point_triangle(p, a, b, c), 1e-12);
     EXPECT_NEAR(std::sqrt(segment_segment_squared(p, a, b, c)), reference_segment_segment(p, a, b, c), 1e-12);
+  }
+}
+
+// From crossing to exactly parallel: edge b is edge a turned by an angle from 1 rad down to 1e-9
+// and 0, shifted along and across it, so the closest pair lies inside or at either end.
+TEST(AdditiveCcd, SegmentDistanceIsTheNaiveMinimumAtEveryAngle) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> shift(-1.5, 1.5);
+  for (int trial = 0; trial < 4000; ++trial) {
+    const Vec3 a0 = random_vec(rng, 1.0), a1 = random_vec(rng, 1.0);
+    const double angle = trial % 11 == 10 ? 0.0 : std::pow(10.0, -(trial % 11) * 0.9);
+    const Eigen::AngleAxisd turn(angle, random_vec(rng, 1.0).normalized());
+    const Vec3 along = shift(rng) * (a1 - a0), across = 0.3 * random_vec(rng, 1.0);
+    const Vec3 b0 = a0 + along + across, b1 = b0 + turn * (a1 - a0) * (0.5 + std::abs(shift(rng)));
+    const double naive = exhaustive_segment_segment(a0, a1, b0, b1);
+    EXPECT_NEAR(std::sqrt(segment_segment_squared(a0, a1, b0, b1)), naive, 1e-12 * (1.0 + naive))
+        << "angle " << angle << " trial " << trial;
+    EXPECT_NEAR(std::sqrt(segment_segment_squared(b0, b1, a0, a1)), naive, 1e-12 * (1.0 + naive));
   }
 }
 

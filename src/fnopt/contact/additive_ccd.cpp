@@ -42,20 +42,34 @@ double point_triangle_squared(const Vec3& p, const Vec3& t0, const Vec3& t1, con
       {point_segment_squared(p, t0, t1), point_segment_squared(p, t1, t2), point_segment_squared(p, t2, t0)});
 }
 
-// |a0 + u d_a - b0 - v d_b|² is a convex quadratic on the square (u, v) in [0, 1]²: its minimum is
-// the stationary point of the two lines where that lies inside the square and the lines are not
-// parallel, else on the square's boundary, where one end is held: the four end-to-segment
-// distances. The stationary point solves the 2×2 normal equations (Cramer's rule, with
-// det = |d_a|²|d_b|² - (d_a · d_b)² >= 0); its candidate is the distance between the two points it
-// names, so that a nearly parallel pair, whose u and v are ill-conditioned, still gives the
-// distance of two actual points, never less than the true one.
+// |a0 + u d_a - b0 - v d_b|² is a convex quadratic on the square (u, v) in [0, 1]². Ericson's
+// ClosestPtSegmentSegment (Real-Time Collision Detection, §5.1.9) finds its minimum: the lines'
+// closest u, clamped to [0, 1]; the v closest to that point, and where it leaves [0, 1], v clamped
+// and u solved again for it. The result is the distance of the two points it names, never less
+// than the true one. The normal equations' det = |d_a|²|d_b|² - (d_a · d_b)² = |d_a|²|d_b|² sin²θ;
+// where the edges are nearly parallel (sin²θ below kNearlyParallel, degenerate edges included)
+// u is ill-conditioned, and the minimum is taken over the candidates that do not need it: the
+// four end-to-segment distances, and the lines' closest pair where it lies in the square.
 double segment_segment_squared(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1) {
-  double best = std::min({point_segment_squared(a0, b0, b1), point_segment_squared(a1, b0, b1),
-                          point_segment_squared(b0, a0, a1), point_segment_squared(b1, a0, a1)});
+  constexpr double kNearlyParallel = 1e-6;
   const Vec3 da = a1 - a0, db = b1 - b0, r = a0 - b0;
   const double aa = da.squaredNorm(), bb = db.squaredNorm(), ab = da.dot(db);
   const double ar = da.dot(r), br = db.dot(r);
   const double det = aa * bb - ab * ab;
+  if (det > kNearlyParallel * aa * bb) {
+    double u = std::clamp((ab * br - ar * bb) / det, 0.0, 1.0);
+    double v = (ab * u + br) / bb;
+    if (v < 0.0) {
+      v = 0.0;
+      u = std::clamp(-ar / aa, 0.0, 1.0);
+    } else if (v > 1.0) {
+      v = 1.0;
+      u = std::clamp((ab - ar) / aa, 0.0, 1.0);
+    }
+    return (r + u * da - v * db).squaredNorm();
+  }
+  double best = std::min({point_segment_squared(a0, b0, b1), point_segment_squared(a1, b0, b1),
+                          point_segment_squared(b0, a0, a1), point_segment_squared(b1, a0, a1)});
   if (det > 0.0) {
     const double u = (ab * br - ar * bb) / det, v = (aa * br - ab * ar) / det;
     if (u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0) best = std::min(best, (r + u * da - v * db).squaredNorm());
