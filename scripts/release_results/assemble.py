@@ -56,3 +56,31 @@ def assemble(ctx, sections):
     footer = ("\n## History\n\nEarlier releases' tables, this release's development and every experiment set "
               "aside: [history/](history/README.md).\n")
     write_atomic(os.path.join(ctx.out, "results.md"), header + "\n" + body + footer)
+
+
+def sections_of(text):
+    """(the page's head, its sections in order as (title, text)): text split at its "## " headings."""
+    head, sections, current = [], [], None
+    for line in text.splitlines(keepends=True):
+        if line.startswith("## "):
+            current = [line[3:].strip(), line]
+            sections.append(current)
+        elif current is None:
+            head.append(line)
+        else:
+            current[1] += line
+    return "".join(head), [(title, body) for title, body in sections]
+
+
+def splice(ctx, base_path, made):
+    """OUT/results.md: the page at base_path (an earlier results.md, such as docs/results.md) with each section
+    of made (the sections this run made) in place of the one with its title, or, new, before the history; the
+    page's header and every other section stay as they are."""
+    with open(base_path, encoding="utf-8") as f:
+        head, old = sections_of(f.read())
+    new = dict(sections_of("".join(made))[1])
+    kept = [(title, new.pop(title, body)) for title, body in old]
+    at = next((i for i, (title, _) in enumerate(kept) if title == "History"), len(kept))
+    kept[at:at] = list(new.items())
+    body = "".join(text if text.endswith("\n\n") else text.rstrip("\n") + "\n\n" for _, text in kept)
+    write_atomic(os.path.join(ctx.out, "results.md"), head + body.rstrip("\n") + "\n")

@@ -36,6 +36,10 @@ def build_parser(doc):
     parser.add_argument("--jobs", type=int, default=1,
                         help="the contact part's scenes run this many at a time, each on one thread (default 1); at "
                              "most the machine's idle cores, or the timings share a core")
+    parser.add_argument("--splice", metavar="PAGE",
+                        help="write OUT/results.md as PAGE (an earlier results.md, e.g. docs/results.md) with the "
+                             "sections of the parts this run ran in place of theirs (a new one before History); "
+                             "PAGE's header and other sections stay as they are")
     parser.add_argument("--note", help="a paragraph for results.md's header, e.g. how the machine was shared "
                                        "while the parts ran")
     parser.add_argument("--only", help="run only these parts, comma-separated; the other parts' finished sections are "
@@ -76,6 +80,8 @@ def input_problem(args):
     stops a full run; --quick, a smoke pass, only warns of it."""
     if args.jobs < 1:
         return "--jobs %d: must be at least 1" % args.jobs
+    if args.splice and not os.path.isfile(args.splice):
+        return "--splice %s: no such file" % args.splice
     if not os.access(args.binary, os.X_OK):
         return "no executable fnopt at %s (--binary)" % args.binary
     if args.arcsim_dir and not os.path.isdir(args.arcsim_dir):

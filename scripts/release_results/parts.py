@@ -31,6 +31,7 @@ class Context:
         self.arcsim_dir = os.path.abspath(args.arcsim_dir) if args.arcsim_dir else None
         self.note = args.note
         self.jobs = args.jobs
+        self.splice = os.path.abspath(args.splice) if args.splice else None
         self.plan = plan(args)
         self.runner = Runner(self.binary, self.out)
 

@@ -1,13 +1,14 @@
 """One run of the release script: the parts in order, each announced by a progress line (done, left, ETA);
 OUT/state.json records every finished part's section, so that --resume keeps them and --only reruns some
-parts among the others' kept sections; results.md is assembled at the end."""
+parts among the others' kept sections; results.md is assembled at the end, or, with --splice, made from an
+earlier page with this run's sections put in."""
 
 import json
 import os
 import sys
 import time
 
-from .assemble import assemble
+from .assemble import assemble, splice
 from .files import write_atomic
 from .runner import PartFailed
 
@@ -72,6 +73,7 @@ def run_parts(ctx, parts, only):
     state = load_state(state_path, ctx.resume or only, ctx.quick)
     start = time.time()
     done = []
+    made = []  # the sections of the parts this run ran, for --splice
     measured = {}  # seconds of the parts this run finished
     for i, part in enumerate(parts):
         if (only and part.name not in only) or kept(ctx, part, state, only):
@@ -88,9 +90,15 @@ def run_parts(ctx, parts, only):
                             "skipped": files is None, "seconds": round(time.time() - t0, 1)}
         write_atomic(state_path, json.dumps(state, indent=1))
         done.append(part.name)
+        made.append(text)
         measured[part.name] = time.time() - t0
         print("    %s finished in %s" % (part.name, hms(time.time() - t0)), flush=True)
     sections = [state[p.name]["section"] for p in parts if p.name in state]
+    if ctx.splice:
+        splice(ctx, ctx.splice, made)
+        print("wrote %s (%s with %d sections of this run, %s)" % (os.path.join(ctx.out, "results.md"), ctx.splice,
+                                                                   len(made), hms(time.time() - start)), flush=True)
+        return 0
     assemble(ctx, sections)
     print("wrote %s (%d parts, %s)" % (os.path.join(ctx.out, "results.md"), len(sections),
                                         hms(time.time() - start)), flush=True)

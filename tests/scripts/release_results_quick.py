@@ -5,7 +5,8 @@ shows beside it; and that the script's output shows the progress of the fnopt ru
 fake fnopt that says the wrong version checks the guard on the release's version: a full run refuses to start
 (exit status 2, one line, nothing written), --quick warns and goes on; --jobs 0 is refused the same way. The
 quick run itself runs the contact part's scenes two at a time (--jobs 2), and a fake whose table scene fails stops
-such a run at once, killing the scenes running beside it."""
+such a run at once, killing the scenes running beside it. Last, --splice puts the paper's section, rerun, into
+an earlier page and leaves the rest of that page as it was."""
 
 import os
 import re
@@ -76,6 +77,28 @@ def check_jobs_stop(script):
         return failures
 
 
+def check_splice(script, binary, out):
+    """The failures of --splice on the quick run's OUT: rerunning the paper's part into an earlier page replaces
+    that page's paper section, or puts it before the history where the page had none, and keeps the page's
+    header and other sections as they were."""
+    failures = []
+    head, stability, history = "# Results\n\nThe old header.\n\n", "## Stability\n\nold stability\n\n", \
+        "## History\n\nold history\n"
+    for old_paper in ("## The paper's tables beside ours\n\nold paper\n\n", ""):
+        base = os.path.join(out, "base.md")
+        with open(base, "w", encoding="utf-8") as f:
+            f.write(head + stability + old_paper + history)
+        r = subprocess.run([sys.executable, script, "--quick", "--resume", "--only", "paper", "--splice", base,
+                            "--binary", binary, "--out", out], stdout=subprocess.PIPE, universal_newlines=True)
+        text = open(os.path.join(out, "results.md"), encoding="utf-8").read()
+        paper = text[text.find("## The paper's tables"):text.find("## History")]
+        if r.returncode != 0 or not text.startswith(head + stability + "## The paper's tables") or \
+                "| paper table |" not in paper or "old paper" in text or not text.endswith(history):
+            failures.append("--splice into a page %s its paper section: exit %d, page:\n%s"
+                            % ("with" if old_paper else "without", r.returncode, text))
+    return failures
+
+
 def main():
     if len(sys.argv) != 3:
         print("usage: release_results_quick.py FNOPT_BINARY OUT_DIR", file=sys.stderr)
@@ -94,6 +117,7 @@ def main():
         print("release-results.py --quick exited with %d" % r.returncode)
         return 1
     text = open(os.path.join(out, "results.md"), encoding="utf-8").read()
+    splice_failures = check_splice(script, binary, out)
     parts = re.split(r"^## ", text, flags=re.M)[1:]
     found = {p.splitlines()[0].strip(): p for p in parts}
     failures = []
@@ -121,7 +145,9 @@ def main():
                  if not os.path.exists(os.path.join(out, p))]
     for f in failures:
         print("results.md: " + f)
-    return 1 if failures or guard_failures else 0
+    for f in splice_failures:
+        print(f)
+    return 1 if failures or guard_failures or splice_failures else 0
 
 
 if __name__ == "__main__":
