@@ -15,20 +15,71 @@ int HessianAssembly::add_stencils(const int* vertices, std::size_t count, int n)
 }
 
 void HessianAssembly::finalize() {
+  const ColumnBlocks columns = group_blocks_by_column();
+  build_patterns(columns);
+  fill_slots(columns);
+  diagonal_.resize(free_index_.size());
+  lower_diagonal_.resize(free_index_.size());
+  for (int v = 0; v < static_cast<int>(free_index_.size()); ++v) {
+    diagonal_[v] = block_slot(v, v);
+    lower_diagonal_[v] = lower_block_slot(v, v);
+  }
+}
+
+// A pattern change (self-contact's candidates) rebuilds everything, so each column's rows are
+// found once, by a counting sort of the blocks, not searched for block by block.
+HessianAssembly::ColumnBlocks HessianAssembly::group_blocks_by_column() {
+  set_offset_.clear();
+  ColumnBlocks columns;
+  for (const StencilSet& set : sets_) {
+    set_offset_.push_back(columns.blocks);
+    columns.blocks += set.count * set.n * set.n;
+  }
+  const auto for_each_free_block = [&](auto&& visit) {
+    for (std::size_t k = 0; k < sets_.size(); ++k) {
+      const StencilSet& set = sets_[k];
+      for (std::size_t s = 0; s < set.count; ++s) {
+        const int* v = set.vertices + s * set.n;
+        const std::size_t first = set_offset_[k] + s * set.n * set.n;
+        for (int a = 0; a < set.n; ++a)
+          for (int b = 0; b < set.n; ++b) {
+            const int fa = free_index_[v[a]], fb = free_index_[v[b]];
+            if (fa >= 0 && fb >= 0) visit(fa, fb, first + a * set.n + b, first + b * set.n + a);
+          }
+      }
+    }
+  };
+  columns.start.assign(free_count_ + 1, 0);
+  for_each_free_block([&](int, int fb, std::size_t, std::size_t) { ++columns.start[fb + 1]; });
+  for (int f = 0; f < free_count_; ++f) columns.start[f + 1] += columns.start[f];
+  const std::size_t count = columns.start[free_count_];
+  columns.row.resize(count);
+  columns.index.resize(count);
+  columns.transposed.resize(count);
+  std::vector<int> fill(columns.start.begin(), columns.start.end() - 1);
+  for_each_free_block([&](int fa, int fb, std::size_t index, std::size_t transposed) {
+    const int at = fill[fb]++;
+    columns.row[at] = fa;
+    columns.index[at] = index;
+    columns.transposed[at] = transposed;
+  });
+  return columns;
+}
+
+void HessianAssembly::build_patterns(const ColumnBlocks& columns) {
+  // Each column's rows: its own diagonal and its blocks' rows, once each, sorted.
   column_rows_.assign(free_count_, {});
-  for (int v = 0; v < static_cast<int>(free_index_.size()); ++v)
-    if (free_index_[v] >= 0) column_rows_[free_index_[v]].push_back(free_index_[v]);
-  for (const StencilSet& set : sets_)
-    for (std::size_t s = 0; s < set.count; ++s)
-      for (int a = 0; a < set.n; ++a)
-        for (int b = 0; b < set.n; ++b) {
-          const int fa = free_index_[set.vertices[s * set.n + a]];
-          const int fb = free_index_[set.vertices[s * set.n + b]];
-          if (fa >= 0 && fb >= 0) column_rows_[fb].push_back(fa);
-        }
-  for (auto& rows : column_rows_) {
+  std::vector<int> seen(free_count_, -1);
+  for (int fb = 0; fb < free_count_; ++fb) {
+    auto& rows = column_rows_[fb];
+    rows.push_back(fb);
+    seen[fb] = fb;
+    for (int k = columns.start[fb]; k < columns.start[fb + 1]; ++k)
+      if (seen[columns.row[k]] != fb) {
+        seen[columns.row[k]] = fb;
+        rows.push_back(columns.row[k]);
+      }
     std::sort(rows.begin(), rows.end());
-    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
   }
 
   // CSC: column 3fb+c holds rows 3fa..3fa+2 of every row vertex fa, in increasing order.
@@ -58,25 +109,24 @@ void HessianAssembly::finalize() {
     row_start.push_back(static_cast<int>(column.size()));
   }
   lower_.set_pattern(std::move(row_start), std::move(column));
+}
 
-  set_offset_.clear();
-  slots_.clear();
-  lower_slots_.clear();
-  for (const StencilSet& set : sets_) {
-    set_offset_.push_back(slots_.size());
-    for (std::size_t s = 0; s < set.count; ++s)
-      for (int a = 0; a < set.n; ++a)
-        for (int b = 0; b < set.n; ++b) {
-          const int va = set.vertices[s * set.n + a], vb = set.vertices[s * set.n + b];
-          slots_.push_back(block_slot(va, vb));
-          lower_slots_.push_back(lower_block_slot(va, vb));
-        }
-  }
-  diagonal_.resize(free_index_.size());
-  lower_diagonal_.resize(free_index_.size());
-  for (int v = 0; v < static_cast<int>(free_index_.size()); ++v) {
-    diagonal_[v] = block_slot(v, v);
-    lower_diagonal_[v] = lower_block_slot(v, v);
+void HessianAssembly::fill_slots(const ColumnBlocks& columns) {
+  // Block (fa, fb) sits at row place k of column fb: its CSC slot. Its transpose (fb, fa) is a lower
+  // block where fa <= fb, in row fb at the same rank k (as block_slot and lower_block_slot find by
+  // search).
+  slots_.assign(columns.blocks, Slot{});
+  lower_slots_.assign(columns.blocks, Slot{});
+  std::vector<int> place(free_count_);  // the row places of the column at hand
+  for (int fb = 0; fb < free_count_; ++fb) {
+    const auto& rows = column_rows_[fb];
+    for (int k = 0; k < static_cast<int>(rows.size()); ++k) place[rows[k]] = k;
+    const int base = matrix_.outerIndexPtr()[3 * fb], stride = 3 * static_cast<int>(rows.size());
+    for (int k = columns.start[fb]; k < columns.start[fb + 1]; ++k) {
+      const int fa = columns.row[k];
+      slots_[columns.index[k]] = {base + 3 * place[fa], stride};
+      if (fa <= fb) lower_slots_[columns.transposed[k]] = {9 * (lower_.row_begin(fb) + place[fa]), 3};
+    }
   }
 }
 

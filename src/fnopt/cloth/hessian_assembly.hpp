@@ -81,6 +81,17 @@ class HessianAssembly {
           for (int r = 0; r < 3; ++r) values[slot->base + c * slot->stride + r] += local(3 * a + r, 3 * b + c);
       }
   }
+  // Every block (a, b) of every stencil between free vertices, grouped by its column's free
+  // vertex: column f's blocks are start[f]..start[f+1]-1, each with its row's free vertex, its
+  // index among all `blocks` (set_offset_ + s n^2 + a n + b) and its transpose's (b, a).
+  struct ColumnBlocks {
+    std::size_t blocks = 0;
+    std::vector<int> start, row;
+    std::vector<std::size_t> index, transposed;
+  };
+  ColumnBlocks group_blocks_by_column();                // also sets set_offset_
+  void build_patterns(const ColumnBlocks& columns);  // column_rows_, matrix_'s and lower_'s patterns
+  void fill_slots(const ColumnBlocks& columns);      // slots_ and lower_slots_
   Slot block_slot(int row_vertex, int col_vertex) const;
   // Its place in lower_ (block k at 9k, stride 3); none above the diagonal.
   Slot lower_block_slot(int row_vertex, int col_vertex) const;
