@@ -23,10 +23,11 @@ Parts, in order:
 --quick is a smoke pass for CI (tiny grids, a few frames, a couple of methods, every part
 exercised: a minute or two on 2 cores). The full run takes many hours on one thread per run (--jobs J runs the
 contact part's scenes J at a time, each on its own thread, so give it J idle cores);
---resume keeps the parts already finished and passes --resume to compare and stability, which
-keep their finished rows. --splice PAGE writes OUT/results.md as PAGE (the published docs/results.md) with the
-sections of the parts this run ran put in place of PAGE's, its header and other sections as they were. A line per part says what is done and left, with the run's ETA; under it, the part's
-fnopt runs print their progress (a line per 10 %, with their own ETA); OUT/logs/ has their whole output. A part
+--resume keeps the parts already finished and passes --resume to compare and stability, which keep their finished
+rows. --splice PAGE writes OUT/results.md as PAGE (the published docs/results.md) with the sections of the parts
+this run ran put in place of PAGE's, its header and other sections as they were. A line per part says what is done
+and left, with the run's ETA; under it, the part's fnopt runs print their progress (a line per 10 %, with their
+own ETA); OUT/logs/ has their whole output. A part
 that fails stops the run: exit status 1 and one line naming it. A full run refuses to start (exit status 2) when
 the binary's `fnopt --version` is not the release's (project() in CMakeLists.txt), since results.md prints it as
 the release's; --quick only warns.

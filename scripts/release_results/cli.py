@@ -39,7 +39,7 @@ def build_parser(doc):
     parser.add_argument("--splice", metavar="PAGE",
                         help="write OUT/results.md as PAGE (an earlier results.md, e.g. docs/results.md) with the "
                              "sections of the parts this run ran in place of theirs (a new one before History); "
-                             "PAGE's header and other sections stay as they are")
+                             "PAGE's header and other sections stay as they are (--note is not used: edit that header)")
     parser.add_argument("--note", help="a paragraph for results.md's header, e.g. how the machine was shared "
                                        "while the parts ran")
     parser.add_argument("--only", help="run only these parts, comma-separated; the other parts' finished sections are "
