@@ -7,6 +7,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -125,6 +126,28 @@ TEST(SelfContactKernel, ExactlyZeroAtAndBeyondTheRange) {
       expect_zero_beyond_range(kEdgeEdge, x, "EE " + std::to_string(static_cast<int>(c.type)));
     }
   }
+}
+
+// active() (which rules far pairs out by their primitives' boxes first) is the exact test
+// gap < dhat, on random pairs scattered over a few ranges: in and out of range, and with boxes
+// apart by less than thickness + dhat, by more, and by just about that.
+TEST(SelfContactKernel, ActiveIsTheExactRangeTest) {
+  std::mt19937 rng(17);
+  const double reach = kThickness + kRange;
+  std::uniform_real_distribution<double> coordinate(0.0, 0.6 * reach), offset(0.0, 2.5 * reach);
+  int in = 0, out = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const int split = trial % 2 == 0 ? 1 : 2;  // point-triangle, edge-edge
+    std::array<Vec3, 4> p;
+    const Vec3 shift(offset(rng), 0.3 * offset(rng), 0.0);
+    for (int k = 0; k < 4; ++k) p[k] = Vec3(coordinate(rng), coordinate(rng), coordinate(rng)) + (k < split ? shift : Vec3::Zero());
+    const Vec12 x = stencil(p[0], p[1], p[2], p[3]);
+    const bool exact = (split == 1 ? point_triangle_gap(x) : edge_edge_gap(x)) < kRange;
+    EXPECT_EQ(split == 1 ? kPointTriangle.active(x) : kEdgeEdge.active(x), exact) << trial;
+    (exact ? in : out) += 1;
+  }
+  EXPECT_GT(in, 4000);
+  EXPECT_GT(out, 4000);
 }
 
 TEST(SelfContactKernel, EnergyGrowsWithoutBoundTowardContact) {

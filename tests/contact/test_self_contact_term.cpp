@@ -193,6 +193,32 @@ TEST(SelfContactTerm, GradientAndHessianMatchFiniteDifferences) {
   }
 }
 
+// The Hessian at the last gradient's state scans only the pairs that gradient found in range: it
+// is, bit for bit, the Hessian of a scan over every candidate (at a state the gradient did not
+// see, here on a term whose last gradient was elsewhere within its lists' regions).
+TEST(SelfContactTerm, TheHessianAtTheGradientsStateIsTheFullScans) {
+  const Grid grid = Grid::make(8, 8, 0.1);
+  const SelfContactParams params;
+  std::mt19937 random(4);
+  std::normal_distribution<double> noise(0.0, 2e-4);
+  VecX x = folded(grid, params.thickness + 0.5 * params.range);
+  for (Eigen::Index k = 0; k < x.size(); ++k) x[k] += noise(random);
+  VecX nearby = x;
+  nearby[0] += 1e-6;
+  SelfContactTerm at_x(grid, params), elsewhere(grid, params);
+  VecX gradient = VecX::Zero(x.size());
+  at_x.accumulate_gradient(x, gradient);
+  elsewhere.accumulate_gradient(x, gradient);
+  elsewhere.accumulate_gradient(nearby, gradient);
+  ASSERT_EQ(at_x.candidates(), elsewhere.candidates());
+  for (const bool project : {false, true}) {
+    const Eigen::MatrixXd scanned_active(testing::assembled_hessian(at_x, x, project));
+    const Eigen::MatrixXd scanned_all(testing::assembled_hessian(elsewhere, x, project));
+    ASSERT_GT(scanned_all.norm(), 0.0);
+    EXPECT_TRUE(scanned_active == scanned_all) << project;
+  }
+}
+
 // Friction opposes the layers' relative slide: on the upper sheet, slid along +x since the step's
 // start, the friction force (minus its gradient) points along -x, in proportion to mu.
 TEST(SelfContactTerm, FrictionBetweenLayersOpposesTheirSlide) {

@@ -6,6 +6,7 @@
 #include <cassert>
 #include <cmath>
 
+#include <fnopt/contact/box.hpp>
 #include <fnopt/util/error.hpp>
 
 namespace fnopt {
@@ -141,6 +142,24 @@ double additive_ccd(const SquaredDistance& distance_squared, double l_p, double 
   return s;  // the cap: safe up to here
 }
 
+// Whether ACCD's first step already reaches s = 1 (the whole move safe), decided on the boxes of
+// the two primitives' start positions (vertices 0 .. split - 1 and split .. 3) instead of their
+// exact distance d(0): the boxes' distance bounds d(0) from below, so where
+// eta (box distance - separation) >= l_p, the first step eta g(0) / l_p is 1 or more too. Most
+// candidate pairs of a step end there, without their exact distance. The margins (kBoxMargin [m]
+// on the distance, relative on l_p) keep the decision on the side of the exact one's rounding
+// (and of the l_p the loop computes in its own vertex order): where this says 1, so does the loop.
+constexpr double kBoxMargin = 1e-9;
+bool first_step_reaches_end(const std::array<Vec3, 4>& start, int split, double l_p, double separation,
+                            double eta) {
+  Box a, b;
+  for (int k = 0; k < 4; ++k) {
+    if (!start[k].allFinite()) return false;
+    (k < split ? a : b).add(start[k]);
+  }
+  return eta * (std::sqrt(a.squared_distance(b)) - separation - kBoxMargin) >= l_p * (1.0 + 1e-9);
+}
+
 }  // namespace
 
 double point_triangle_safe_fraction(const Vec3& p0_start, const Vec3& t0_start, const Vec3& t1_start,
@@ -151,6 +170,7 @@ double point_triangle_safe_fraction(const Vec3& p0_start, const Vec3& t0_start, 
   // l_p = |p_p| + max_j |p_tj|: the point moves by the first, any point of the triangle, a convex
   // combination of its corners, by at most the second.
   const double l_p = motion.largest_move(0, 0) + motion.largest_move(1, 3);
+  if (first_step_reaches_end(motion.start, 1, l_p, separation, params.conservative_rescaling)) return 1.0;
   const auto distance_squared = [&motion](double s) {
     return ccd_distance::point_triangle_squared(motion.at(0, s), motion.at(1, s), motion.at(2, s), motion.at(3, s));
   };
@@ -161,6 +181,10 @@ double edge_edge_safe_fraction(const Vec3& ea0_start, const Vec3& ea1_start, con
                                const Vec3& eb1_start, const Vec3& ea0_end, const Vec3& ea1_end, const Vec3& eb0_end,
                                const Vec3& eb1_end, double separation, const AdditiveCcdParams& params,
                                double enough) {
+  const RelativeMotion given({ea0_start, ea1_start, eb0_start, eb1_start}, {ea0_end, ea1_end, eb0_end, eb1_end});
+  if (first_step_reaches_end(given.start, 2, given.largest_move(0, 1) + given.largest_move(2, 3), separation,
+                             params.conservative_rescaling))
+    return 1.0;
   // The two edges in a canonical order (the lexicographically smaller motion, start then end
   // coordinates, first), so that swapping them runs the same arithmetic and returns the same s.
   std::array<double, 12> a, b;

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include <fnopt/cloth/repulsion_kernel.hpp>
+#include <fnopt/contact/box.hpp>
 #include <fnopt/contact/friction.hpp>
 
 namespace fnopt {
@@ -42,6 +43,20 @@ bool outside_range(double gap, double range, Vec12* grad, Mat12* hess, double& e
   if (hess) hess->setZero();
   energy = gap < range ? std::numeric_limits<double>::infinity() : 0.0;
   return true;
+}
+
+// Whether the boxes of a pair's two primitives (vertices 0 .. split - 1 and split .. 3 of x) lie
+// farther apart than thickness + dhat: the boxes' distance bounds the primitives' from below, so
+// such a pair is out of range, decided without its distance type (most candidates are: the lists
+// hold pairs several ranges apart, self_contact_term.hpp). kBoxMargin [m], far above the rounding
+// of the exact distance and far below any range, keeps every pair the exact test would call
+// active.
+constexpr double kBoxMargin = 1e-9;
+bool boxes_beyond(const Vec12& x, int split, double reach) {
+  Box a, b;
+  for (int k = 0; k < 4; ++k) (k < split ? a : b).add(Vec3(x.segment<3>(3 * k)));
+  const double beyond = reach + kBoxMargin;
+  return a.squared_distance(b) > beyond * beyond;
 }
 
 // Helmert's contrasts: K x (K - 1), orthonormal columns orthogonal to (1, ..., 1).
@@ -159,6 +174,7 @@ void project_translation_invariant_psd(Mat12& H, const std::array<int, 4>& verti
 }
 
 bool PointTriangleBarrier::active(const Vec& x) const {
+  if (boxes_beyond(x, 1, thickness + range)) return false;
   return std::sqrt(point_triangle_squared_distance(x, point_triangle_distance_type(x))) - thickness < range;
 }
 double PointTriangleBarrier::energy(const Vec& x) const {
@@ -180,6 +196,7 @@ void PointTriangleBarrier::hessian_pair(const Vec& x, Mat& exact, Mat& projected
 }
 
 bool EdgeEdgeBarrier::active(const Vec& x) const {
+  if (boxes_beyond(x, 2, thickness + range)) return false;
   return std::sqrt(edge_edge_squared_distance(x, edge_edge_distance_type(x))) - thickness < range;
 }
 double EdgeEdgeBarrier::energy(const Vec& x) const { return edge_edge_barrier(*this, x, nullptr, nullptr, nullptr); }

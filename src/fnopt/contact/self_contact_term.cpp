@@ -333,6 +333,7 @@ double SelfContactTerm::pair_distance(const VecX& x, const Pair& pair) const {
 
 void SelfContactTerm::update_candidates() const {
   merge(far_candidates_, neighbour_candidates_, candidates_);
+  ++candidates_version_;
   // Keep the pattern while it holds every candidate and friction pair.
   if (pattern_slots(candidates_, pattern_, candidate_slot_) && pattern_slots(friction_pairs_, pattern_, friction_slot_))
     return;
@@ -468,11 +469,20 @@ double SelfContactTerm::accumulate_gradient(const VecX& x, VecX& grad) const {
   cover(x);
   double total = 0.0;
   Vec12 g;
-  for (const Pair& pair : candidates_) {
+  active_.clear();
+  for (std::size_t c = 0; c < candidates_.size(); ++c) {
+    const Pair& pair = candidates_[c];
     g.setZero();
-    total += pair_barrier(pair, gather(x, pair), &g, nullptr, false);
+    const double energy = pair_barrier(pair, gather(x, pair), &g, nullptr, false);
+    if (energy != 0.0)
+      active_.push_back(static_cast<int>(c));
+    else if (g.isZero(0.0))
+      continue;  // out of range
+    total += energy;
     for (int k = 0; k < 4; ++k) grad.segment<3>(3 * pair.vertices[k]) += g.segment<3>(3 * k);
   }
+  active_state_ = x;
+  active_version_ = candidates_version_;
   for (const FrictionEntry& f : friction_) {
     total += entry_gradient(f, x, &g, nullptr);
     for (int k = 0; k < 4; ++k) grad.segment<3>(3 * f.pair.vertices[k]) += g.segment<3>(3 * k);
@@ -487,10 +497,17 @@ int SelfContactTerm::register_hessian(HessianAssembly& assembly) const {
 void SelfContactTerm::accumulate_hessian(const VecX& x, bool project, HessianAssembly& assembly, int handle) const {
   require(inside(x), "self-contact", "the Hessian's state was not covered first (cover)");
   Mat12 H;
-  for (std::size_t c = 0; c < candidates_.size(); ++c) {
+  const auto add_pair = [&](std::size_t c) {
     H.setZero();
     if (pair_barrier(candidates_[c], gather(x, candidates_[c]), nullptr, &H, project) != 0.0)
       assembly.scatter<4>(handle, candidate_slot_[c], H);
+  };
+  // At the last gradient's state, only the pairs it found in range (the same test: a pair's energy
+  // is not zero) can add to the Hessian.
+  if (active_version_ == candidates_version_ && active_state_.size() == x.size() && active_state_ == x) {
+    for (const int c : active_) add_pair(static_cast<std::size_t>(c));
+  } else {
+    for (std::size_t c = 0; c < candidates_.size(); ++c) add_pair(c);
   }
   // Friction: w_a w_b (W T hess_u T^T) per pair of its vertices, positive semi-definite.
   Mat3 tangent;

@@ -197,6 +197,12 @@ class SelfContactTerm final : public EnergyTerm {
   mutable std::vector<int> pattern_vertices_;  // its stencils' vertices, 4 each (the assembly reads them)
   mutable long generation_ = 0;
   mutable long rebuilds_ = 0;
+  // The candidates in range at the last gradient's state (their indices, ascending), for a Hessian at
+  // that same state (an optimizer's next iterate), which then scans only them; valid while
+  // active_version_ is candidates_version_ (bumped by every new candidate list).
+  mutable VecX active_state_;
+  mutable std::vector<int> active_;
+  mutable long active_version_ = -1, candidates_version_ = 0;
   // the searches' scratch
   mutable VecX moved_;
   mutable PlaneNormals plane_normals_;
