@@ -56,6 +56,17 @@ def contact_table(grids, scenes, results):
     return table
 
 
+def contact_cost_table(grids, scenes, results):
+    """A row per (method, N): its CPU ms/frame per scene as "32² / 64² / ...", the time side of the e_CD table."""
+    cells = {}
+    for name, _ in scenes:
+        for r in results[name]:
+            cells.setdefault((r["method"], r["N"]), {}).setdefault(name, {})[r["resolution"]] = fmt(
+                fnum(r["ms_per_frame_cpu"]), 3)
+    return [[key[0], key[1] or "converged"] + [" / ".join(cells[key].get(name, {}).get(g, "—") for g in grids)
+                                               for name, _ in scenes] for key in cells]
+
+
 def far_obstacles_cost(ctx, part, plan_):
     """fnopt bench contact: (its command, its table's rows, the CSV written)."""
     args = ["bench", "contact"] + plan_["bench"] + ["--threads", "1"]
@@ -90,6 +101,11 @@ def part_contact(ctx, part, plan_):
     table = contact_table(grids, plan_["scenes"], results)
     path = os.path.join(ctx.out, part, "contact.csv")
     write_csv(path, header, table)
+    cost_header = ["method", "N"] + ["%s ms/frame (%s)" % (name, " / ".join(g + "²" for g in grids))
+                                     for name, _ in plan_["scenes"]]
+    cost_table = contact_cost_table(grids, plan_["scenes"], results)
+    cost_path = os.path.join(ctx.out, part, "contact-cost.csv")
+    write_csv(cost_path, cost_header, cost_table)
     bench_args, bench_table, bench_path = far_obstacles_cost(ctx, part, plan_)
     body = ("The scenes of `examples/scenes/` (a released cloth on a sphere above a floor, on a table top with an "
             "overhang, on a plane tilted by 30° with friction 0.4; a sphere pushed through the hanging cloth; a cloth "
@@ -99,8 +115,10 @@ def part_contact(ctx, part, plan_):
             "to an obstacle and of the cloth to itself (vertex-disjoint primitives; ≥ the contact thickness, 1 mm: no "
             "penetration), and the exact self- and mesh intersections of the stored frames summed over the runs "
             "(`fnopt evaluate`'s counts; 0: nothing crossed).\n\n" +
-            markdown_table(header, table) + "\n\nContact's cost, alternated runs, medians: far-obstacles, the benchmark "
+            markdown_table(header, table) + "\n\nThe same runs' cost, CPU ms/frame (each scene's `compare.svg` in the "
+            "output directory plots e_CD against it):\n\n" + markdown_table(cost_header, cost_table) +
+            "\n\nContact's cost, alternated runs, medians: far-obstacles, the benchmark "
             "scene with and without a floor and a sphere far from the cloth; far-mesh, the same sphere as a mesh; "
             "self-contact, the sphere drape without and with self-contact.\n\n```\n" +
             ctx.shown(bench_args) + "\n```\n\n" + markdown_table(BENCH_HEADER, bench_table))
-    return section("Contact with obstacles", commands, body), [path, bench_path]
+    return section("Contact with obstacles", commands, body), [path, cost_path, bench_path]

@@ -138,6 +138,13 @@ def main():
             failures.append("section '%s' has no table rows" % title)
         elif any(set(c.strip()) <= {"—", ""} for c in rows[1].strip("|").split("|")[:1]):
             failures.append("section '%s': an empty first cell" % title)
+    # The contact section's second table: every method's CPU ms/frame per scene, a number in each cell.
+    contact = found.get("Contact with obstacles", "")
+    cost_block = contact.split("ms/frame (12²)", 1)[1].split("\n\n", 1)[0] if "ms/frame (12²)" in contact else ""
+    cost_rows = [l for l in cost_block.splitlines()[1:] if l.startswith("| ") and "---" not in l]
+    if not cost_rows or any(not re.match(r"^[\d.e+-]+$", c.strip()) for l in cost_rows
+                            for c in l.strip("|").split("|")[2:]):
+        failures.append("section 'Contact with obstacles' has no cost table (ms/frame per scene)")
     pictures = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", text)
     if not pictures:
         failures.append("no pictures")
