@@ -146,18 +146,15 @@ double additive_ccd(const SquaredDistance& distance_squared, double l_p, double 
 // the two primitives' start positions (vertices 0 .. split - 1 and split .. 3) instead of their
 // exact distance d(0): the boxes' distance bounds d(0) from below, so where
 // eta (box distance - separation) >= l_p, the first step eta g(0) / l_p is 1 or more too. Most
-// candidate pairs of a step end there, without their exact distance. The margins (kBoxMargin [m]
-// on the distance, relative on l_p) keep the decision on the side of the exact one's rounding
-// (and of the l_p the loop computes in its own vertex order): where this says 1, so does the loop.
-constexpr double kBoxMargin = 1e-9;
+// candidate pairs of a step end there, without their exact distance. The margins (box.hpp's on the
+// distance, relative on l_p) keep the decision on the side of the exact one's rounding (and of the
+// l_p the loop computes in its own vertex order): where this says 1, so does the loop.
 bool first_step_reaches_end(const std::array<Vec3, 4>& start, int split, double l_p, double separation,
                             double eta) {
-  Box a, b;
-  for (int k = 0; k < 4; ++k) {
-    if (!start[k].allFinite()) return false;
-    (k < split ? a : b).add(start[k]);
-  }
-  return eta * (std::sqrt(a.squared_distance(b)) - separation - kBoxMargin) >= l_p * (1.0 + 1e-9);
+  for (const Vec3& p : start)
+    if (!p.allFinite()) return false;
+  return eta * (std::sqrt(split_boxes_squared_distance(start, split)) - separation - kBoxRoundingMargin) >=
+         l_p * (1.0 + 1e-9);
 }
 
 }  // namespace

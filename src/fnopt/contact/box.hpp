@@ -1,6 +1,8 @@
 #pragma once
 // An axis-aligned box: the bounds of the contact broad phases (box_tree.hpp for meshes,
 // grid_box_tree.hpp for self-contact; docs/design.md §14).
+#include <array>
+
 #include <fnopt/util/types.hpp>
 
 namespace fnopt {
@@ -33,5 +35,19 @@ struct Box {
     return (lower - b.upper).cwiseMax(b.lower - upper).cwiseMax(0.0).squaredNorm();
   }
 };
+
+// The squared distance between the boxes of a pair's two primitives, vertices 0 .. split - 1 and
+// split .. 3 (a point and a triangle: split 1; two edges: split 2): a lower bound on the squared
+// distance of the primitives, which the contact shortcuts test before the exact one.
+inline double split_boxes_squared_distance(const std::array<Vec3, 4>& vertices, int split) {
+  Box a, b;
+  for (int k = 0; k < 4; ++k) (k < split ? a : b).add(vertices[k]);
+  return a.squared_distance(b);
+}
+
+// A margin [m] far above the rounding of an exact primitive distance and far below any contact
+// range: a shortcut on the boxes' distance that keeps this much on the safe side decides as the
+// exact test would.
+constexpr double kBoxRoundingMargin = 1e-9;
 
 }  // namespace fnopt

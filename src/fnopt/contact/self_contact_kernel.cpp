@@ -48,15 +48,12 @@ bool outside_range(double gap, double range, Vec12* grad, Mat12* hess, double& e
 // Whether the boxes of a pair's two primitives (vertices 0 .. split - 1 and split .. 3 of x) lie
 // farther apart than thickness + dhat: the boxes' distance bounds the primitives' from below, so
 // such a pair is out of range, decided without its distance type (most candidates are: the lists
-// hold pairs several ranges apart, self_contact_term.hpp). kBoxMargin [m], far above the rounding
-// of the exact distance and far below any range, keeps every pair the exact test would call
-// active.
-constexpr double kBoxMargin = 1e-9;
+// hold pairs several ranges apart, self_contact_term.hpp). The margin keeps every pair the exact
+// test would call active.
 bool boxes_beyond(const Vec12& x, int split, double reach) {
-  Box a, b;
-  for (int k = 0; k < 4; ++k) (k < split ? a : b).add(Vec3(x.segment<3>(3 * k)));
-  const double beyond = reach + kBoxMargin;
-  return a.squared_distance(b) > beyond * beyond;
+  const double beyond = reach + kBoxRoundingMargin;
+  return split_boxes_squared_distance({x.segment<3>(0), x.segment<3>(3), x.segment<3>(6), x.segment<3>(9)}, split) >
+         beyond * beyond;
 }
 
 // Helmert's contrasts: K x (K - 1), orthonormal columns orthogonal to (1, ..., 1).
