@@ -18,17 +18,28 @@ BENCH_CONTACT_ROW = re.compile(r"^\s*(\d+)\^2\s+(\S+)\s+(\S+)\s+([\d.]+)\s+([\d.
 BENCH_HEADER = ["grid", "method", "case", "ms/frame without", "with", "ratio", "same rollout"]
 
 
+def scene_cells(grids, scenes, results, text_of):
+    """{(method, N): ["32² / 64² / ..." per scene]}, each grid's cell text_of(its compare.csv row), "—" for none;
+    the keys in the order the rows first give them."""
+    cells = {}
+    for name, _ in scenes:
+        for r in results[name]:
+            cells.setdefault((r["method"], r["N"]), {}).setdefault(name, {})[r["resolution"]] = text_of(r)
+    return {key: [" / ".join(by_scene.get(name, {}).get(g, "—") for g in grids) for name, _ in scenes]
+            for key, by_scene in cells.items()}
+
+
 def contact_table(grids, scenes, results):
     """A row per (method, N) over the scenes' compare.csv rows (results: {scene: rows}): e_CD per scene as
     "32² / 64² / ..." ("diverged" where it did), the smallest obstacle and cloth-cloth distances in mm, the self-
     and mesh intersections summed over every run, runs diverged."""
-    cells, smallest, diverged, crossings = {}, {}, {}, {}
+    cells = scene_cells(grids, scenes, results,
+                        lambda r: fmt(fnum(r["e_cd_x1e3"])) if r["diverged"] == "no" else "diverged")
+    smallest, diverged, crossings = {}, {}, {}
     for name, _ in scenes:
         for r in results[name]:
             key = (r["method"], r["N"])
             done = r["diverged"] == "no"
-            cells.setdefault(key, {}).setdefault(name, {})[r["resolution"]] = (
-                fmt(fnum(r["e_cd_x1e3"])) if done else "diverged")
             for column in ("min_obstacle_distance_m", "min_cloth_distance_m"):
                 distance = fnum(r.get(column))
                 if distance is not None:
@@ -42,9 +53,7 @@ def contact_table(grids, scenes, results):
             diverged[key][1] += 1
     table = []
     for key in cells:
-        row = [key[0], key[1] or "converged"]
-        for name, _ in scenes:
-            row.append(" / ".join(cells[key].get(name, {}).get(g, "—") for g in grids))
+        row = [key[0], key[1] or "converged"] + cells[key]
         for column in ("min_obstacle_distance_m", "min_cloth_distance_m"):
             value = smallest.get(key, {}).get(column)
             row.append(fmt(1e3 * value) if value is not None else "—")
@@ -58,13 +67,8 @@ def contact_table(grids, scenes, results):
 
 def contact_cost_table(grids, scenes, results):
     """A row per (method, N): its CPU ms/frame per scene as "32² / 64² / ...", the time side of the e_CD table."""
-    cells = {}
-    for name, _ in scenes:
-        for r in results[name]:
-            cells.setdefault((r["method"], r["N"]), {}).setdefault(name, {})[r["resolution"]] = fmt(
-                fnum(r["ms_per_frame_cpu"]), 3)
-    return [[key[0], key[1] or "converged"] + [" / ".join(cells[key].get(name, {}).get(g, "—") for g in grids)
-                                               for name, _ in scenes] for key in cells]
+    cells = scene_cells(grids, scenes, results, lambda r: fmt(fnum(r["ms_per_frame_cpu"]), 3))
+    return [[key[0], key[1] or "converged"] + row for key, row in cells.items()]
 
 
 def far_obstacles_cost(ctx, part, plan_):
