@@ -159,7 +159,8 @@ def test_a_step_with_ones_own_acceleration_and_a_stale_problem():
 
 
 def test_another_python_thread_runs_while_a_rollout_does():
-    sim = fnopt.Simulator(fnopt.Scene(res=24, frames=40), optimizer="newton")
+    # 120 frames: long enough (well over 0.1 s) on an idle machine too.
+    sim = fnopt.Simulator(fnopt.Scene(res=24, frames=120), optimizer="newton")
     ticks = []
     done = threading.Event()
 
@@ -173,7 +174,7 @@ def test_another_python_thread_runs_while_a_rollout_does():
     time.sleep(0.01)
     before = len(ticks)
     start = time.perf_counter()
-    sim.rollout(40)
+    sim.rollout(120)
     seconds = time.perf_counter() - start
     during = len(ticks) - before
     done.set()
