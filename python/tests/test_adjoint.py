@@ -225,3 +225,29 @@ def test_smoothing_averages_over_antithetic_draws():
         fnopt.smoothing.smoothed(quadratic, sigma=0.1, samples=3)
     with pytest.raises(ValueError, match="^sigma: must be at least 0"):
         fnopt.smoothing.smoothed(quadratic, sigma=-1.0)
+
+
+def test_a_fit_in_stages_minimises_each_horizon_from_the_last_answer():
+    import fnopt.horizons
+
+    target = np.array([0.3, -0.2, 0.5, 0.1])
+
+    def loss_for(h):
+        # The first h coordinates matter over a horizon of h: a later stage sees more of them.
+        def loss_and_gradient(x):
+            r = np.zeros_like(x)
+            r[:h] = x[:h] - target[:h]
+            return float(r @ r), 2.0 * r
+        return loss_and_gradient
+
+    fit = fnopt.horizons.fit_in_stages(loss_for, np.zeros(4), [1, 2, 4], evaluations_per_stage=20)
+    np.testing.assert_allclose(fit.x, target, atol=1e-6)
+    assert [s.horizon for s in fit.stages] == [1, 2, 4]
+    # Each stage starts where the last ended: its start loss is its horizon's loss there.
+    assert fit.stages[1].start_loss == pytest.approx(0.2**2, rel=1e-5)
+    assert fit.stages[2].start_loss == pytest.approx(0.5**2 + 0.1**2, rel=1e-5)
+    assert all(s.loss < 1e-10 for s in fit.stages) and fit.evaluations == sum(s.evaluations for s in fit.stages)
+    with pytest.raises(ValueError, match="^horizons: must be increasing"):
+        fnopt.horizons.fit_in_stages(loss_for, np.zeros(4), [2, 2])
+    with pytest.raises(ValueError, match="^evaluations_per_stage: must be at least 1"):
+        fnopt.horizons.fit_in_stages(loss_for, np.zeros(4), [1], evaluations_per_stage=0)

@@ -30,3 +30,16 @@ def test_identify_material_recovers_a_hidden_material_from_noise_free_frames():
         assert abs(float(r["fitted_over_hidden"]) - 1.0) < 1e-3, r
         assert abs(float(r["start"]) / float(r["hidden"]) - 1.0) > 0.3, r
     assert "forward +" in run.stderr
+
+
+def test_fit_start_state_in_stages_ends_far_below_the_whole_horizons_fit():
+    # A 10^2 cloth buckling under fast handles, 16 frames: the same rollout budget for both fits.
+    run = subprocess.run([sys.executable, str(EXAMPLES / "fit_start_state.py"), "--res", "10", "--frames", "16",
+                          "--stages", "2,4,8,16", "--evaluations", "12"], capture_output=True, text=True, check=True)
+    rows = {r["fit"]: r for r in csv.DictReader(io.StringIO(run.stdout))}
+    assert set(rows) == {"whole horizon", "in stages", "hidden + 1e-8"}
+    whole, staged = rows["whole horizon"], rows["in stages"]
+    assert float(staged["loss_m2"]) < 0.1 * float(whole["loss_m2"]), run.stdout
+    assert float(staged["loss_m2"]) < 1e-3 * float(staged["start_loss_m2"]), run.stdout
+    assert abs(int(staged["rollouts"]) - int(whole["rollouts"])) <= 4 + int(whole["rollouts"]) // 2
+    assert "stage of 16 frames" in run.stderr
