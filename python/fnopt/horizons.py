@@ -18,7 +18,7 @@ from scipy.optimize import minimize
 @dataclass
 class Stage:
     """One stage of a fit: its horizon (frames), its loss at its start and its end, the evaluations it
-    took and SciPy's message on why it stopped."""
+    took (its start's among them) and SciPy's message on why it stopped."""
     horizon: int
     start_loss: float
     loss: float
@@ -52,15 +52,25 @@ def fit_in_stages(loss_for, x0, horizons, evaluations_per_stage=30, bounds=None)
     stages = []
     for h in horizons:
         loss_and_gradient = loss_for(h)
-        start_loss, _ = loss_and_gradient(x)
-        scale = float(start_loss) if start_loss > 0 else 1.0
+        # Every point evaluated, by its coordinates: the start's evaluation, which sets the scale, is also
+        # the optimiser's first, and the stage's loss is read at the answer SciPy returns (after a failed
+        # line search its `fun` is the failed trial's, not the answer's).
+        evaluated = {x.tobytes(): loss_and_gradient(x)}
+        start_loss = float(evaluated[x.tobytes()][0])
+        scale = start_loss if start_loss > 0 else 1.0
 
-        def scaled(y, f=loss_and_gradient):
-            value, gradient = f(y)
+        def at(y, f=loss_and_gradient, evaluated=evaluated):
+            key = np.asarray(y, dtype=np.float64).tobytes()
+            if key not in evaluated:
+                evaluated[key] = f(y)
+            return evaluated[key]
+
+        def scaled(y, at=at, scale=scale):
+            value, gradient = at(y)
             return float(value) / scale, np.asarray(gradient, dtype=np.float64) / scale
 
         fit = minimize(scaled, x, jac=True, method="L-BFGS-B", bounds=bounds,
                        options={"maxfun": evaluations_per_stage})
-        x = fit.x
-        stages.append(Stage(h, float(start_loss), float(fit.fun) * scale, int(fit.nfev) + 1, str(fit.message)))
+        x = np.asarray(fit.x, dtype=np.float64)
+        stages.append(Stage(h, start_loss, float(at(x)[0]), len(evaluated), str(fit.message)))
     return StagedFit(x, stages)
