@@ -82,12 +82,16 @@ void NewtonOptimizer::hand_over_to_factor() {
   ++counters_.multigrid_fallbacks;
 }
 
-void NewtonOptimizer::begin_step(StepProblem&, const VecX&, double value, const VecX& gradient) {
+void NewtonOptimizer::begin_step(StepProblem& problem, const VecX&, double value, const VecX& gradient) {
   start_value_ = value;
   initial_gradient_norm_ = gradient.norm();
   radius_ = 0.0;
   escapes_ = 0;
-  if (!params_.reuse_factor_across_steps) have_factor_ = false;
+  // With contact P is rebuilt at every step's start: the pairs in range, and their stiffness, change
+  // from step to step, and a P without them sizes the first region from a preconditioned gradient
+  // far too long along them; the short, cut steps that follow need too few products with H to
+  // call for a new factor, and the step can run its whole budget on the old one.
+  if (!params_.reuse_factor_across_steps || problem.has_contact()) have_factor_ = false;
 }
 
 void NewtonOptimizer::set_metric(const StepProblem& problem) {
@@ -186,6 +190,7 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
                                     ? std::min(params_.max_cg_iterations, params_.refactor_cg_iterations + 1)
                                     : params_.max_cg_iterations;
   last_cg_iterations_ = 0;
+  const bool contact = problem.has_contact();
   for (int trial = 0; trial < params_.max_trials; ++trial) {
     // A trial after a rejected one solves the same subproblem in a smaller region: on CG's path.
     SteihaugResult sub;
@@ -200,18 +205,40 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
     if (sub.end == SteihaugEnd::NegativeCurvature) ++counters_.negative_curvature;
     dirichlet.scatter_free(step_, full_step_);
     trial_ = a + full_step_;
+    // With contact the trial is the feasible part of the step (the filter every iterate passes,
+    // docs/design.md §14), and the ratio judges that point against the model along the same cut
+    // step, m(s d) = s g.d + s^2 (m(d) - g.d): a trial through the cloth or an obstacle judged at
+    // its far end would be accepted there and then pulled back to a point the model never saw, so
+    // L could rise from one iterate to the next and the region would grow on a step never taken.
+    double cut = 1.0;
+    if (contact) {
+      const double fraction = problem.feasible_fraction(a, trial_);
+      if (fraction < 1.0) {
+        cut = problem.pullback() * fraction;
+        trial_ = a + cut * full_step_;
+      }
+    }
     const double trial_value = problem.value_gradient(trial_, trial_gradient_);
-    const double predicted = -sub.model;
+    const double slope = cut < 1.0 ? rhs_.dot(step_) : 0.0;
+    const double predicted = cut < 1.0 ? -(cut * slope + cut * cut * (sub.model - slope)) : -sub.model;
     bool accept = false;
-    if (predicted <= rounding) {
+    if (cut < 1.0 && predicted <= rounding) {
+      radius_ = params_.shrink * cut * sub.step_norm;  // a contact right ahead: a shorter step
+    } else if (predicted <= rounding) {
       // L cannot judge a step this small: take it if it lowers ||g|| and does not raise L beyond
       // its rounding; otherwise this iterate is a stationary point to the precision of L.
       accept = std::isfinite(trial_value) && trial_value <= value + rounding && trial_gradient_.norm() < gradient_norm;
       if (!accept) return SolveStatus::PrecisionLimit;
     } else {
       const double ratio = std::isfinite(trial_value) ? (value - trial_value) / predicted : -INFINITY;
+      // A cut step ends on the feasible set's boundary: the region is sized from the step taken, as
+      // from a step that reached the region's own boundary (doubled where the model predicted well),
+      // so that the next trials do not sweep again over the contact that cut this one.
+      const double taken = cut * sub.step_norm;
       if (ratio < params_.shrink_below)
-        radius_ = params_.shrink * sub.step_norm;
+        radius_ = params_.shrink * taken;
+      else if (cut < 1.0)
+        radius_ = (ratio > params_.grow_above ? 2.0 : 1.0) * taken;
       else if (ratio > params_.grow_above && sub.on_boundary())
         radius_ *= 2.0;
       accept = ratio > params_.accept_ratio;

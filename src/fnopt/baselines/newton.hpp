@@ -18,6 +18,10 @@
 // the branch ARCSim's one linear solve takes (docs/design.md §6, "What the reference converges
 // to"). No Cholesky of an indefinite matrix is tried, and no shift damps the soft modes.
 //
+// With contact each trial is the feasible part of the step (the CCD filter every iterate passes,
+// docs/design.md §14), judged against the model along that cut step, and the region is sized from
+// the step taken: L falls from every iterate to the next.
+//
 // The reference stops on the residual acceleration max_i |g_i| / (m_i dt^2) (m/s^2), which is
 // a - f(x)/m, the part of Newton's second law the step leaves unbalanced
 // (reference_solve_options()); its size against the errors it measures is in docs/design.md §6.
@@ -108,6 +112,8 @@ class NewtonOptimizer final : public InnerOptimizer {
   // give (linalg/matrix_inertia.hpp, Moré & Sorensen 1979), from the trust radius in the mass
   // metric down until L falls. False (a not moved) at a minimum.
   bool leave_stationary_point(StepProblem& problem, VecX& a, double& value, VecX& gradient) override;
+  // Each trial is already the feasible part of its step (iterate()).
+  bool filters_its_iterates() const override { return true; }
 
   const NewtonCounters& counters() const { return counters_; }
 

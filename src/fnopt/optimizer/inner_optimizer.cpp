@@ -58,10 +58,11 @@ InnerSolveResult solve_step(InnerOptimizer& optimizer, StepProblem& problem, Vec
       result.status = SolveStatus::IterationBudget;
       return result;
     }
-    if (contact) a_before = a;
+    const bool filter = contact && !optimizer.filters_its_iterates();
+    if (filter) a_before = a;
     auto stop = optimizer.iterate(problem, a, value, gradient);
     // A method that stopped on a non-finite value went into an obstacle: pulled back, it goes on.
-    if (contact && keep_feasible(problem, a_before, a, value, gradient) && stop == SolveStatus::NonFinite &&
+    if (filter && keep_feasible(problem, a_before, a, value, gradient) && stop == SolveStatus::NonFinite &&
         std::isfinite(value))
       stop.reset();
     if (stop) {

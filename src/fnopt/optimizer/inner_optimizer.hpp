@@ -28,6 +28,10 @@ class InnerOptimizer {
   // stationary point may move a off a saddle there (and return true: the solve goes on). Default:
   // a stationary point is where the solve ends.
   virtual bool leave_stationary_point(StepProblem&, VecX&, double&, VecX&) { return false; }
+  // Whether iterate() moves only along paths the no-penetration filter has passed (a method that
+  // cuts its own trials to their feasible fraction, StepProblem::feasible_fraction): solve_step then
+  // does not check the move again. Default: solve_step filters every iterate (docs/design.md §14).
+  virtual bool filters_its_iterates() const { return false; }
 };
 
 struct InnerSolveOptions {
