@@ -152,6 +152,33 @@ const SymmetricBlockMatrix* NewtonOptimizer::hessian_and_preconditioner(StepProb
   return factorize_preconditioner(problem, pair.projected) ? &pair.exact : nullptr;
 }
 
+double NewtonOptimizer::feasible_trial(StepProblem& problem, const VecX& a) {
+  // The trial is the feasible part of the step (the filter every iterate passes, docs/design.md
+  // §14), and the ratio judges that point against the model along the same cut step: a trial
+  // through the cloth or an obstacle judged at its far end would be accepted there and then pulled
+  // back to a point the model never saw, so L could rise from one iterate to the next and the
+  // region would grow on a step never taken.
+  trial_ = a + full_step_;
+  const double fraction = problem.feasible_fraction(a, trial_);
+  if (fraction >= 1.0) return 1.0;
+  const double cut = problem.pullback() * fraction;
+  trial_ = a + cut * full_step_;
+  return cut;
+}
+
+void NewtonOptimizer::update_radius(double ratio, double cut, const SteihaugResult& sub) {
+  // A cut step ends on the feasible set's boundary: the region is sized from the step taken, as
+  // from a step that reached the region's own boundary (doubled where the model predicted well),
+  // so that the next trials do not sweep again over the contact that cut this one.
+  const double taken = cut * sub.step_norm;
+  if (ratio < params_.shrink_below)
+    radius_ = params_.shrink * taken;
+  else if (cut < 1.0)
+    radius_ = (ratio > params_.grow_above ? 2.0 : 1.0) * taken;
+  else if (ratio > params_.grow_above && sub.on_boundary())
+    radius_ *= 2.0;
+}
+
 std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& a, double& value, VecX& gradient) {
   const DirichletSet& dirichlet = problem.dirichlet();
   dirichlet.gather_free(gradient, rhs_);
@@ -190,7 +217,6 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
                                     ? std::min(params_.max_cg_iterations, params_.refactor_cg_iterations + 1)
                                     : params_.max_cg_iterations;
   last_cg_iterations_ = 0;
-  const bool contact = problem.has_contact();
   for (int trial = 0; trial < params_.max_trials; ++trial) {
     // A trial after a rejected one solves the same subproblem in a smaller region: on CG's path.
     SteihaugResult sub;
@@ -204,21 +230,9 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
     last_cg_iterations_ = std::max(last_cg_iterations_, sub.iterations);
     if (sub.end == SteihaugEnd::NegativeCurvature) ++counters_.negative_curvature;
     dirichlet.scatter_free(step_, full_step_);
-    trial_ = a + full_step_;
-    // With contact the trial is the feasible part of the step (the filter every iterate passes,
-    // docs/design.md §14), and the ratio judges that point against the model along the same cut
-    // step, m(s d) = s g.d + s^2 (m(d) - g.d): a trial through the cloth or an obstacle judged at
-    // its far end would be accepted there and then pulled back to a point the model never saw, so
-    // L could rise from one iterate to the next and the region would grow on a step never taken.
-    double cut = 1.0;
-    if (contact) {
-      const double fraction = problem.feasible_fraction(a, trial_);
-      if (fraction < 1.0) {
-        cut = problem.pullback() * fraction;
-        trial_ = a + cut * full_step_;
-      }
-    }
+    const double cut = feasible_trial(problem, a);
     const double trial_value = problem.value_gradient(trial_, trial_gradient_);
+    // The model along the step taken, m(s d) = s g.d + s^2 (m(d) - g.d).
     const double slope = cut < 1.0 ? rhs_.dot(step_) : 0.0;
     const double predicted = cut < 1.0 ? -(cut * slope + cut * cut * (sub.model - slope)) : -sub.model;
     bool accept = false;
@@ -231,16 +245,7 @@ std::optional<SolveStatus> NewtonOptimizer::iterate(StepProblem& problem, VecX& 
       if (!accept) return SolveStatus::PrecisionLimit;
     } else {
       const double ratio = std::isfinite(trial_value) ? (value - trial_value) / predicted : -INFINITY;
-      // A cut step ends on the feasible set's boundary: the region is sized from the step taken, as
-      // from a step that reached the region's own boundary (doubled where the model predicted well),
-      // so that the next trials do not sweep again over the contact that cut this one.
-      const double taken = cut * sub.step_norm;
-      if (ratio < params_.shrink_below)
-        radius_ = params_.shrink * taken;
-      else if (cut < 1.0)
-        radius_ = (ratio > params_.grow_above ? 2.0 : 1.0) * taken;
-      else if (ratio > params_.grow_above && sub.on_boundary())
-        radius_ *= 2.0;
+      update_radius(ratio, cut, sub);
       accept = ratio > params_.accept_ratio;
     }
     if (accept) {

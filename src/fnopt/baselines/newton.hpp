@@ -132,6 +132,11 @@ class NewtonOptimizer final : public InnerOptimizer {
   // H at a, for CG's products (valid until the objective's next Hessian), and P rebuilt from the
   // same evaluation of the stencils where `stale`; nullptr where P's factorisation failed.
   const SymmetricBlockMatrix* hessian_and_preconditioner(StepProblem& problem, const VecX& a, bool stale);
+  // trial_ = a + s full_step_, the feasible part of the step (s = pullback x its feasible fraction
+  // with contact, 1 where all of it is and without contact); returns s.
+  double feasible_trial(StepProblem& problem, const VecX& a);
+  // The trust region after a trial of ratio actual / predicted decrease, cut to `cut` of CG's step.
+  void update_radius(double ratio, double cut, const SteihaugResult& sub);
 
   NewtonParams params_;
   SparseCholesky factor_;

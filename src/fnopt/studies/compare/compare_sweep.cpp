@@ -163,6 +163,14 @@ void CompareSweep::run_reference(std::size_t task, SweepTaskRun<CompareTaskResul
   if (reference.rollout.diverged)
     SweepRunner::print_line("warning: the Newton reference of %s/%s %s\n", resolution_text(scene).c_str(),
                             motion_text(scene).c_str(), reference.rollout.divergence.c_str());
+  // A ruler that did not reach its tolerance on some step is no ruler there: said, not hidden in the means.
+  const int steps = static_cast<int>(reference.rollout.steps.size());
+  const int unconverged = steps - reference.rollout.converged_steps();
+  const std::string unconverged_text =
+      unconverged > 0 ? std::to_string(unconverged) + " of " + std::to_string(steps) + " steps not converged" : "";
+  if (unconverged > 0)
+    SweepRunner::print_line("warning: the Newton reference of %s/%s: %s\n", resolution_text(scene).c_str(),
+                            motion_text(scene).c_str(), unconverged_text.c_str());
   const auto converged = std::find_if(runs_.begin(), runs_.end(), is_reference_run);
   // The converged newton run is the reference rollout itself only where newton is the reference.
   const bool newton_row = study_.reference == "newton" && converged != runs_.end() &&
@@ -177,7 +185,8 @@ void CompareSweep::run_reference(std::size_t task, SweepTaskRun<CompareTaskResul
     RunResult row = new_result(s, *converged);
     row.note = "the reference rollout itself";
     measure_run(study_, context_, choice_of(*converged), newton, reference, row);
-    if (row.diverged) row.note = "the reference rollout itself; " + reference.rollout.divergence;
+    if (row.diverged) row.note += "; " + reference.rollout.divergence;
+    if (unconverged > 0) row.note += "; " + unconverged_text;
     result.row = row;
   }
   if (later) {
