@@ -87,11 +87,12 @@ void NewtonOptimizer::begin_step(StepProblem& problem, const VecX&, double value
   initial_gradient_norm_ = gradient.norm();
   radius_ = 0.0;
   escapes_ = 0;
-  // With contact P is rebuilt at every step's start: the pairs in range, and their stiffness, change
-  // from step to step, and a P without them sizes the first region from a preconditioned gradient
-  // far too long along them; the short, cut steps that follow need too few products with H to
-  // call for a new factor, and the step can run its whole budget on the old one.
-  if (!params_.reuse_factor_across_steps || problem.has_contact()) have_factor_ = false;
+  // With self-contact P is rebuilt at every step's start: the cloth's pairs in range, and their
+  // stiffness, change from step to step, and a P without them sizes the first region from a
+  // preconditioned gradient far too long along them; the short, cut steps that follow need too few
+  // products with H to call for a new factor, and the step can run its whole budget on the old one.
+  // Obstacles alone keep the factor (far ones then change nothing, docs/design.md §14).
+  if (!params_.reuse_factor_across_steps || problem.objective().self_contact() != nullptr) have_factor_ = false;
 }
 
 void NewtonOptimizer::set_metric(const StepProblem& problem) {
